@@ -1,0 +1,37 @@
+// Geometry on the unit sphere S^2 used by every stage: determinants, exact
+// orientation and the "inside the spherical cap" predicate of the paper's
+// Definition 3. Every combinatorial decision goes through the exact
+// predicates here; floating point is used only for values.
+#ifndef SDCB_CORE_SPHERE_GEOMETRY_H_
+#define SDCB_CORE_SPHERE_GEOMETRY_H_
+
+#include <Eigen/Core>
+
+namespace sdcb {
+
+// det[a b c] = a . (b x c), in floating point (a value, not a decision).
+inline double Det3(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                   const Eigen::Vector3d& c) {
+  return a.dot(b.cross(c));
+}
+
+// Exact sign of orient3d(a, b, c, d) = sign of det[b-a, c-a, d-a], as CGAL's
+// filtered predicate computes it: +1, 0 or -1.
+int Orient3dSign(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                 const Eigen::Vector3d& c, const Eigen::Vector3d& d);
+
+// Exact sign of det[a b c] = orient3d(origin, a, b, c).
+int Det3Sign(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+             const Eigen::Vector3d& c);
+
+// Position of q relative to the spherical circle through a, b, c (the plane
+// through them), without any perturbation: +1 strictly inside the smaller
+// cap (the side of the plane without the origin), -1 strictly outside,
+// 0 on the circle. Requires a, b, c not collinear and the plane not through
+// the origin (a great circle has no smaller cap): then it returns 0 as well.
+int CapSide(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+            const Eigen::Vector3d& c, const Eigen::Vector3d& q);
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_SPHERE_GEOMETRY_H_

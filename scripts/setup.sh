@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Installs what sdcb needs on Debian 12 (only what is missing), extracts CGAL's
+# sample meshes into data/meshes, and builds into build/. Idempotent.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(build-essential cmake ninja-build pkg-config
+  libeigen3-dev libcgal-dev libcgal-demo libopenmesh-dev libtinygltf-dev
+  nlohmann-json3-dev libosd-dev libdraco-dev libgtest-dev libtbb-dev
+  libsuitesparse-dev)
+
+as_root() {
+  if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
+}
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  as_root apt-get update -qq
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# CGAL's test meshes (bunny00, fandisk, ...) from libcgal-demo's data.tar.gz.
+if [ ! -f data/meshes/bunny00.off ]; then
+  archive=$(dpkg -L libcgal-demo | grep '/data.tar.gz$' | head -n 1)
+  if [ -z "$archive" ] || [ ! -f "$archive" ]; then
+    echo "setup: libcgal-demo's data.tar.gz was not found" >&2
+    exit 1
+  fi
+  rm -rf data/meshes.tmp && mkdir -p data/meshes.tmp
+  tar -xzf "$archive" -C data/meshes.tmp data/meshes
+  rm -rf data/meshes && mv data/meshes.tmp/data/meshes data/meshes && rm -rf data/meshes.tmp
+  echo "setup: extracted $(ls data/meshes | wc -l) meshes into data/meshes"
+fi
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > build.configure.log 2>&1 || {
+  cat build.configure.log >&2; exit 1; }
+rm -f build.configure.log
+cmake --build build -j "$(nproc)"

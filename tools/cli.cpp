@@ -1,0 +1,108 @@
+#include "tools/cli.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+
+#include "io/atomic_file.h"
+
+namespace sdcb::cli {
+
+Args::Args(const std::vector<std::string>& argv,
+           const std::vector<std::string>& value_options,
+           const std::vector<std::string>& flag_options) {
+  auto contains = [](const std::vector<std::string>& list, const std::string& s) {
+    for (const auto& x : list) {
+      if (x == s) return true;
+    }
+    return false;
+  };
+  for (size_t i = 0; i < argv.size(); ++i) {
+    const std::string& a = argv[i];
+    if (a.size() > 2 && a.compare(0, 2, "--") == 0) {
+      std::string name = a.substr(2), value;
+      const size_t eq = name.find('=');
+      const bool inline_value = eq != std::string::npos;
+      if (inline_value) {
+        value = name.substr(eq + 1);
+        name = name.substr(0, eq);
+      }
+      if (contains(flag_options, name)) {
+        if (inline_value) throw UsageError{"option --" + name + " takes no value"};
+        values_[name] = "1";
+      } else if (contains(value_options, name)) {
+        if (!inline_value) {
+          if (i + 1 >= argv.size()) {
+            throw UsageError{"option --" + name + " needs a value"};
+          }
+          value = argv[++i];
+        }
+        values_[name] = value;
+      } else {
+        throw UsageError{"unknown option '" + a + "'"};
+      }
+    } else if (a.size() > 1 && a[0] == '-' && a != "-") {
+      if (a == "-o" || a == "-i") {
+        if (i + 1 >= argv.size()) throw UsageError{"option " + a + " needs a value"};
+        values_[a == "-o" ? "output" : "input"] = argv[++i];
+      } else {
+        throw UsageError{"unknown option '" + a + "'"};
+      }
+    } else {
+      positionals_.push_back(a);
+    }
+  }
+}
+
+std::string Args::Get(const std::string& name, const std::string& fallback) const {
+  auto it = values_.find(name);
+  return it == values_.end() ? fallback : it->second;
+}
+
+double Args::GetDouble(const std::string& name, double fallback, double lo,
+                       double hi) const {
+  auto it = values_.find(name);
+  if (it == values_.end()) return fallback;
+  char* end = nullptr;
+  const double v = std::strtod(it->second.c_str(), &end);
+  if (it->second.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi) {
+    throw UsageError{"--" + name + " must be a number in [" + std::to_string(lo) +
+                     ", " + std::to_string(hi) + "], got '" + it->second + "'"};
+  }
+  return v;
+}
+
+int Args::GetInt(const std::string& name, int fallback, int lo, int hi) const {
+  auto it = values_.find(name);
+  if (it == values_.end()) return fallback;
+  char* end = nullptr;
+  const long v = std::strtol(it->second.c_str(), &end, 10);
+  if (it->second.empty() || *end != '\0' || v < lo || v > hi) {
+    throw UsageError{"--" + name + " must be an integer in [" + std::to_string(lo) +
+                     ", " + std::to_string(hi) + "], got '" + it->second + "'"};
+  }
+  return static_cast<int>(v);
+}
+
+void Args::RequirePositionals(size_t n, const std::string& what) const {
+  if (positionals_.size() < n) throw UsageError{"missing " + what};
+  if (positionals_.size() > n) {
+    throw UsageError{"unexpected argument '" + positionals_[n] + "'"};
+  }
+}
+
+int ReportError(const Status& status) {
+  std::cerr << "sdcb: " << status.message() << "\n";
+  return kExitBadInput;
+}
+
+Status WriteTextOutput(const std::string& path, const std::string& text) {
+  if (path == "-") {
+    std::cout << text;
+    std::cout.flush();
+    return std::cout ? Status::Ok() : IoError("writing to standard output failed");
+  }
+  return WriteFileAtomically(path, text);
+}
+
+}  // namespace sdcb::cli

@@ -1,0 +1,15 @@
+// The subcommands of `sdcb`; each takes the arguments after its name and
+// returns the process exit code (tools/cli.h).
+#ifndef SDCB_TOOLS_COMMANDS_H_
+#define SDCB_TOOLS_COMMANDS_H_
+
+#include <string>
+#include <vector>
+
+namespace sdcb::cli {
+
+int RunCheck(const std::vector<std::string>& args);
+
+}  // namespace sdcb::cli
+
+#endif  // SDCB_TOOLS_COMMANDS_H_

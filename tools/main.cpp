@@ -1,0 +1,60 @@
+// The `sdcb` command line: a thin dispatcher over the libraries.
+#include <cstring>
+#include <exception>
+#include <iostream>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "tools/cli.h"
+#include "tools/commands.h"
+
+namespace {
+
+constexpr const char* kUsage = R"(usage: sdcb COMMAND [ARGS]
+
+Turns closed genus-0 triangle meshes into one smooth spherical DCB-spline.
+
+commands:
+  check MESH [--json FILE]   Report the mesh's topology; exit 1 unless it is a
+                             closed, manifold, single-component genus-0 mesh.
+
+Meshes: .obj .off .ply .stl (ascii or binary). '--json -' writes to stdout.
+Exit codes: 0 success, 1 bad input (the reason is printed), 2 bad usage.
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace sdcb::cli;
+  if (argc < 2) {
+    std::cerr << kUsage;
+    return kExitUsage;
+  }
+  const std::string command = argv[1];
+  if (command == "-h" || command == "--help" || command == "help") {
+    std::cout << kUsage;
+    return kExitOk;
+  }
+  std::vector<std::string> args(argv + 2, argv + argc);
+  for (const auto& a : args) {
+    if (a == "-h" || a == "--help") {
+      std::cout << kUsage;
+      return kExitOk;
+    }
+  }
+  try {
+    if (command == "check") return RunCheck(args);
+    std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
+    return kExitUsage;
+  } catch (const UsageError& e) {
+    std::cerr << "sdcb " << command << ": " << e.message << "\n";
+    return kExitUsage;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "sdcb " << command << ": out of memory\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "sdcb " << command << ": internal error: " << e.what() << "\n";
+    return kExitBadInput;
+  }
+}
