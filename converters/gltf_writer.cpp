@@ -97,7 +97,8 @@ Status WriteGltfMesh(const TriangleMesh& mesh, const std::string& path) {
   const bool glb = IsGlb(path);
   return WriteFileAtomically(path, [&](std::ostream& stream) {
     tinygltf::TinyGLTF writer;
-    if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/!glb, glb)) {
+    if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/!glb,
+                                       glb)) {
       return IoError(path + ": tinygltf could not serialize the mesh");
     }
     return Status::Ok();
@@ -108,11 +109,13 @@ StatusOr<TriangleMesh> ReadGltfMesh(const std::string& path) {
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
   std::string err, warn;
-  const bool ok = IsGlb(path) ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                              : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  const bool ok = IsGlb(path)
+                      ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                      : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok) {
     std::string first_line = err.substr(0, err.find('\n'));
-    return CorruptFileError(path + ": not a readable glTF file (" + first_line + ")");
+    return CorruptFileError(path + ": not a readable glTF file (" + first_line +
+                            ")");
   }
   if (model.meshes.empty() || model.meshes[0].primitives.empty()) {
     return InvalidInputError(path + ": the glTF file holds no mesh");
@@ -120,7 +123,8 @@ StatusOr<TriangleMesh> ReadGltfMesh(const std::string& path) {
   const tinygltf::Primitive& primitive = model.meshes[0].primitives[0];
   auto it = primitive.attributes.find("POSITION");
   if (it == primitive.attributes.end() || primitive.indices < 0) {
-    return InvalidInputError(path + ": the first primitive has no indexed positions");
+    return InvalidInputError(path +
+                             ": the first primitive has no indexed positions");
   }
   // Reads accessor element (i, k) as double, with bounds checks.
   auto read = [&](int accessor_index, size_t count_expected,
@@ -130,11 +134,13 @@ StatusOr<TriangleMesh> ReadGltfMesh(const std::string& path) {
       return CorruptFileError(path + ": accessor index out of range");
     }
     const tinygltf::Accessor& a = model.accessors[accessor_index];
-    if (a.bufferView < 0 || a.bufferView >= static_cast<int>(model.bufferViews.size())) {
+    if (a.bufferView < 0 ||
+        a.bufferView >= static_cast<int>(model.bufferViews.size())) {
       return CorruptFileError(path + ": buffer view index out of range");
     }
     const tinygltf::BufferView& view = model.bufferViews[a.bufferView];
-    if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size())) {
+    if (view.buffer < 0 ||
+        view.buffer >= static_cast<int>(model.buffers.size())) {
       return CorruptFileError(path + ": buffer index out of range");
     }
     const auto& data = model.buffers[view.buffer].data;
@@ -145,28 +151,50 @@ StatusOr<TriangleMesh> ReadGltfMesh(const std::string& path) {
     }
     const size_t stride = view.byteStride ? view.byteStride : size_t(size) * n;
     const size_t start = view.byteOffset + a.byteOffset;
-    if (a.count > 0 && start + stride * (a.count - 1) + size_t(size) * n > data.size()) {
+    if (a.count > 0 &&
+        start + stride * (a.count - 1) + size_t(size) * n > data.size()) {
       return CorruptFileError(path + ": accessor runs past its buffer");
     }
     (void)count_expected;
     std::vector<double> values(a.count * n);
     for (size_t i = 0; i < a.count; ++i) {
       for (int k = 0; k < n; ++k) {
-        const unsigned char* p = data.data() + start + stride * i + size_t(size) * k;
+        const unsigned char* p =
+            data.data() + start + stride * i + size_t(size) * k;
         switch (a.componentType) {
-          case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); values[i * n + k] = f; break; }
-          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t u; std::memcpy(&u, p, 4); values[i * n + k] = u; break; }
-          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t u; std::memcpy(&u, p, 2); values[i * n + k] = u; break; }
-          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: values[i * n + k] = *p; break;
-          default: return CorruptFileError(path + ": unsupported component type");
+          case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+            float f;
+            std::memcpy(&f, p, 4);
+            values[i * n + k] = f;
+            break;
+          }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+            uint32_t u;
+            std::memcpy(&u, p, 4);
+            values[i * n + k] = u;
+            break;
+          }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            uint16_t u;
+            std::memcpy(&u, p, 2);
+            values[i * n + k] = u;
+            break;
+          }
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            values[i * n + k] = *p;
+            break;
+          default:
+            return CorruptFileError(path + ": unsupported component type");
         }
       }
     }
     return values;
   };
   SDCB_ASSIGN_OR_RETURN(const std::vector<double> xyz, read(it->second, 0, 3));
-  SDCB_ASSIGN_OR_RETURN(const std::vector<double> idx, read(primitive.indices, 0, 1));
-  if (idx.size() % 3 != 0) return CorruptFileError(path + ": index count is not a multiple of 3");
+  SDCB_ASSIGN_OR_RETURN(const std::vector<double> idx,
+                        read(primitive.indices, 0, 1));
+  if (idx.size() % 3 != 0)
+    return CorruptFileError(path + ": index count is not a multiple of 3");
   TriangleMesh mesh;
   const Eigen::Index nv = static_cast<Eigen::Index>(xyz.size() / 3);
   mesh.vertices.resize(nv, 3);

@@ -21,9 +21,9 @@ Status WriteFileAtomically(const std::string& path,
   static std::atomic<int> counter{0};
   const fs::path target(path);
   const std::string temp =
-      (target.parent_path() / ("." + target.filename().string() + ".tmp." +
-                               std::to_string(::getpid()) + "." +
-                               std::to_string(counter++)))
+      (target.parent_path() /
+       ("." + target.filename().string() + ".tmp." +
+        std::to_string(::getpid()) + "." + std::to_string(counter++)))
           .string();
   {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
@@ -50,7 +50,8 @@ Status WriteFileAtomically(const std::string& path,
   return Status::Ok();
 }
 
-Status WriteFileAtomically(const std::string& path, const std::string& contents) {
+Status WriteFileAtomically(const std::string& path,
+                           const std::string& contents) {
   return WriteFileAtomically(path, [&](std::ostream& out) {
     out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
     return Status::Ok();

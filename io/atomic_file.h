@@ -20,7 +20,8 @@ Status WriteFileAtomically(const std::string& path,
                            const std::function<Status(std::ostream&)>& write);
 
 // Same, for contents already in memory.
-Status WriteFileAtomically(const std::string& path, const std::string& contents);
+Status WriteFileAtomically(const std::string& path,
+                           const std::string& contents);
 
 }  // namespace sdcb
 

@@ -1,12 +1,11 @@
 #include "io/mesh_reader.h"
 
+#include <unistd.h>
+
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/System/omstream.hh>
-
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -88,7 +87,8 @@ class RawImporter : public OpenMesh::IO::BaseImporter {
       points[vh.idx()] = OpenMesh::Vec3d(p[0], p[1], p[2]);
     }
   }
-  void set_halfedge(OpenMesh::VertexHandle, OpenMesh::HalfedgeHandle) override {}
+  void set_halfedge(OpenMesh::VertexHandle, OpenMesh::HalfedgeHandle) override {
+  }
   void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
   void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3d&) override {}
   void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec3uc&) override {}
@@ -101,9 +101,11 @@ class RawImporter : public OpenMesh::IO::BaseImporter {
   void set_next(OpenMesh::HalfedgeHandle, OpenMesh::HalfedgeHandle) override {}
   void set_face(OpenMesh::HalfedgeHandle, OpenMesh::FaceHandle) override {}
   void request_face_texcoords2D() override {}
-  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec2f&) override {}
+  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec2f&) override {
+  }
   void set_texcoord(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
-  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec3f&) override {}
+  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec3f&) override {
+  }
   void set_status(OpenMesh::HalfedgeHandle,
                   const OpenMesh::Attributes::StatusInfo&) override {}
   void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3uc&) override {}
@@ -154,9 +156,12 @@ std::vector<std::string_view> Tokens(std::string_view line) {
   std::vector<std::string_view> out;
   size_t i = 0;
   while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i])))
+      ++i;
     size_t j = i;
-    while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+    while (j < line.size() &&
+           !std::isspace(static_cast<unsigned char>(line[j])))
+      ++j;
     if (j > i) out.push_back(line.substr(i, j - i));
     i = j;
   }
@@ -193,8 +198,9 @@ bool IsBlankOrComment(std::string_view line) {
 
 Status CheckCount(int64_t count, const char* what) {
   if (count < 0) {
-    return CorruptFileError(std::string("the header declares a negative number of ") +
-                            what + " (" + Num(count) + ")");
+    return CorruptFileError(
+        std::string("the header declares a negative number of ") + what + " (" +
+        Num(count) + ")");
   }
   if (count > kMaxElements) {
     return CorruptFileError(std::string("the header declares ") + Num(count) +
@@ -206,8 +212,8 @@ Status CheckCount(int64_t count, const char* what) {
 
 Status CheckPolygon(int64_t polygon, int64_t corners, int64_t num_vertices) {
   if (corners < 3 || corners > kMaxPolygonCorners || corners > num_vertices) {
-    return CorruptFileError("face " + Num(polygon) + " declares " + Num(corners) +
-                            " corners");
+    return CorruptFileError("face " + Num(polygon) + " declares " +
+                            Num(corners) + " corners");
   }
   return Status::Ok();
 }
@@ -238,7 +244,8 @@ StatusOr<Declared> ScanOff(const std::string& text) {
   {
     LineCursor all(text);
     std::string_view any;
-    while (all.Next(&any) && !d.has_comments) d.has_comments = IsBlankOrComment(any);
+    while (all.Next(&any) && !d.has_comments)
+      d.has_comments = IsBlankOrComment(any);
   }
   LineCursor lines(text);
   std::string_view line;
@@ -256,8 +263,9 @@ StatusOr<Declared> ScanOff(const std::string& text) {
   }
   if (keyword.find_first_of("4n") != std::string::npos ||
       (header.size() > 1 && header[1] == "BINARY")) {
-    return UnsupportedError("'" + keyword +
-                            "' (binary or higher-dimensional OFF) is not supported");
+    return UnsupportedError(
+        "'" + keyword +
+        "' (binary or higher-dimensional OFF) is not supported");
   }
   std::vector<std::string_view> counts(header.begin() + 1, header.end());
   while (counts.empty() && lines.Next(&line)) {
@@ -284,12 +292,12 @@ StatusOr<Declared> ScanOff(const std::string& text) {
     double x;
     for (int k = 0; k < 3; ++k) {
       if (k >= static_cast<int>(t.size()) || !ParseFinite(t[k], &x)) {
-        return CorruptFileError(
-            "line " + Num(lines.number()) + ": vertex " + Num(v) +
-            (k < static_cast<int>(t.size())
-                 ? " has coordinate '" + std::string(t[k]) +
-                       "', which is not a finite number"
-                 : " has fewer than three coordinates"));
+        return CorruptFileError("line " + Num(lines.number()) + ": vertex " +
+                                Num(v) +
+                                (k < static_cast<int>(t.size())
+                                     ? " has coordinate '" + std::string(t[k]) +
+                                           "', which is not a finite number"
+                                     : " has fewer than three coordinates"));
       }
     }
     ++v;
@@ -376,10 +384,10 @@ StatusOr<Declared> ScanObj(const std::string& text) {
                                 std::string(t[k]) + "' that is not an index");
       }
       if (index < 0) {
-        return UnsupportedError(
-            "line " + Num(lines.number()) + ": face " + Num(d.polygons) +
-            " uses a negative (relative) vertex index " + Num(index) +
-            ", which sdcb does not support");
+        return UnsupportedError("line " + Num(lines.number()) + ": face " +
+                                Num(d.polygons) +
+                                " uses a negative (relative) vertex index " +
+                                Num(index) + ", which sdcb does not support");
       }
       if (index == 0 || index > d.vertices) {
         return CorruptFileError(
@@ -414,16 +422,21 @@ struct PlyElement {
 };
 
 int PlyTypeSize(std::string_view type) {
-  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
-  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8")
+    return 1;
+  if (type == "short" || type == "ushort" || type == "int16" ||
+      type == "uint16")
+    return 2;
   if (type == "int" || type == "uint" || type == "int32" || type == "uint32" ||
-      type == "float" || type == "float32") return 4;
+      type == "float" || type == "float32")
+    return 4;
   if (type == "double" || type == "float64") return 8;
   return 0;
 }
 
 bool PlyTypeIsFloat(std::string_view type) {
-  return type == "float" || type == "float32" || type == "double" || type == "float64";
+  return type == "float" || type == "float32" || type == "double" ||
+         type == "float64";
 }
 
 // Reads a binary PLY scalar as double.
@@ -432,13 +445,41 @@ double PlyBinaryValue(const unsigned char* p, const std::string& type,
   unsigned char b[8];
   const int n = PlyTypeSize(type);
   for (int i = 0; i < n; ++i) b[i] = big_endian ? p[n - 1 - i] : p[i];
-  if (type == "char" || type == "int8") { int8_t v; std::memcpy(&v, b, 1); return v; }
-  if (type == "uchar" || type == "uint8") { uint8_t v; std::memcpy(&v, b, 1); return v; }
-  if (type == "short" || type == "int16") { int16_t v; std::memcpy(&v, b, 2); return v; }
-  if (type == "ushort" || type == "uint16") { uint16_t v; std::memcpy(&v, b, 2); return v; }
-  if (type == "int" || type == "int32") { int32_t v; std::memcpy(&v, b, 4); return v; }
-  if (type == "uint" || type == "uint32") { uint32_t v; std::memcpy(&v, b, 4); return v; }
-  if (type == "float" || type == "float32") { float v; std::memcpy(&v, b, 4); return v; }
+  if (type == "char" || type == "int8") {
+    int8_t v;
+    std::memcpy(&v, b, 1);
+    return v;
+  }
+  if (type == "uchar" || type == "uint8") {
+    uint8_t v;
+    std::memcpy(&v, b, 1);
+    return v;
+  }
+  if (type == "short" || type == "int16") {
+    int16_t v;
+    std::memcpy(&v, b, 2);
+    return v;
+  }
+  if (type == "ushort" || type == "uint16") {
+    uint16_t v;
+    std::memcpy(&v, b, 2);
+    return v;
+  }
+  if (type == "int" || type == "int32") {
+    int32_t v;
+    std::memcpy(&v, b, 4);
+    return v;
+  }
+  if (type == "uint" || type == "uint32") {
+    uint32_t v;
+    std::memcpy(&v, b, 4);
+    return v;
+  }
+  if (type == "float" || type == "float32") {
+    float v;
+    std::memcpy(&v, b, 4);
+    return v;
+  }
   double v;
   std::memcpy(&v, b, 8);
   return v;
@@ -449,6 +490,9 @@ StatusOr<Declared> ScanPly(const std::string& text) {
   std::string_view line;
   if (!lines.Next(&line) || Tokens(line).empty() || Tokens(line)[0] != "ply") {
     return CorruptFileError("the file does not start with 'ply'");
+  }
+  if (text.find("\nend_header") == std::string::npos) {
+    return CorruptFileError("the PLY header has no 'end_header'");
   }
   std::string format;
   std::vector<PlyElement> elements;
@@ -479,15 +523,16 @@ StatusOr<Declared> ScanPly(const std::string& text) {
         p.count_size = PlyTypeSize(p.count_type);
         p.size = PlyTypeSize(p.type);
         if (p.count_size == 0 || p.size == 0 || PlyTypeIsFloat(p.count_type)) {
-          return CorruptFileError("property list '" + p.name + "' has an unknown type");
+          return CorruptFileError("property list '" + p.name +
+                                  "' has an unknown type");
         }
       } else if (t.size() >= 3) {
         p.type = std::string(t[1]);
         p.name = std::string(t[2]);
         p.size = PlyTypeSize(p.type);
         if (p.size == 0) {
-          return CorruptFileError("property '" + p.name + "' has unknown type '" +
-                                  p.type + "'");
+          return CorruptFileError("property '" + p.name +
+                                  "' has unknown type '" + p.type + "'");
         }
       } else {
         return CorruptFileError("line " + Num(lines.number()) +
@@ -514,7 +559,8 @@ StatusOr<Declared> ScanPly(const std::string& text) {
     if (e.name == "vertex") vertex = &e;
     if (e.name == "face") face = &e;
   }
-  if (vertex == nullptr) return CorruptFileError("the PLY file has no vertex element");
+  if (vertex == nullptr)
+    return CorruptFileError("the PLY file has no vertex element");
   d.vertices = vertex->count;
   d.polygons = face ? face->count : 0;
   int coordinate_slot[3] = {-1, -1, -1};
@@ -524,7 +570,8 @@ StatusOr<Declared> ScanPly(const std::string& text) {
       coordinate_slot[name[0] - 'x'] = static_cast<int>(i);
     }
   }
-  if (coordinate_slot[0] < 0 || coordinate_slot[1] < 0 || coordinate_slot[2] < 0) {
+  if (coordinate_slot[0] < 0 || coordinate_slot[1] < 0 ||
+      coordinate_slot[2] < 0) {
     return CorruptFileError("the vertex element lacks x, y or z");
   }
 
@@ -550,7 +597,8 @@ StatusOr<Declared> ScanPly(const std::string& text) {
   size_t pos = body_offset;
   const size_t end = text.size();
   auto next_ascii = [&](std::string_view* token) {
-    while (pos < end && std::isspace(static_cast<unsigned char>(text[pos]))) ++pos;
+    while (pos < end && std::isspace(static_cast<unsigned char>(text[pos])))
+      ++pos;
     size_t j = pos;
     while (j < end && !std::isspace(static_cast<unsigned char>(text[j]))) ++j;
     if (j == pos) return false;
@@ -565,8 +613,9 @@ StatusOr<Declared> ScanPly(const std::string& text) {
     }
     const int n = PlyTypeSize(type);
     if (pos + n > end) return false;
-    *value = PlyBinaryValue(reinterpret_cast<const unsigned char*>(text.data()) + pos,
-                            type, big_endian);
+    *value = PlyBinaryValue(
+        reinterpret_cast<const unsigned char*>(text.data()) + pos, type,
+        big_endian);
     pos += n;
     return std::isfinite(*value);
   };
@@ -583,10 +632,12 @@ StatusOr<Declared> ScanPly(const std::string& text) {
                 (pi == static_cast<size_t>(coordinate_slot[0]) ||
                  pi == static_cast<size_t>(coordinate_slot[1]) ||
                  pi == static_cast<size_t>(coordinate_slot[2]))) {
-              return CorruptFileError("vertex " + Num(item) +
-                                      " has a missing or non-finite coordinate");
+              return CorruptFileError(
+                  "vertex " + Num(item) +
+                  " has a missing or non-finite coordinate");
             }
-            return CorruptFileError(truncated + e.name + " element " + Num(item));
+            return CorruptFileError(truncated + e.name + " element " +
+                                    Num(item));
           }
           continue;
         }
@@ -608,7 +659,8 @@ StatusOr<Declared> ScanPly(const std::string& text) {
         }
         for (int64_t k = 0; k < static_cast<int64_t>(count); ++k) {
           if (!next_value(p.type, &value)) {
-            return CorruptFileError(truncated + e.name + " element " + Num(item));
+            return CorruptFileError(truncated + e.name + " element " +
+                                    Num(item));
           }
           if (corner_list) {
             SDCB_RETURN_IF_ERROR(
@@ -651,13 +703,14 @@ StatusOr<Declared> ScanStl(const std::string& text) {
   }
   if (!starts_solid) {
     if (size < 84) {
-      return CorruptFileError("the file is " + Num(size) +
-                              " bytes, too short for a binary STL, and is not ASCII STL");
+      return CorruptFileError(
+          "the file is " + Num(size) +
+          " bytes, too short for a binary STL, and is not ASCII STL");
     }
-    return CorruptFileError("truncated or corrupt binary STL: the header declares " +
-                            Num(declared) + " triangles (" +
-                            Num(84 + 50 * int64_t{declared}) +
-                            " bytes), but the file has " + Num(size) + " bytes");
+    return CorruptFileError(
+        "truncated or corrupt binary STL: the header declares " +
+        Num(declared) + " triangles (" + Num(84 + 50 * int64_t{declared}) +
+        " bytes), but the file has " + Num(size) + " bytes");
   }
   // ASCII: facet normal n n n / outer loop / vertex x y z (x3) / endloop /
   // endfacet, repeated, then endsolid.
@@ -683,8 +736,9 @@ StatusOr<Declared> ScanStl(const std::string& text) {
       ++corners;
     } else if (t[0] == "endfacet") {
       if (!in_facet || corners != 3) {
-        return CorruptFileError("line " + Num(lines.number()) +
-                                ": an STL facet must have exactly three vertices");
+        return CorruptFileError(
+            "line " + Num(lines.number()) +
+            ": an STL facet must have exactly three vertices");
       }
       in_facet = false;
       ++d.polygons;
@@ -694,7 +748,8 @@ StatusOr<Declared> ScanStl(const std::string& text) {
     }
   }
   if (!finished) {
-    return CorruptFileError("the ASCII STL is truncated (no matching 'endsolid')");
+    return CorruptFileError(
+        "the ASCII STL is truncated (no matching 'endsolid')");
   }
   d.triangles = d.polygons;
   d.vertices = 3 * d.polygons;
@@ -802,7 +857,8 @@ StatusOr<TriangleMesh> ReadMeshUnprefixed(const std::string& path,
   } catch (...) {
     return CorruptFileError("the mesh reader failed");
   }
-  if (!read_ok) return CorruptFileError("the file could not be parsed as a mesh");
+  if (!read_ok)
+    return CorruptFileError("the file could not be parsed as a mesh");
 
   const int64_t polygons = static_cast<int64_t>(importer.polygons.size());
   if (polygons != declared.polygons) {
@@ -847,7 +903,8 @@ StatusOr<TriangleMesh> ReadMeshUnprefixed(const std::string& path,
       for (int c = 0; c < 3; ++c) {
         if (corner[c] < 0 || corner[c] >= nv) {
           return CorruptFileError("a face refers to vertex " + Num(corner[c]) +
-                                  ", but the file has " + Num(nv) + " vertices");
+                                  ", but the file has " + Num(nv) +
+                                  " vertices");
         }
         mesh.faces(row, c) = corner[c];
       }

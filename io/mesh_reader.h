@@ -15,7 +15,7 @@
 namespace sdcb {
 
 struct MeshReadInfo {
-  int polygons = 0;  // faces in the file before triangulation
+  int polygons = 0;               // faces in the file before triangulation
   int triangulated_polygons = 0;  // faces with more than three corners
 };
 

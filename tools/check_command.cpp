@@ -1,8 +1,7 @@
 // sdcb check MESH [--json FILE]: is this mesh something sdcb can fit?
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "core/mesh_topology.h"
 #include "io/mesh_reader.h"
@@ -69,7 +68,8 @@ int RunCheck(const std::vector<std::string>& argv) {
     row("degenerate faces", r.degenerate_faces);
     row("duplicate vertices", r.duplicate_vertices);
     row("unreferenced vertices", r.unreferenced_vertices);
-    std::printf("  %-30s %12s\n", "ok (closed genus-0 manifold)", r.ok ? "yes" : "no");
+    std::printf("  %-30s %12s\n", "ok (closed genus-0 manifold)",
+                r.ok ? "yes" : "no");
     std::fflush(stdout);
   }
   if (!r.ok) {

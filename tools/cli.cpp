@@ -11,7 +11,8 @@ namespace sdcb::cli {
 Args::Args(const std::vector<std::string>& argv,
            const std::vector<std::string>& value_options,
            const std::vector<std::string>& flag_options) {
-  auto contains = [](const std::vector<std::string>& list, const std::string& s) {
+  auto contains = [](const std::vector<std::string>& list,
+                     const std::string& s) {
     for (const auto& x : list) {
       if (x == s) return true;
     }
@@ -28,7 +29,8 @@ Args::Args(const std::vector<std::string>& argv,
         name = name.substr(0, eq);
       }
       if (contains(flag_options, name)) {
-        if (inline_value) throw UsageError{"option --" + name + " takes no value"};
+        if (inline_value)
+          throw UsageError{"option --" + name + " takes no value"};
         values_[name] = "1";
       } else if (contains(value_options, name)) {
         if (!inline_value) {
@@ -43,7 +45,8 @@ Args::Args(const std::vector<std::string>& argv,
       }
     } else if (a.size() > 1 && a[0] == '-' && a != "-") {
       if (a == "-o" || a == "-i") {
-        if (i + 1 >= argv.size()) throw UsageError{"option " + a + " needs a value"};
+        if (i + 1 >= argv.size())
+          throw UsageError{"option " + a + " needs a value"};
         values_[a == "-o" ? "output" : "input"] = argv[++i];
       } else {
         throw UsageError{"unknown option '" + a + "'"};
@@ -54,7 +57,8 @@ Args::Args(const std::vector<std::string>& argv,
   }
 }
 
-std::string Args::Get(const std::string& name, const std::string& fallback) const {
+std::string Args::Get(const std::string& name,
+                      const std::string& fallback) const {
   auto it = values_.find(name);
   return it == values_.end() ? fallback : it->second;
 }
@@ -65,9 +69,11 @@ double Args::GetDouble(const std::string& name, double fallback, double lo,
   if (it == values_.end()) return fallback;
   char* end = nullptr;
   const double v = std::strtod(it->second.c_str(), &end);
-  if (it->second.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi) {
-    throw UsageError{"--" + name + " must be a number in [" + std::to_string(lo) +
-                     ", " + std::to_string(hi) + "], got '" + it->second + "'"};
+  if (it->second.empty() || *end != '\0' || !std::isfinite(v) || v < lo ||
+      v > hi) {
+    throw UsageError{"--" + name + " must be a number in [" +
+                     std::to_string(lo) + ", " + std::to_string(hi) +
+                     "], got '" + it->second + "'"};
   }
   return v;
 }
@@ -78,8 +84,9 @@ int Args::GetInt(const std::string& name, int fallback, int lo, int hi) const {
   char* end = nullptr;
   const long v = std::strtol(it->second.c_str(), &end, 10);
   if (it->second.empty() || *end != '\0' || v < lo || v > hi) {
-    throw UsageError{"--" + name + " must be an integer in [" + std::to_string(lo) +
-                     ", " + std::to_string(hi) + "], got '" + it->second + "'"};
+    throw UsageError{"--" + name + " must be an integer in [" +
+                     std::to_string(lo) + ", " + std::to_string(hi) +
+                     "], got '" + it->second + "'"};
   }
   return static_cast<int>(v);
 }
@@ -100,7 +107,8 @@ Status WriteTextOutput(const std::string& path, const std::string& text) {
   if (path == "-") {
     std::cout << text;
     std::cout.flush();
-    return std::cout ? Status::Ok() : IoError("writing to standard output failed");
+    return std::cout ? Status::Ok()
+                     : IoError("writing to standard output failed");
   }
   return WriteFileAtomically(path, text);
 }

@@ -31,7 +31,8 @@ class Args {
 
   const std::vector<std::string>& positionals() const { return positionals_; }
   bool Has(const std::string& name) const { return values_.count(name) > 0; }
-  std::string Get(const std::string& name, const std::string& fallback = "") const;
+  std::string Get(const std::string& name,
+                  const std::string& fallback = "") const;
   double GetDouble(const std::string& name, double fallback, double lo,
                    double hi) const;
   int GetInt(const std::string& name, int fallback, int lo, int hi) const;
