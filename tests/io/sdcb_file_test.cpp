@@ -432,6 +432,11 @@ TEST(SdcbFileTest, UnknownChunksAreSkipped) {
 
 TEST(SdcbFileTest, AbsurdCountsAreRejectedWithoutAllocating) {
   const std::string file = Serialize(MakeTestModel(1, 7, 3));
+  // The tracker sees the reader's allocations: a valid parse allocates the
+  // 7 x 3 knot matrix at least.
+  size_t valid_largest = 0;
+  ASSERT_TRUE(TrackedParse(file, &valid_largest).ok());
+  EXPECT_GE(valid_largest, 7u * 24);
   struct Case {
     size_t offset;  // within the HEAD payload
     uint64_t value;
