@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -274,6 +275,33 @@ TEST(SdcbFileTest, SpecialDoublesSurviveBitForBit) {
             std::numeric_limits<double>::denorm_min());
   EXPECT_TRUE(std::signbit(back->statistics.timings.basis));  // -0.0
   EXPECT_EQ(back->source.file_name, "meshes/bunny \xc3\xa9.off");
+}
+
+TEST(SdcbFileTest, StatisticsJsonIsBitExactForRandomDoubles) {
+  // STAT is JSON text; every finite double, drawn as random bit patterns
+  // (all exponents, denormals, both signs), must come back unchanged.
+  SplineModel model = MakeTestModel();
+  std::mt19937_64 rng(5);
+  const auto random_double = [&] {
+    while (true) {
+      const uint64_t bits = rng();
+      double d;
+      std::memcpy(&d, &bits, 8);
+      if (std::isfinite(d)) return d;
+    }
+  };
+  model.statistics.rounds.resize(300);
+  for (RoundStatistics& r : model.statistics.rounds) {
+    r.rmse_percent = random_double();
+    r.max_error_percent = random_double();
+    r.seconds = random_double();
+  }
+  model.statistics.options.lambda = 0.1 + 0.2;
+  model.statistics.timings.total = 5e-324;
+  model.statistics.timings.solve = 1.7976931348623157e308;
+  const StatusOr<SplineModel> back = ParseSdcb(Serialize(model));
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_TRUE(BitIdentical(model, *back));
 }
 
 TEST(SdcbFileTest, WritingTwiceGivesIdenticalFiles) {
