@@ -1,5 +1,6 @@
 #include "io/sdcb_file.h"
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstring>
@@ -505,8 +506,15 @@ StatusOr<std::string> SerializeSdcb(const SplineModel& model) {
 }
 
 StatusOr<SplineModel> ParseSdcb(std::string_view bytes) {
-  if (bytes.size() < kHeaderBytes ||
-      std::memcmp(bytes.data(), kSdcbMagic, sizeof kSdcbMagic) != 0) {
+  const size_t magic_bytes = std::min(bytes.size(), sizeof kSdcbMagic);
+  if (bytes.empty()) return Corrupt("the file is empty");
+  if (std::memcmp(bytes.data(), kSdcbMagic, magic_bytes) == 0 &&
+      bytes.size() < kHeaderBytes) {
+    return Corrupt("truncated: the file has only " + Str(bytes.size()) +
+                   " bytes, less than the 12-byte header");
+  }
+  if (std::memcmp(bytes.data(), kSdcbMagic, magic_bytes) != 0 ||
+      bytes.size() < kHeaderBytes) {
     return Corrupt(
         "not an .sdcb model: the file does not start with the .sdcb magic "
         "number (or it was damaged by a text-mode transfer)");
