@@ -458,6 +458,16 @@ TEST(SdcbFileTest, UnknownChunksAreSkipped) {
   ExpectCorrupt(bad, "CRC");
 }
 
+TEST(SdcbFileTest, ChunksBetweenHeadAndEndMayComeInAnyOrder) {
+  const SplineModel model = MakeTestModel(2, 9, 2);
+  std::vector<RawChunk> chunks = SplitFile(Serialize(model));
+  std::reverse(chunks.begin() + 1, chunks.end() - 1);
+  ASSERT_EQ(chunks[1].type, "PARM");
+  const StatusOr<SplineModel> back = ParseSdcb(JoinFile(chunks));
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_TRUE(BitIdentical(model, *back));
+}
+
 TEST(SdcbFileTest, AbsurdCountsAreRejectedWithoutAllocating) {
   const std::string file = Serialize(MakeTestModel(1, 7, 3));
   // The tracker sees the reader's allocations: a valid parse allocates the
