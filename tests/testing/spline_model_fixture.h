@@ -1,0 +1,115 @@
+// Hand-built SplineModels for the format tests: configurations found by
+// brute force (every knot triple whose smaller cap holds exactly k knots,
+// DESIGN.md's oracle), not by core/delaunay_configurations.
+#ifndef SDCB_TESTS_TESTING_SPLINE_MODEL_FIXTURE_H_
+#define SDCB_TESTS_TESTING_SPLINE_MODEL_FIXTURE_H_
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+#include <vector>
+
+#include "core/sphere_geometry.h"
+#include "core/spline_model.h"
+
+namespace sdcb::testing {
+
+// `n` random unit vectors (fixed seed), in general position with
+// probability 1.
+inline Eigen::MatrixX3d RandomUnitVectors(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  Eigen::MatrixX3d out(n, 3);
+  for (int i = 0; i < n; ++i) {
+    Eigen::Vector3d v(gauss(rng), gauss(rng), gauss(rng));
+    out.row(i) = v.normalized().transpose();
+  }
+  return out;
+}
+
+// Brute-force degree-k configurations grouped by unordered set, sorted as
+// core/delaunay_configurations.h promises.
+inline DelaunayConfigurations BruteForceConfigurations(
+    const Eigen::MatrixX3d& knots, int degree) {
+  const int n = static_cast<int>(knots.rows());
+  std::map<std::vector<int>, std::vector<std::array<int, 3>>> groups;
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) {
+      for (int c = b + 1; c < n; ++c) {
+        std::vector<int> set = {a, b, c};
+        for (int q = 0; q < n; ++q) {
+          if (q == a || q == b || q == c) continue;
+          if (CapSide(knots.row(a).transpose(), knots.row(b).transpose(),
+                      knots.row(c).transpose(), knots.row(q).transpose()) > 0) {
+            set.push_back(q);
+          }
+        }
+        if (static_cast<int>(set.size()) != degree + 3) continue;
+        std::sort(set.begin(), set.end());
+        groups[set].push_back({a, b, c});
+      }
+    }
+  }
+  DelaunayConfigurations out;
+  out.degree = degree;
+  for (auto& [set, triples] : groups) {
+    std::sort(triples.begin(), triples.end());
+    out.sets.push_back({set, triples});
+  }
+  return out;
+}
+
+// A valid model whose numbers exercise bit-exactness: control points include
+// -0.0, denormals, the largest and smallest normal doubles.
+inline SplineModel MakeTestModel(int degree = 1, int num_knots = 7,
+                                 int num_parameters = 5, unsigned seed = 7) {
+  SplineModel m;
+  m.degree = degree;
+  m.knots = RandomUnitVectors(num_knots, seed);
+  m.configurations = BruteForceConfigurations(m.knots, degree);
+  const int sets = static_cast<int>(m.configurations.sets.size());
+  std::mt19937 rng(seed + 1);
+  std::uniform_real_distribution<double> uniform(-2.0, 2.0);
+  m.control_points.resize(sets, 3);
+  for (int i = 0; i < sets; ++i) {
+    for (int c = 0; c < 3; ++c) m.control_points(i, c) = uniform(rng);
+  }
+  const double special[] = {-0.0,
+                            std::numeric_limits<double>::denorm_min(),
+                            -2.5e-310,
+                            std::numeric_limits<double>::max(),
+                            std::numeric_limits<double>::lowest(),
+                            std::numeric_limits<double>::min(),
+                            1e-300,
+                            0.1};
+  int s = 0;
+  for (int i = 0; i < sets && s < 8; ++i) {
+    for (int c = 0; c < 3 && s < 8; ++c) m.control_points(i, c) = special[s++];
+  }
+  m.transform.scale = 0.1 + 1e-17;
+  m.transform.translation = Eigen::Vector3d(-1.5, 1e-320, 3.0 / 7.0);
+  FitStatistics& st = m.statistics;
+  for (int r = 0; r < 3; ++r) {
+    st.rounds.push_back({r, 100 * (r + 1), 90 * (r + 1), 1.0 / (r + 3),
+                         2.0 / 3.0 + r,
+                         0.1 * r + std::numeric_limits<double>::denorm_min()});
+  }
+  st.final_result = st.rounds.back();
+  st.timings = {1.25, 2.0 / 3.0, 0.0, -0.0, 1e-9, 12.5};
+  st.options = {degree, 0.05, 100, 10, 0.2};
+  m.source.num_vertices = num_parameters > 0 ? num_parameters : 1234;
+  m.source.num_faces = 2 * m.source.num_vertices - 4;
+  m.source.hash = 0xfedcba9876543210ULL;
+  m.source.file_name = "meshes/bunny \xc3\xa9.off";
+  if (num_parameters > 0) {
+    m.parameters = RandomUnitVectors(num_parameters, seed + 2);
+  }
+  return m;
+}
+
+}  // namespace sdcb::testing
+
+#endif  // SDCB_TESTS_TESTING_SPLINE_MODEL_FIXTURE_H_
