@@ -8,10 +8,9 @@
 #ifndef SDCB_CORE_DELAUNAY_CONFIGURATIONS_H_
 #define SDCB_CORE_DELAUNAY_CONFIGURATIONS_H_
 
+#include <Eigen/Core>
 #include <array>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/status.h"
 
@@ -36,9 +35,40 @@ struct DelaunayConfigurations {
 // Computes all degree-`degree` configurations of `knots` (#knots by 3, unit
 // vectors on S^2), 0 <= degree <= 5, grouped by unordered set. Fails with
 // kInvalidArgument for a bad degree, fewer than degree + 4 knots, non-unit
-// or non-finite knots, or duplicate knots.
+// (|norm - 1| > 1e-9) or non-finite knots, or duplicate knots.
+//
+// "Inside a cap" is decided by PerturbedCapSide (core/perturbed_predicates.h),
+// so co-circular knots, planes through the origin and near-duplicates give
+// a valid, deterministic configuration set: the exact configuration set of
+// the symbolically perturbed knots. Algorithm: docs/CONFIGURATIONS.md.
 StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
     const Eigen::MatrixX3d& knots, int degree);
+
+struct DelaunayConfigurationOptions {
+  // Also run the local emptiness test (hull neighbours of each candidate's
+  // knots) when the hemisphere certificate says it is not needed. Slower;
+  // the result is the same.
+  bool always_verify = false;
+};
+
+struct DelaunayConfigurationStats {
+  // True when every open hemisphere provably holds >= degree knots; then no
+  // configuration search crosses a great circle and candidates need no
+  // local emptiness test.
+  bool hemisphere_certificate = false;
+  // Great circles through two knots with fewer than `degree` knots on one
+  // side (only searched without the certificate).
+  int hemisphere_edges = 0;
+  // configurations_per_degree[j]: number of (X_B, X_I) of degree j, j =
+  // 0..degree.
+  std::vector<int> configurations_per_degree;
+};
+
+// As above, with options; `stats` may be null.
+StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
+    const Eigen::MatrixX3d& knots, int degree,
+    const DelaunayConfigurationOptions& options,
+    DelaunayConfigurationStats* stats = nullptr);
 
 }  // namespace sdcb
 

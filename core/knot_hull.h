@@ -1,0 +1,36 @@
+// Convex hull of knots on S^2 under the symbolic perturbation of
+// core/perturbed_predicates.h. The perturbed knots are in general and convex
+// position, so every knot is a hull vertex and every facet is a triangle.
+// Its facets whose outer side avoids the origin are the degree-0 spherical
+// Delaunay configurations (paper Sec. 2); its edge graph is what the
+// configuration search walks.
+#ifndef SDCB_CORE_KNOT_HULL_H_
+#define SDCB_CORE_KNOT_HULL_H_
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "core/status.h"
+
+namespace sdcb {
+
+struct KnotHull {
+  // Triangles of knot indices, counter-clockwise seen from outside (the
+  // perturbed orient3d of any other knot against a facet is -1). Sorted.
+  std::vector<std::array<int, 3>> facets;
+  // neighbors[i]: knots joined to knot i by a hull edge, ascending.
+  std::vector<std::vector<int>> neighbors;
+};
+
+// Hull of `knots` (#knots by 3, distinct points on the unit sphere, at least
+// 4). Randomized incremental construction with a conflict graph (de Berg et
+// al., Computational Geometry, Ch. 11) with a fixed insertion order, so the
+// result (unique under the perturbation) is reproducible: O(n log n)
+// expected. Returns kInvalidArgument for fewer than 4 knots and kInternal if
+// a knot ends up inside the hull (knots not on a sphere).
+StatusOr<KnotHull> ComputeKnotHull(const Eigen::MatrixX3d& knots);
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_KNOT_HULL_H_
