@@ -1,9 +1,9 @@
 #include "core/perturbed_predicates.h"
 
-#include <CGAL/Exact_rational.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include <Eigen/LU>
 #include <algorithm>
-#include <functional>
 #include <utility>
 #include <vector>
 
@@ -12,53 +12,142 @@
 namespace sdcb {
 namespace {
 
-using Exact = CGAL::Exact_rational;
-using ExactMatrix = std::array<std::array<Exact, 4>, 4>;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
 Eigen::Vector3d Point(const Eigen::MatrixX3d& knots, int index) {
   if (index == kOriginIndex) return Eigen::Vector3d::Zero();
   return knots.row(index).transpose();
 }
 
-// Determinant by cofactor expansion along the first row (4 x 4 at most,
-// evaluated only for exact degeneracies, so speed does not matter).
-Exact Determinant(const std::vector<std::vector<Exact>>& m) {
-  const int n = static_cast<int>(m.size());
-  if (n == 1) return m[0][0];
-  Exact sum = 0;
-  for (int col = 0; col < n; ++col) {
-    if (CGAL::is_zero(m[0][col])) continue;
-    std::vector<std::vector<Exact>> minor;
-    for (int r = 1; r < n; ++r) {
-      std::vector<Exact> row;
-      for (int c = 0; c < n; ++c) {
-        if (c != col) row.push_back(m[r][c]);
-      }
-      minor.push_back(std::move(row));
-    }
-    const Exact term = m[0][col] * Determinant(minor);
-    if (col % 2 == 0) {
-      sum += term;
-    } else {
-      sum -= term;
-    }
-  }
-  return sum;
-}
-
-// One term of det(M + E) as a polynomial in eps: the perturbed entries
-// (row, column) taken from E, and their keys sorted in decreasing order.
+// One term of det(M + E) as a polynomial in eps, where M (4 x 4) has rows
+// (x, y, z, 1) of the four points sorted by index and E holds the
+// perturbations of columns 0..2. The term takes `size` entries
+// (rows[i], cols[i]) from E; its coefficient is sign_factor times the minor
+// of M without those rows and columns.
 struct Term {
-  std::vector<std::pair<int, int>> entries;
-  std::vector<int> keys_descending;
+  int size = 0;
+  std::array<int, 3> rows{};
+  std::array<int, 3> cols{};
+  int sign_factor = 1;
+  std::vector<int> keys_descending;  // 3 * row + column, for the ordering
 };
 
-// Exponent of a term is sum 2^key: comparing the decreasing key lists
-// lexicographically (a proper prefix being smaller) orders the exponents.
-bool LowerOrder(const Term& a, const Term& b) {
-  return std::lexicographical_compare(
-      a.keys_descending.begin(), a.keys_descending.end(),
-      b.keys_descending.begin(), b.keys_descending.end());
+// Determinant of M with each of the term's rows replaced by the unit row of
+// its column: the coefficient of the term (it forces the permutation).
+double Coefficient(Eigen::Matrix4d m, const Term& t) {
+  for (int i = 0; i < t.size; ++i) {
+    m.row(t.rows[i]).setZero();
+    m(t.rows[i], t.cols[i]) = 1;
+  }
+  return m.determinant();
+}
+
+double Minor(const Eigen::Matrix4d& m, const Term& t) {
+  std::vector<int> rows, cols;
+  for (int r = 0; r < 4; ++r) {
+    if (std::find(t.rows.begin(), t.rows.begin() + t.size, r) ==
+        t.rows.begin() + t.size) {
+      rows.push_back(r);
+    }
+  }
+  for (int c = 0; c < 4; ++c) {
+    if (std::find(t.cols.begin(), t.cols.begin() + t.size, c) ==
+        t.cols.begin() + t.size) {
+      cols.push_back(c);
+    }
+  }
+  Eigen::MatrixXd sub(rows.size(), cols.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    for (size_t j = 0; j < cols.size(); ++j) sub(i, j) = m(rows[i], cols[j]);
+  }
+  return sub.determinant();
+}
+
+// All non-empty terms in increasing order of their eps exponent, which is
+// sum 2^key over their entries (key 3 * row + column: row order = knot
+// index order, so this matches the keys 3 * index + column of the header).
+// Comparing decreasing key lists lexicographically (a proper prefix being
+// smaller) orders these sums. Row 0 is not perturbed if it is the origin.
+std::vector<Term> BuildTermOrder(bool origin_first) {
+  std::vector<Term> terms;
+  Term current;
+  std::array<bool, 3> used = {false, false, false};
+  auto enumerate = [&](auto&& self, int r) -> void {
+    if (r == 4) {
+      if (current.size > 0) terms.push_back(current);
+      return;
+    }
+    self(self, r + 1);
+    if (r == 0 && origin_first) return;
+    for (int c = 0; c < 3; ++c) {
+      if (used[c]) continue;
+      used[c] = true;
+      current.rows[current.size] = r;
+      current.cols[current.size] = c;
+      ++current.size;
+      self(self, r + 1);
+      --current.size;
+      used[c] = false;
+    }
+  };
+  enumerate(enumerate, 0);
+  // Any matrix with non-zero minors fixes the sign relating coefficient
+  // and minor (it depends only on the positions).
+  Eigen::Matrix4d generic;
+  generic << 0.31, -0.72, 0.55, 1, 0.93, 0.18, -0.41, 1, -0.27, 0.64, 0.86, 1,
+      0.49, -0.83, -0.15, 1;
+  for (Term& t : terms) {
+    for (int i = 0; i < t.size; ++i)
+      t.keys_descending.push_back(3 * t.rows[i] + t.cols[i]);
+    std::sort(t.keys_descending.rbegin(), t.keys_descending.rend());
+    t.sign_factor = Coefficient(generic, t) * Minor(generic, t) > 0 ? 1 : -1;
+  }
+  std::sort(terms.begin(), terms.end(), [](const Term& a, const Term& b) {
+    return std::lexicographical_compare(
+        a.keys_descending.begin(), a.keys_descending.end(),
+        b.keys_descending.begin(), b.keys_descending.end());
+  });
+  return terms;
+}
+
+const std::vector<Term>& TermOrder(bool origin_first) {
+  static const std::vector<Term> with_origin = BuildTermOrder(true);
+  static const std::vector<Term> without_origin = BuildTermOrder(false);
+  return origin_first ? with_origin : without_origin;
+}
+
+// Exact sign of the minor of M (rows p[r] = (x, y, z, 1)) without the
+// term's rows and columns. Column 3 always remains, so the minor is an
+// orient2d of three projected points, a difference of two coordinates, or 1.
+int MinorSign(const std::array<Eigen::Vector3d, 4>& p, const Term& t) {
+  std::array<int, 4> rows;
+  int num_rows = 0;
+  for (int r = 0; r < 4; ++r) {
+    if (std::find(t.rows.begin(), t.rows.begin() + t.size, r) ==
+        t.rows.begin() + t.size) {
+      rows[num_rows++] = r;
+    }
+  }
+  std::array<int, 3> cols;
+  int num_cols = 0;
+  for (int c = 0; c < 3; ++c) {
+    if (std::find(t.cols.begin(), t.cols.begin() + t.size, c) ==
+        t.cols.begin() + t.size) {
+      cols[num_cols++] = c;
+    }
+  }
+  if (t.size == 3) return 1;
+  if (t.size == 2) {  // det[[a_c, 1], [b_c, 1]] = a_c - b_c
+    const double a = p[rows[0]][cols[0]], b = p[rows[1]][cols[0]];
+    return a > b ? 1 : (a < b ? -1 : 0);
+  }
+  // det[[a_u, a_v, 1], [b_u, b_v, 1], [c_u, c_v, 1]] = orient2d(a, b, c).
+  auto project = [&](int r) {
+    return Kernel::Point_2(p[rows[r]][cols[0]], p[rows[r]][cols[1]]);
+  };
+  const CGAL::Orientation o =
+      CGAL::orientation(project(0), project(1), project(2));
+  return o == CGAL::POSITIVE ? 1 : (o == CGAL::NEGATIVE ? -1 : 0);
 }
 
 }  // namespace
@@ -67,53 +156,23 @@ namespace internal {
 
 int SymbolicOrient3dSign(const Eigen::MatrixX3d& knots,
                          const std::array<int, 4>& rows) {
-  // M has rows (x, y, z, 1); orient3d = -det(M) (subtract row 0 from the
-  // others and expand along the last column).
-  std::vector<std::vector<Exact>> m(4, std::vector<Exact>(4));
-  for (int r = 0; r < 4; ++r) {
-    const Eigen::Vector3d p = Point(knots, rows[r]);
-    for (int c = 0; c < 3; ++c) m[r][c] = p[c];
-    m[r][3] = 1;
+  // Sort the rows by index (the origin, -1, first), tracking the parity.
+  std::array<int, 4> sorted = rows;
+  int parity = 1;
+  for (int i = 1; i < 4; ++i) {
+    for (int j = i; j > 0 && sorted[j - 1] > sorted[j]; --j) {
+      std::swap(sorted[j - 1], sorted[j]);
+      parity = -parity;
+    }
   }
-  // All partial matchings of perturbed entries (distinct rows and columns).
-  std::vector<Term> terms;
-  Term current;
-  std::array<bool, 3> column_used = {false, false, false};
-  std::function<void(int)> enumerate = [&](int r) {
-    if (r == 4) {
-      terms.push_back(current);
-      return;
-    }
-    enumerate(r + 1);                     // row r takes its entry from M
-    if (rows[r] == kOriginIndex) return;  // the origin is not perturbed
-    for (int c = 0; c < 3; ++c) {
-      if (column_used[c]) continue;
-      column_used[c] = true;
-      current.entries.emplace_back(r, c);
-      enumerate(r + 1);
-      current.entries.pop_back();
-      column_used[c] = false;
-    }
-  };
-  enumerate(0);
-  for (Term& t : terms) {
-    for (const auto& [r, c] : t.entries) {
-      t.keys_descending.push_back(3 * rows[r] + c);
-    }
-    std::sort(t.keys_descending.rbegin(), t.keys_descending.rend());
+  std::array<Eigen::Vector3d, 4> p;
+  for (int r = 0; r < 4; ++r) p[r] = Point(knots, sorted[r]);
+  for (const Term& t : TermOrder(sorted[0] == kOriginIndex)) {
+    const int s = MinorSign(p, t);
+    // orient3d = -det(M) (subtract row 0, expand along the last column).
+    if (s != 0) return -parity * t.sign_factor * s;
   }
-  std::sort(terms.begin(), terms.end(), LowerOrder);
-  // The coefficient of a term is det(M) with each of its rows replaced by
-  // the unit row of its column: that forces the permutation through it.
-  for (const Term& t : terms) {
-    std::vector<std::vector<Exact>> mt = m;
-    for (const auto& [r, c] : t.entries) {
-      for (int cc = 0; cc < 4; ++cc) mt[r][cc] = (cc == c) ? 1 : 0;
-    }
-    const CGAL::Sign sign = CGAL::sign(Determinant(mt));
-    if (sign != CGAL::ZERO) return sign == CGAL::POSITIVE ? -1 : 1;
-  }
-  return 0;  // unreachable for valid input: the top term is +-1
+  return 0;  // unreachable: the terms with three entries have minor 1
 }
 
 }  // namespace internal
