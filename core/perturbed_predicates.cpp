@@ -193,12 +193,19 @@ int PerturbedCapSide(const Eigen::MatrixX3d& knots, int a, int b, int c,
 PerturbedCap::PerturbedCap(const Eigen::MatrixX3d& knots, int a, int b, int c)
     : knots_(knots),
       corners_{a, b, c},
+      points_{knots.row(a).transpose(), knots.row(b).transpose(),
+              knots.row(c).transpose()},
       origin_side_(PerturbedOrient3dSign(knots, a, b, c, kOriginIndex)) {}
 
 bool PerturbedCap::Contains(int q) const {
   // Inside the smaller cap: on the other side of the plane than the origin.
-  return PerturbedOrient3dSign(knots_, corners_[0], corners_[1], corners_[2],
-                               q) != origin_side_;
+  int side = Orient3dSign(points_[0], points_[1], points_[2],
+                          knots_.row(q).transpose());
+  if (side == 0) {
+    side = internal::SymbolicOrient3dSign(
+        knots_, {corners_[0], corners_[1], corners_[2], q});
+  }
+  return side != origin_side_;
 }
 
 }  // namespace sdcb

@@ -47,6 +47,7 @@ class PerturbedCap {
  private:
   const Eigen::MatrixX3d& knots_;
   std::array<int, 3> corners_;
+  std::array<Eigen::Vector3d, 3> points_;  // the corners' coordinates
   int origin_side_;  // PerturbedOrient3dSign(a, b, c, origin)
 };
 
