@@ -69,18 +69,23 @@ void ExpectMatchesBruteForce(const Eigen::MatrixX3d& knots,
   const int n = static_cast<int>(knots.rows());
   const int max_degree = std::min(5, n - 4);
   const auto oracle = testing::BruteForceConfigurationsUpTo(knots, max_degree);
+  DelaunayConfigurationOptions options;
   for (int k = 0; k <= max_degree; ++k) {
-    const auto result = ComputeDelaunayConfigurations(knots, k);
-    ASSERT_TRUE(result.ok())
-        << label << " k=" << k << ": " << result.status().message();
-    EXPECT_EQ(result->degree, k);
-    ASSERT_EQ(result->sets.size(), oracle[k].sets.size())
-        << label << " k=" << k;
-    for (size_t i = 0; i < oracle[k].sets.size(); ++i) {
-      ASSERT_EQ(result->sets[i].knots, oracle[k].sets[i].knots)
+    // The default and the locally verified variant must both match.
+    for (const bool always_verify : {false, true}) {
+      options.always_verify = always_verify;
+      const auto result = ComputeDelaunayConfigurations(knots, k, options);
+      ASSERT_TRUE(result.ok())
+          << label << " k=" << k << ": " << result.status().message();
+      EXPECT_EQ(result->degree, k);
+      ASSERT_EQ(result->sets.size(), oracle[k].sets.size())
           << label << " k=" << k;
-      ASSERT_EQ(result->sets[i].boundaries, oracle[k].sets[i].boundaries)
-          << label << " k=" << k;
+      for (size_t i = 0; i < oracle[k].sets.size(); ++i) {
+        ASSERT_EQ(result->sets[i].knots, oracle[k].sets[i].knots)
+            << label << " k=" << k;
+        ASSERT_EQ(result->sets[i].boundaries, oracle[k].sets[i].boundaries)
+            << label << " k=" << k;
+      }
     }
   }
 }
@@ -97,6 +102,23 @@ TEST(DelaunayConfigurationsTest, MatchesBruteForceOnClusteredKnots) {
   for (int n : {12, 30, 80, 200}) {
     ExpectMatchesBruteForce(ClusteredKnots(n, 0.9, 10, 7 + n),
                             "clustered n=" + std::to_string(n));
+  }
+}
+
+TEST(DelaunayConfigurationsTest, MatchesBruteForceOnManySmallSets) {
+  // Small sets hit the rare cases: caps bigger than a hemisphere's worth of
+  // knots, hemisphere edges, sets without the certificate.
+  for (unsigned seed = 0; seed < 60; ++seed) {
+    const int n = 8 + static_cast<int>(seed % 23);
+    Eigen::MatrixX3d knots;
+    if (seed % 3 == 0) {
+      knots = UniformKnots(n, seed);
+    } else if (seed % 3 == 1) {
+      knots = ClusteredKnots(n, 0.9, 10, seed);
+    } else {
+      knots = ClusteredKnots(n, 1.0, 20.0 + seed, seed);
+    }
+    ExpectMatchesBruteForce(knots, "seed " + std::to_string(seed));
   }
 }
 
