@@ -11,6 +11,13 @@
 namespace sdcb {
 namespace {
 
+Status NotConvexError(int knot) {
+  return InvalidArgumentError(
+      "knot " + std::to_string(knot) +
+      " is not a vertex of the knots' convex hull (knots off the sphere, or "
+      "three or more knots within about 1e-7 of each other)");
+}
+
 struct Facet {
   std::array<int, 3> v;    // counter-clockwise seen from outside
   std::array<int, 3> adj;  // adj[i]: facet across edge (v[i], v[i+1])
@@ -120,9 +127,7 @@ class HullBuilder {
     knot_facets_[p].clear();
     knot_facets_[p].shrink_to_fit();
     if (visible.empty()) {
-      return InternalError(
-          "knot " + std::to_string(p) +
-          " is inside the hull of the others (not on a sphere)");
+      return NotConvexError(p);
     }
     facet_mark_.resize(facets_.size(), -1);
     for (int f : visible) facet_mark_[f] = step;
@@ -188,7 +193,13 @@ StatusOr<KnotHull> ComputeKnotHull(const Eigen::MatrixX3d& knots) {
   }
   HullBuilder builder(knots);
   SDCB_RETURN_IF_ERROR(builder.Build());
-  return builder.Result();
+  KnotHull hull = builder.Result();
+  // A knot inserted early can end up inside the final hull only if the
+  // knots are not in convex position.
+  for (int i = 0; i < knots.rows(); ++i) {
+    if (hull.neighbors[i].empty()) return NotConvexError(i);
+  }
+  return hull;
 }
 
 }  // namespace sdcb

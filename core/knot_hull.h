@@ -27,8 +27,9 @@ struct KnotHull {
 // 4). Randomized incremental construction with a conflict graph (de Berg et
 // al., Computational Geometry, Ch. 11) with a fixed insertion order, so the
 // result (unique under the perturbation) is reproducible: O(n log n)
-// expected. Returns kInvalidArgument for fewer than 4 knots and kInternal if
-// a knot ends up inside the hull (knots not on a sphere).
+// expected. Returns kInvalidArgument for fewer than 4 knots or knots not in
+// convex position: on the sphere up to rounding that needs three or more
+// knots within about 1e-7 of each other (pairs 1e-9 apart are fine).
 StatusOr<KnotHull> ComputeKnotHull(const Eigen::MatrixX3d& knots);
 
 }  // namespace sdcb

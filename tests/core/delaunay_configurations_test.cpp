@@ -347,3 +347,43 @@ TEST(DelaunayConfigurationsTest, RejectsInvalidInput) {
 
 }  // namespace
 }  // namespace sdcb
+
+namespace sdcb {
+namespace {
+
+// Three or more knots within ~1e-8 of each other are no longer in convex
+// position once rounded onto the sphere. The result is then either exact
+// (equal to brute force) or kInvalidArgument with a message, never wrong.
+TEST(DelaunayConfigurationsTest, TightClustersAreExactOrRejected) {
+  int rejected = 0;
+  for (unsigned seed = 0; seed < 20; ++seed) {
+    std::mt19937 rng(seed + 1000);
+    std::normal_distribution<double> normal;
+    Eigen::MatrixX3d knots = UniformKnots(30, seed);
+    for (int i = 1; i < 6; ++i) {
+      knots.row(i) =
+          (knots.row(0) +
+           1e-9 * Eigen::RowVector3d(normal(rng), normal(rng), normal(rng)))
+              .normalized();
+    }
+    const auto oracle = testing::BruteForceConfigurationsUpTo(knots, 2);
+    const auto result = ComputeDelaunayConfigurations(knots, 2);
+    if (!result.ok()) {
+      EXPECT_EQ(result.status().code(), StatusCode::kInvalidArgument);
+      EXPECT_NE(result.status().message().find("convex hull"),
+                std::string::npos)
+          << result.status().message();
+      ++rejected;
+      continue;
+    }
+    ASSERT_EQ(result->sets.size(), oracle[2].sets.size());
+    for (size_t i = 0; i < result->sets.size(); ++i) {
+      EXPECT_EQ(result->sets[i].knots, oracle[2].sets[i].knots);
+      EXPECT_EQ(result->sets[i].boundaries, oracle[2].sets[i].boundaries);
+    }
+  }
+  EXPECT_GT(rejected, 0);  // the case really occurs at this spacing
+}
+
+}  // namespace
+}  // namespace sdcb
