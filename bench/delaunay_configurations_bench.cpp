@@ -13,35 +13,12 @@
 #include <random>
 
 #include "core/delaunay_configurations.h"
+#include "tests/core/random_knots.h"
 
 namespace {
 
-Eigen::MatrixX3d UniformKnots(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> normal;
-  Eigen::MatrixX3d knots(n, 3);
-  for (int i = 0; i < n; ++i) {
-    knots.row(i) =
-        Eigen::RowVector3d(normal(rng), normal(rng), normal(rng)).normalized();
-  }
-  return knots;
-}
-
-Eigen::MatrixX3d ClusteredKnots(int n, unsigned seed) {
-  Eigen::MatrixX3d knots = UniformKnots(n, seed);
-  std::mt19937 rng(seed + 1);
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  const Eigen::Vector3d axis = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
-  const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
-  for (int i = 0; i < n * 9 / 10; ++i) {
-    const double z = 1.0 - uniform(rng) * (1.0 - std::cos(10.0 * M_PI / 180));
-    const double phi = 2 * M_PI * uniform(rng);
-    const double r = std::sqrt(std::max(0.0, 1 - z * z));
-    knots.row(i) =
-        (z * axis + r * std::cos(phi) * u + r * std::sin(phi) * v).normalized();
-  }
-  return knots;
-}
+using sdcb::testing::ClusteredKnots;
+using sdcb::testing::UniformKnots;
 
 // Best of `reps` wall-clock times in milliseconds; *cpu_ms: process CPU
 // time (all threads) of that run, which other load on the machine does not
@@ -81,8 +58,9 @@ int main(int argc, char** argv) {
               "wall_ms", "cpu_ms", "sets", "ns/(n log2 n)", "certificate");
   for (const char* kind : {"uniform", "clustered"}) {
     for (int n : {1000, 5000, 20000}) {
-      const Eigen::MatrixX3d knots =
-          kind[0] == 'u' ? UniformKnots(n, 12345) : ClusteredKnots(n, 12345);
+      const Eigen::MatrixX3d knots = kind[0] == 'u'
+                                         ? UniformKnots(n, 12345)
+                                         : ClusteredKnots(n, 0.9, 10, 12345);
       for (int degree : {3, 4, 5}) {
         long sets = 0;
         bool certificate = false;

@@ -30,7 +30,23 @@ struct Term {
   std::array<int, 3> cols{};
   int sign_factor = 1;
   std::vector<int> keys_descending;  // 3 * row + column, for the ordering
+  std::vector<int> free_rows;        // rows of M not in the term, ascending
+  std::vector<int> free_cols;        // columns 0..2 not in the term, ascending
 };
+
+// Fills the term's free rows and perturbed columns.
+void SetFreeRowsAndColumns(Term* t) {
+  const auto taken = [](const std::array<int, 3>& used, int size, int x) {
+    return std::find(used.begin(), used.begin() + size, x) !=
+           used.begin() + size;
+  };
+  for (int r = 0; r < 4; ++r) {
+    if (!taken(t->rows, t->size, r)) t->free_rows.push_back(r);
+  }
+  for (int c = 0; c < 3; ++c) {
+    if (!taken(t->cols, t->size, c)) t->free_cols.push_back(c);
+  }
+}
 
 // Determinant of M with each of the term's rows replaced by the unit row of
 // its column: the coefficient of the term (it forces the permutation).
@@ -43,22 +59,12 @@ double Coefficient(Eigen::Matrix4d m, const Term& t) {
 }
 
 double Minor(const Eigen::Matrix4d& m, const Term& t) {
-  std::vector<int> rows, cols;
-  for (int r = 0; r < 4; ++r) {
-    if (std::find(t.rows.begin(), t.rows.begin() + t.size, r) ==
-        t.rows.begin() + t.size) {
-      rows.push_back(r);
-    }
-  }
-  for (int c = 0; c < 4; ++c) {
-    if (std::find(t.cols.begin(), t.cols.begin() + t.size, c) ==
-        t.cols.begin() + t.size) {
-      cols.push_back(c);
-    }
-  }
-  Eigen::MatrixXd sub(rows.size(), cols.size());
-  for (size_t i = 0; i < rows.size(); ++i) {
-    for (size_t j = 0; j < cols.size(); ++j) sub(i, j) = m(rows[i], cols[j]);
+  std::vector<int> cols = t.free_cols;
+  cols.push_back(3);  // the column of ones is never perturbed
+  Eigen::MatrixXd sub(t.free_rows.size(), cols.size());
+  for (size_t i = 0; i < t.free_rows.size(); ++i) {
+    for (size_t j = 0; j < cols.size(); ++j)
+      sub(i, j) = m(t.free_rows[i], cols[j]);
   }
   return sub.determinant();
 }
@@ -97,6 +103,7 @@ std::vector<Term> BuildTermOrder(bool origin_first) {
   generic << 0.31, -0.72, 0.55, 1, 0.93, 0.18, -0.41, 1, -0.27, 0.64, 0.86, 1,
       0.49, -0.83, -0.15, 1;
   for (Term& t : terms) {
+    SetFreeRowsAndColumns(&t);
     for (int i = 0; i < t.size; ++i)
       t.keys_descending.push_back(3 * t.rows[i] + t.cols[i]);
     std::sort(t.keys_descending.rbegin(), t.keys_descending.rend());
@@ -120,22 +127,8 @@ const std::vector<Term>& TermOrder(bool origin_first) {
 // term's rows and columns. Column 3 always remains, so the minor is an
 // orient2d of three projected points, a difference of two coordinates, or 1.
 int MinorSign(const std::array<Eigen::Vector3d, 4>& p, const Term& t) {
-  std::array<int, 4> rows;
-  int num_rows = 0;
-  for (int r = 0; r < 4; ++r) {
-    if (std::find(t.rows.begin(), t.rows.begin() + t.size, r) ==
-        t.rows.begin() + t.size) {
-      rows[num_rows++] = r;
-    }
-  }
-  std::array<int, 3> cols;
-  int num_cols = 0;
-  for (int c = 0; c < 3; ++c) {
-    if (std::find(t.cols.begin(), t.cols.begin() + t.size, c) ==
-        t.cols.begin() + t.size) {
-      cols[num_cols++] = c;
-    }
-  }
+  const std::vector<int>& rows = t.free_rows;
+  const std::vector<int>& cols = t.free_cols;
   if (t.size == 3) return 1;
   if (t.size == 2) {  // det[[a_c, 1], [b_c, 1]] = a_c - b_c
     const double a = p[rows[0]][cols[0]], b = p[rows[1]][cols[0]];

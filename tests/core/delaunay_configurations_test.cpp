@@ -12,48 +12,13 @@
 #include "core/knot_hull.h"
 #include "core/perturbed_predicates.h"
 #include "tests/core/brute_force_configurations.h"
+#include "tests/core/random_knots.h"
 
 namespace sdcb {
 namespace {
 
-Eigen::MatrixX3d UniformKnots(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> normal;
-  Eigen::MatrixX3d knots(n, 3);
-  for (int i = 0; i < n; ++i) {
-    Eigen::Vector3d p(normal(rng), normal(rng), normal(rng));
-    knots.row(i) = p.normalized();
-  }
-  return knots;
-}
-
-// A point uniformly distributed in the cap of angular radius `radius_deg`
-// around `axis`.
-Eigen::Vector3d PointInCap(const Eigen::Vector3d& axis, double radius_deg,
-                           std::mt19937* rng) {
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  const double z =
-      1.0 - uniform(*rng) * (1.0 - std::cos(radius_deg * M_PI / 180));
-  const double phi = 2 * M_PI * uniform(*rng);
-  const double r = std::sqrt(std::max(0.0, 1 - z * z));
-  const Eigen::Vector3d u = axis.unitOrthogonal();
-  const Eigen::Vector3d v = axis.cross(u);
-  return (z * axis + r * std::cos(phi) * u + r * std::sin(phi) * v)
-      .normalized();
-}
-
-// `fraction` of the knots in a 10-degree cap, the rest uniform.
-Eigen::MatrixX3d ClusteredKnots(int n, double fraction, double radius_deg,
-                                unsigned seed) {
-  Eigen::MatrixX3d knots = UniformKnots(n, seed);
-  std::mt19937 rng(seed + 1);
-  const Eigen::Vector3d axis = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
-  const int clustered = static_cast<int>(std::round(fraction * n));
-  for (int i = 0; i < clustered; ++i) {
-    knots.row(i) = PointInCap(axis, radius_deg, &rng);
-  }
-  return knots;
-}
+using testing::ClusteredKnots;
+using testing::UniformKnots;
 
 int CountConfigurations(const DelaunayConfigurations& c) {
   int count = 0;

@@ -9,20 +9,12 @@
 #include <utility>
 
 #include "core/perturbed_predicates.h"
+#include "tests/core/random_knots.h"
 
 namespace sdcb {
 namespace {
 
-Eigen::MatrixX3d RandomKnots(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> normal;
-  Eigen::MatrixX3d knots(n, 3);
-  for (int i = 0; i < n; ++i) {
-    knots.row(i) =
-        Eigen::RowVector3d(normal(rng), normal(rng), normal(rng)).normalized();
-  }
-  return knots;
-}
+using testing::UniformKnots;
 
 Eigen::MatrixX3d CubeKnots() {
   Eigen::MatrixX3d knots(8, 3);
@@ -73,7 +65,7 @@ void ExpectValidHull(const Eigen::MatrixX3d& knots) {
 }
 
 TEST(KnotHullTest, RandomKnotsGiveAValidHull) {
-  for (int n : {4, 5, 9, 60, 300}) ExpectValidHull(RandomKnots(n, 31 + n));
+  for (int n : {4, 5, 9, 60, 300}) ExpectValidHull(UniformKnots(n, 31 + n));
 }
 
 TEST(KnotHullTest, CoCircularKnotsAreTriangulatedUnderThePerturbation) {
@@ -91,7 +83,7 @@ TEST(KnotHullTest, CoCircularKnotsAreTriangulatedUnderThePerturbation) {
 }
 
 TEST(KnotHullTest, IsReproducible) {
-  const Eigen::MatrixX3d knots = RandomKnots(500, 2);
+  const Eigen::MatrixX3d knots = UniformKnots(500, 2);
   const auto a = ComputeKnotHull(knots);
   const auto b = ComputeKnotHull(knots);
   ASSERT_TRUE(a.ok() && b.ok());
@@ -99,7 +91,7 @@ TEST(KnotHullTest, IsReproducible) {
 }
 
 TEST(KnotHullTest, RejectsFewerThanFourKnots) {
-  EXPECT_EQ(ComputeKnotHull(RandomKnots(3, 1)).status().code(),
+  EXPECT_EQ(ComputeKnotHull(UniformKnots(3, 1)).status().code(),
             StatusCode::kInvalidArgument);
 }
 
