@@ -1,7 +1,10 @@
-// Degree-k spherical Delaunay configurations by "link triangulation" from
-// degree j - 1 and j - 2 to degree j (Lee's construction of higher-order
-// Voronoi diagrams, in the form of Liu & Snoeyink), started from the convex
-// hull. Why it is complete and exact: docs/CONFIGURATIONS.md.
+// Degree-k spherical Delaunay configurations: all j-facets of the knots
+// (planes through three knots with exactly j knots on one side, j <= k) by
+// "link triangulation" from j - 1 and j - 2 to j (Lee's construction of
+// higher-order Voronoi diagrams, in the form of Liu & Snoeyink), started
+// from the convex hull; the configurations are the k-facets whose k knots
+// lie on the side without the origin. Why it is complete and exact:
+// docs/CONFIGURATIONS.md.
 #include "core/delaunay_configurations.h"
 
 #include <tbb/blocked_range.h>
@@ -16,6 +19,7 @@
 
 #include "core/knot_hull.h"
 #include "core/perturbed_predicates.h"
+#include "core/sphere_geometry.h"
 
 namespace sdcb {
 namespace {
@@ -29,18 +33,11 @@ constexpr int kMaxKnots = kNone;
 
 using InteriorSet = std::array<int, kMaxDegree>;
 
-// One configuration (X_B, X_I); X_I padded with kNone.
+// One j-facet: boundary triple and the j knots on one side of its plane
+// (padded with kNone). A configuration when that side avoids the origin.
 struct Configuration {
   std::array<int, 3> boundary;  // ascending
   InteriorSet interior;         // ascending
-};
-
-// A great circle through knots u, v with exactly `inside` (padded) strictly
-// on one side: where a configuration search would cross the origin.
-struct HemisphereEdge {
-  int u, v;
-  int size;
-  InteriorSet inside;
 };
 
 // "Knot x is a link candidate of interior set s", packed so that sorting
@@ -145,92 +142,55 @@ Status ValidateKnots(const Eigen::MatrixX3d& knots, int degree) {
   return Status::Ok();
 }
 
-// True if every open hemisphere provably contains at least `needed` knots.
-// Any open hemisphere contains a cap of angular radius 50 degrees around
-// one of the 20 vertices of a regular dodecahedron (these are at most
-// 37.38 degrees from every point of S^2, and 37.38 + 50 < 90 leaves a
-// 2.6-degree margin, far above rounding), so it suffices that each of the
-// 20 caps holds `needed` knots.
-bool HemisphereCertificate(const Eigen::MatrixX3d& knots, int needed) {
-  if (needed <= 0) return true;
-  const double phi = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Eigen::Vector3d> centers;
-  for (int sx : {-1, 1}) {
-    for (int sy : {-1, 1}) {
-      centers.emplace_back(0.0, sx / phi, sy * phi);
-      centers.emplace_back(sx / phi, sy * phi, 0.0);
-      centers.emplace_back(sx * phi, 0.0, sy / phi);
-      for (int sz : {-1, 1}) centers.emplace_back(sx, sy, sz);
-    }
-  }
-  const double cos_radius = std::cos(50.0 * M_PI / 180.0);
-  for (Eigen::Vector3d c : centers) {
-    c.normalize();
-    int count = 0;
-    for (int i = 0; i < knots.rows() && count < needed; ++i) {
-      if (knots.row(i).dot(c) >= cos_radius) ++count;
-    }
-    if (count < needed) return false;
-  }
-  return true;
-}
-
-// All great circles through two knots with at most max_inside knots strictly
-// on one side (each side reported separately). Brute force with early exit,
-// O(n^2) pairs; only run for knot sets crowded into part of the sphere.
-std::vector<HemisphereEdge> FindHemisphereEdges(const Eigen::MatrixX3d& knots,
-                                                int max_inside) {
-  const int n = static_cast<int>(knots.rows());
-  std::vector<std::vector<HemisphereEdge>> per_knot(n);
-  tbb::parallel_for(tbb::blocked_range<int>(0, n), [&](const auto& range) {
-    for (int u = range.begin(); u < range.end(); ++u) {
-      for (int v = u + 1; v < n; ++v) {
-        HemisphereEdge side[2] = {{u, v, 0, EmptySet()}, {u, v, 0, EmptySet()}};
-        for (int w = 0; w < n; ++w) {
-          if (w == u || w == v) continue;
-          const int s = PerturbedOrient3dSign(knots, kOriginIndex, u, v, w) > 0;
-          if (side[s].size <= max_inside) {
-            if (side[s].size < max_inside) side[s].inside[side[s].size] = w;
-            ++side[s].size;
-          }
-          if (side[0].size > max_inside && side[1].size > max_inside) break;
-        }
-        for (const HemisphereEdge& e : side) {
-          if (e.size <= max_inside) per_knot[u].push_back(e);
-        }
-      }
-    }
-  });
-  std::vector<HemisphereEdge> edges;
-  for (const auto& list : per_knot)
-    edges.insert(edges.end(), list.begin(), list.end());
-  return edges;
-}
-
 struct LevelContext {
   const Eigen::MatrixX3d& knots;
   const KnotHull& hull;
   bool verify;
 };
 
-// Degree-m configurations with interior exactly s: triples of link
-// candidates whose cap holds all of s and no other candidate (Lee: the
-// order-(m+1) Voronoi diagram inside the order-m region of s is the
-// Voronoi diagram of its neighbours). With `verify`, also no hull
-// neighbour of the configuration's knots (enough by the connectivity of
-// the hull graph restricted to a half-space).
-void ConfigurationsWithInterior(const LevelContext& ctx, const InteriorSet& s,
-                                int m, const int* cand, int num_cand,
-                                std::vector<Configuration>* out) {
+// Which side of the plane through knots a, b, c a knot is on, with the
+// corners' coordinates loaded once (PerturbedOrient3dSign semantics).
+class PlaneSide {
+ public:
+  PlaneSide(const Eigen::MatrixX3d& knots, int a, int b, int c)
+      : knots_(knots),
+        corners_{a, b, c},
+        points_{knots.row(a).transpose(), knots.row(b).transpose(),
+                knots.row(c).transpose()} {}
+  int operator()(int q) const {
+    const int side = Orient3dSign(points_[0], points_[1], points_[2],
+                                  knots_.row(q).transpose());
+    if (side != 0) return side;
+    return internal::SymbolicOrient3dSign(
+        knots_, {corners_[0], corners_[1], corners_[2], q});
+  }
+
+ private:
+  const Eigen::MatrixX3d& knots_;
+  std::array<int, 3> corners_;
+  std::array<Eigen::Vector3d, 3> points_;
+};
+
+// The m-facets with the m knots s on one side: triples of link candidates
+// with all of s on one side of their plane and every other candidate on
+// the other (Lee: inside the order-m region of s, the order-(m+1) diagram
+// is the Voronoi diagram of its neighbours). With `verify`, also every hull
+// neighbour of the facet's knots outside s must be on the other side
+// (redundant: the vertices of a polytope in a closed half-space induce a
+// connected subgraph).
+void FacetsWithInterior(const LevelContext& ctx, const InteriorSet& s, int m,
+                        const int* cand, int num_cand,
+                        std::vector<Configuration>* out) {
   for (int ia = 0; ia < num_cand; ++ia) {
     for (int ib = ia + 1; ib < num_cand; ++ib) {
       for (int ic = ib + 1; ic < num_cand; ++ic) {
         const int a = cand[ia], b = cand[ib], c = cand[ic];
-        const PerturbedCap cap(ctx.knots, a, b, c);
+        const PlaneSide side(ctx.knots, a, b, c);
+        const int inner = side(s[0]);
         bool ok = true;
-        for (int i = 0; i < m && ok; ++i) ok = cap.Contains(s[i]);
+        for (int i = 1; i < m && ok; ++i) ok = side(s[i]) == inner;
         for (int i = 0; i < num_cand && ok; ++i) {
-          if (i != ia && i != ib && i != ic) ok = !cap.Contains(cand[i]);
+          if (i != ia && i != ib && i != ic) ok = side(cand[i]) != inner;
         }
         if (ok && ctx.verify) {
           std::array<int, kMaxDegree + 3> members;
@@ -242,7 +202,7 @@ void ConfigurationsWithInterior(const LevelContext& ctx, const InteriorSet& s,
           for (auto it = members.begin(); it != end && ok; ++it) {
             for (int nb : ctx.hull.neighbors[*it]) {
               if (std::find(members.begin(), end, nb) != end) continue;
-              if (cap.Contains(nb)) {
+              if (side(nb) == inner) {
                 ok = false;
                 break;
               }
@@ -274,14 +234,12 @@ void SortRecords(int num_knots, std::vector<LinkRecord>* records) {
   records->swap(sorted);
 }
 
-// Degree-m configurations from those of degree m - 1 and m - 2 and the
-// hemisphere edges: each configuration's interior s and boundary knots
-// appear as an interior and link candidates of a configuration one or two
-// degrees lower, or of a hemisphere edge (docs/CONFIGURATIONS.md).
+// The m-facets from the (m-1)- and (m-2)-facets: the m knots s of an
+// m-facet and its boundary knots appear as an interior set and link
+// candidates of facets one or two levels lower (docs/CONFIGURATIONS.md).
 std::vector<Configuration> NextLevel(const LevelContext& ctx, int m,
                                      const std::vector<Configuration>& lower1,
-                                     const std::vector<Configuration>* lower2,
-                                     const std::vector<HemisphereEdge>& hemi) {
+                                     const std::vector<Configuration>* lower2) {
   std::vector<LinkRecord> records;
   records.reserve(6 * lower1.size() + (lower2 ? 3 * lower2->size() : 0));
   for (const Configuration& c : lower1) {
@@ -300,11 +258,6 @@ std::vector<Configuration> NextLevel(const LevelContext& ctx, int m,
             Union(c.interior, m - 2, {b[(i + 1) % 3], b[(i + 2) % 3]}), b[i]));
       }
     }
-  }
-  for (const HemisphereEdge& e : hemi) {
-    if (e.size != m - 1) continue;
-    records.push_back(MakeRecord(Union(e.inside, m - 1, {e.u}), e.v));
-    records.push_back(MakeRecord(Union(e.inside, m - 1, {e.v}), e.u));
   }
   SortRecords(ctx.knots.rows(), &records);
   records.erase(std::unique(records.begin(), records.end()), records.end());
@@ -328,9 +281,9 @@ std::vector<Configuration> NextLevel(const LevelContext& ctx, int m,
       for (size_t i = group_begin[g]; i < group_begin[g + 1]; ++i) {
         cand.push_back(records[i].x());
       }
-      ConfigurationsWithInterior(ctx, UnpackSet(records[group_begin[g]]), m,
-                                 cand.data(), static_cast<int>(cand.size()),
-                                 &block_out[block]);
+      FacetsWithInterior(ctx, UnpackSet(records[group_begin[g]]), m,
+                         cand.data(), static_cast<int>(cand.size()),
+                         &block_out[block]);
     }
   });
   std::vector<Configuration> result;
@@ -396,36 +349,48 @@ StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
   SDCB_RETURN_IF_ERROR(ValidateKnots(knots, degree));
   SDCB_ASSIGN_OR_RETURN(const KnotHull hull, ComputeKnotHull(knots));
 
-  // Degree 0: hull facets whose outer side avoids the origin (empty caps).
-  std::vector<std::vector<Configuration>> levels(degree + 1);
+  // 0-facets: the hull facets (nothing on their outer side); degree-0
+  // configurations: those whose outer side avoids the origin.
+  std::vector<std::vector<Configuration>> facets(degree + 1);
+  std::vector<Configuration> empty_caps;
   for (const auto& f : hull.facets) {
+    std::array<int, 3> b = f;
+    std::sort(b.begin(), b.end());
+    facets[0].push_back({b, EmptySet()});
     if (PerturbedOrient3dSign(knots, f[0], f[1], f[2], kOriginIndex) < 0) {
-      std::array<int, 3> b = f;
-      std::sort(b.begin(), b.end());
-      levels[0].push_back({b, EmptySet()});
+      empty_caps.push_back({b, EmptySet()});
     }
   }
-  // Without the certificate a search may reach a great circle: collect the
-  // crossing points and check every candidate locally.
-  const bool certificate = HemisphereCertificate(knots, degree);
-  std::vector<HemisphereEdge> hemi;
-  if (!certificate && degree >= 1)
-    hemi = FindHemisphereEdges(knots, degree - 1);
-  const LevelContext ctx{knots, hull, options.always_verify || !certificate};
+  const LevelContext ctx{knots, hull, options.always_verify};
   for (int m = 1; m <= degree; ++m) {
-    levels[m] = NextLevel(ctx, m, levels[m - 1],
-                          m >= 2 ? &levels[m - 2] : nullptr, hemi);
+    facets[m] =
+        NextLevel(ctx, m, facets[m - 1], m >= 2 ? &facets[m - 2] : nullptr);
   }
+  // Degree-m configurations: m-facets whose m knots are on the side of the
+  // plane without the origin (the smaller cap).
+  auto configurations = [&](int m) {
+    if (m == 0) return empty_caps;
+    std::vector<Configuration> result;
+    for (const Configuration& f : facets[m]) {
+      const auto& b = f.boundary;
+      if (PerturbedOrient3dSign(knots, b[0], b[1], b[2], f.interior[0]) !=
+          PerturbedOrient3dSign(knots, b[0], b[1], b[2], kOriginIndex)) {
+        result.push_back(f);
+      }
+    }
+    return result;
+  };
+  std::vector<Configuration> top = configurations(degree);
   if (stats != nullptr) {
-    stats->hemisphere_certificate = certificate;
-    stats->hemisphere_edges = static_cast<int>(hemi.size());
+    stats->facets_per_degree.clear();
     stats->configurations_per_degree.clear();
-    for (const auto& level : levels) {
-      stats->configurations_per_degree.push_back(
-          static_cast<int>(level.size()));
+    for (int m = 0; m <= degree; ++m) {
+      stats->facets_per_degree.push_back(static_cast<int>(facets[m].size()));
+      stats->configurations_per_degree.push_back(static_cast<int>(
+          m == degree ? top.size() : configurations(m).size()));
     }
   }
-  return GroupByUnorderedSet(levels[degree], degree);
+  return GroupByUnorderedSet(top, degree);
 }
 
 }  // namespace sdcb

@@ -47,22 +47,19 @@ StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
     const Eigen::MatrixX3d& knots, int degree);
 
 struct DelaunayConfigurationOptions {
-  // Also run the local emptiness test (hull neighbours of each candidate's
-  // knots) when the hemisphere certificate says it is not needed. Slower;
-  // the result is the same.
+  // Also check every facet against the hull neighbours of its knots (a
+  // redundant local emptiness test, for testing). Slower; same result.
   bool always_verify = false;
 };
 
 struct DelaunayConfigurationStats {
-  // True when every open hemisphere provably holds >= degree knots; then no
-  // configuration search crosses a great circle and candidates need no
-  // local emptiness test.
-  bool hemisphere_certificate = false;
-  // Great circles through two knots with fewer than `degree` knots on one
-  // side (only searched without the certificate).
-  int hemisphere_edges = 0;
-  // configurations_per_degree[j]: number of (X_B, X_I) of degree j, j =
-  // 0..degree.
+  // facets_per_degree[j]: planes through three knots with exactly j knots on
+  // one side (either side), j = 0..degree. The search computes all of them;
+  // for knots in convex position it is 2(j+1)(n-j-2) (Welzl), whatever
+  // their distribution.
+  std::vector<int> facets_per_degree;
+  // configurations_per_degree[j]: those whose j knots avoid the origin's
+  // side, i.e. the degree-j configurations (X_B, X_I).
   std::vector<int> configurations_per_degree;
 };
 

@@ -71,8 +71,8 @@ TEST(DelaunayConfigurationsTest, MatchesBruteForceOnClusteredKnots) {
 }
 
 TEST(DelaunayConfigurationsTest, MatchesBruteForceOnManySmallSets) {
-  // Small sets hit the rare cases: caps bigger than a hemisphere's worth of
-  // knots, hemisphere edges, sets without the certificate.
+  // Small sets hit the rare cases: facets whose few knots are on the
+  // origin's side, knots crowded into part of the sphere.
   for (unsigned seed = 0; seed < 60; ++seed) {
     const int n = 8 + static_cast<int>(seed % 23);
     Eigen::MatrixX3d knots;
@@ -268,22 +268,30 @@ TEST(DelaunayConfigurationsTest,
   }
 }
 
-TEST(DelaunayConfigurationsTest, ReportsTheHemisphereCertificate) {
-  DelaunayConfigurationStats spread, crowded;
-  ASSERT_TRUE(ComputeDelaunayConfigurations(UniformKnots(500, 1), 5,
-                                            DelaunayConfigurationOptions(),
-                                            &spread)
-                  .ok());
-  EXPECT_TRUE(spread.hemisphere_certificate);
-  EXPECT_EQ(spread.hemisphere_edges, 0);
-  ASSERT_TRUE(ComputeDelaunayConfigurations(ClusteredKnots(100, 1.0, 30, 2), 3,
-                                            DelaunayConfigurationOptions(),
-                                            &crowded)
-                  .ok());
-  EXPECT_FALSE(crowded.hemisphere_certificate);
-  // All knots in one cap: each hull edge on the cluster's rim lies on a
-  // great circle with no knot beyond it.
-  EXPECT_GT(crowded.hemisphere_edges, 0);
+// The search computes every j-facet (either side of the plane) before
+// keeping the configurations; Welzl's count 2(j+1)(n-j-2) holds for them
+// whatever the distribution, so it checks completeness on crowded and
+// degenerate sets too, at sizes brute force cannot reach.
+TEST(DelaunayConfigurationsTest, FacetCountIdentityForAnyDistribution) {
+  const std::vector<std::pair<std::string, Eigen::MatrixX3d>> sets = {
+      {"all in a 10-degree cap", ClusteredKnots(3000, 1.0, 10, 2)},
+      {"90 % in a 10-degree cap", ClusteredKnots(3000, 0.9, 10, 3)},
+      {"all in a 100-degree cap", ClusteredKnots(3000, 1.0, 100, 4)},
+      {"lat-long grid", LatLongGrid(30, 40)},
+      {"great circle + poles", GreatCirclePlusPoles(60)}};
+  for (const auto& [label, knots] : sets) {
+    const int n = static_cast<int>(knots.rows());
+    DelaunayConfigurationStats stats;
+    ASSERT_TRUE(ComputeDelaunayConfigurations(
+                    knots, 5, DelaunayConfigurationOptions(), &stats)
+                    .ok());
+    ASSERT_EQ(stats.facets_per_degree.size(), 6u);
+    for (int j = 0; j <= 5; ++j) {
+      EXPECT_EQ(stats.facets_per_degree[j], 2 * (j + 1) * (n - j - 2))
+          << label << " j=" << j;
+      EXPECT_LE(stats.configurations_per_degree[j], stats.facets_per_degree[j]);
+    }
+  }
 }
 
 TEST(DelaunayConfigurationsTest, RejectsInvalidInput) {
