@@ -171,16 +171,58 @@ class PlaneSide {
   std::array<Eigen::Vector3d, 3> points_;
 };
 
+// The redundant local emptiness test of DelaunayConfigurationOptions::
+// always_verify: every hull neighbour of the facet's knots that is not in s
+// must be off the `inner` side (the vertices of a polytope in a closed
+// half-space induce a connected subgraph, so that suffices).
+bool PassesLocalCheck(const LevelContext& ctx, const PlaneSide& side, int inner,
+                      const InteriorSet& s, int m, int a, int b, int c) {
+  std::array<int, kMaxDegree + 3> members;
+  std::copy(s.begin(), s.begin() + m, members.begin());
+  members[m] = a;
+  members[m + 1] = b;
+  members[m + 2] = c;
+  const auto end = members.begin() + m + 3;
+  for (auto it = members.begin(); it != end; ++it) {
+    for (int nb : ctx.hull.neighbors[*it]) {
+      if (std::find(members.begin(), end, nb) == end && side(nb) == inner) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 // The m-facets with the m knots s on one side: triples of link candidates
 // with all of s on one side of their plane and every other candidate on
 // the other (Lee: inside the order-m region of s, the order-(m+1) diagram
-// is the Voronoi diagram of its neighbours). With `verify`, also every hull
-// neighbour of the facet's knots outside s must be on the other side
-// (redundant: the vertices of a polytope in a closed half-space induce a
-// connected subgraph).
+// is the Voronoi diagram of its neighbours). Those are the facets of the
+// candidates' hull with s outside: tested triple by triple for few
+// candidates, from that hull for many (co-circular knots make fans with
+// hundreds of candidates).
 void FacetsWithInterior(const LevelContext& ctx, const InteriorSet& s, int m,
-                        const int* cand, int num_cand,
+                        const std::vector<int>& cand,
                         std::vector<Configuration>* out) {
+  const int num_cand = static_cast<int>(cand.size());
+  auto emit = [&](int a, int b, int c, int inner, const PlaneSide& side) {
+    if (ctx.verify && !PassesLocalCheck(ctx, side, inner, s, m, a, b, c))
+      return;
+    std::array<int, 3> boundary = {a, b, c};
+    std::sort(boundary.begin(), boundary.end());
+    out->push_back({boundary, s});
+  };
+  constexpr int kMaxCandidatesForTriples = 8;
+  if (num_cand > kMaxCandidatesForTriples) {
+    const auto facets = ComputeKnotSubsetHull(ctx.knots, cand);
+    if (!facets.ok()) return;  // unreachable: the knots passed the full hull
+    for (const auto& f : *facets) {
+      const PlaneSide side(ctx.knots, f[0], f[1], f[2]);
+      bool ok = true;
+      for (int i = 0; i < m && ok; ++i) ok = side(s[i]) > 0;  // outside
+      if (ok) emit(f[0], f[1], f[2], +1, side);
+    }
+    return;
+  }
   for (int ia = 0; ia < num_cand; ++ia) {
     for (int ib = ia + 1; ib < num_cand; ++ib) {
       for (int ic = ib + 1; ic < num_cand; ++ic) {
@@ -192,24 +234,7 @@ void FacetsWithInterior(const LevelContext& ctx, const InteriorSet& s, int m,
         for (int i = 0; i < num_cand && ok; ++i) {
           if (i != ia && i != ib && i != ic) ok = side(cand[i]) != inner;
         }
-        if (ok && ctx.verify) {
-          std::array<int, kMaxDegree + 3> members;
-          std::copy(s.begin(), s.begin() + m, members.begin());
-          members[m] = a;
-          members[m + 1] = b;
-          members[m + 2] = c;
-          const auto end = members.begin() + m + 3;
-          for (auto it = members.begin(); it != end && ok; ++it) {
-            for (int nb : ctx.hull.neighbors[*it]) {
-              if (std::find(members.begin(), end, nb) != end) continue;
-              if (side(nb) == inner) {
-                ok = false;
-                break;
-              }
-            }
-          }
-        }
-        if (ok) out->push_back({{a, b, c}, s});
+        if (ok) emit(a, b, c, inner, side);
       }
     }
   }
@@ -281,8 +306,7 @@ std::vector<Configuration> NextLevel(const LevelContext& ctx, int m,
       for (size_t i = group_begin[g]; i < group_begin[g + 1]; ++i) {
         cand.push_back(records[i].x());
       }
-      FacetsWithInterior(ctx, UnpackSet(records[group_begin[g]]), m,
-                         cand.data(), static_cast<int>(cand.size()),
+      FacetsWithInterior(ctx, UnpackSet(records[group_begin[g]]), m, cand,
                          &block_out[block]);
     }
   });

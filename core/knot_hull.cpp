@@ -27,9 +27,12 @@ struct Facet {
 
 class HullBuilder {
  public:
-  explicit HullBuilder(const Eigen::MatrixX3d& knots)
+  // Builds the hull of the knots ids[0..]; internally knots are numbered by
+  // their position in `ids`.
+  HullBuilder(const Eigen::MatrixX3d& knots, std::vector<int> ids)
       : knots_(knots),
-        n_(static_cast<int>(knots.rows())),
+        ids_(std::move(ids)),
+        n_(static_cast<int>(ids_.size())),
         knot_facets_(n_),
         inserted_(n_, false),
         knot_stamp_(n_, -1),
@@ -42,21 +45,18 @@ class HullBuilder {
     return Status::Ok();
   }
 
-  KnotHull Result() const {
-    KnotHull hull;
-    hull.neighbors.resize(n_);
+  // Alive facets in knot indices, smallest index first (keeps the
+  // orientation), sorted.
+  std::vector<std::array<int, 3>> Facets() const {
+    std::vector<std::array<int, 3>> result;
     for (const Facet& f : facets_) {
       if (!f.alive) continue;
-      // Rotate so the smallest index comes first (keeps the orientation).
-      std::array<int, 3> v = f.v;
+      std::array<int, 3> v = {ids_[f.v[0]], ids_[f.v[1]], ids_[f.v[2]]};
       std::rotate(v.begin(), std::min_element(v.begin(), v.end()), v.end());
-      hull.facets.push_back(v);
-      for (int i = 0; i < 3; ++i)
-        hull.neighbors[v[i]].push_back(v[(i + 1) % 3]);
+      result.push_back(v);
     }
-    std::sort(hull.facets.begin(), hull.facets.end());
-    for (std::vector<int>& nb : hull.neighbors) std::sort(nb.begin(), nb.end());
-    return hull;
+    std::sort(result.begin(), result.end());
+    return result;
   }
 
  private:
@@ -73,8 +73,12 @@ class HullBuilder {
     return order;
   }
 
+  int Orient(int a, int b, int c, int d) const {
+    return PerturbedOrient3dSign(knots_, ids_[a], ids_[b], ids_[c], ids_[d]);
+  }
+
   bool Sees(const Facet& f, int q) const {
-    return PerturbedOrient3dSign(knots_, f.v[0], f.v[1], f.v[2], q) > 0;
+    return Orient(f.v[0], f.v[1], f.v[2], q) > 0;
   }
 
   void AddConflict(int facet, int q) {
@@ -91,7 +95,7 @@ class HullBuilder {
       for (int j = 0; j < 4; ++j) {
         if (j != i) v[m++] = p[j];
       }
-      if (PerturbedOrient3dSign(knots_, v[0], v[1], v[2], p[i]) > 0) {
+      if (Orient(v[0], v[1], v[2], p[i]) > 0) {
         std::swap(v[1], v[2]);
       }
       Facet f;
@@ -127,7 +131,7 @@ class HullBuilder {
     knot_facets_[p].clear();
     knot_facets_[p].shrink_to_fit();
     if (visible.empty()) {
-      return NotConvexError(p);
+      return NotConvexError(ids_[p]);
     }
     facet_mark_.resize(facets_.size(), -1);
     for (int f : visible) facet_mark_[f] = step;
@@ -174,6 +178,7 @@ class HullBuilder {
   }
 
   const Eigen::MatrixX3d& knots_;
+  const std::vector<int> ids_;  // knot index of each local number
   const int n_;
   std::vector<Facet> facets_;
   std::vector<std::vector<int>> knot_facets_;  // conflict graph, knot side
@@ -191,15 +196,38 @@ StatusOr<KnotHull> ComputeKnotHull(const Eigen::MatrixX3d& knots) {
     return InvalidArgumentError("a hull needs at least 4 knots, got " +
                                 std::to_string(knots.rows()));
   }
-  HullBuilder builder(knots);
+  std::vector<int> all(knots.rows());
+  for (int i = 0; i < knots.rows(); ++i) all[i] = i;
+  HullBuilder builder(knots, std::move(all));
   SDCB_RETURN_IF_ERROR(builder.Build());
-  KnotHull hull = builder.Result();
+  KnotHull hull;
+  hull.facets = builder.Facets();
+  hull.neighbors.resize(knots.rows());
+  for (const auto& f : hull.facets) {
+    for (int i = 0; i < 3; ++i) hull.neighbors[f[i]].push_back(f[(i + 1) % 3]);
+  }
+  for (std::vector<int>& nb : hull.neighbors) std::sort(nb.begin(), nb.end());
   // A knot inserted early can end up inside the final hull only if the
   // knots are not in convex position.
   for (int i = 0; i < knots.rows(); ++i) {
     if (hull.neighbors[i].empty()) return NotConvexError(i);
   }
   return hull;
+}
+
+StatusOr<std::vector<std::array<int, 3>>> ComputeKnotSubsetHull(
+    const Eigen::MatrixX3d& knots, const std::vector<int>& subset) {
+  if (subset.size() < 4) {
+    return InvalidArgumentError("a hull needs at least 4 knots, got " +
+                                std::to_string(subset.size()));
+  }
+  HullBuilder builder(knots, subset);
+  SDCB_RETURN_IF_ERROR(builder.Build());
+  std::vector<std::array<int, 3>> facets = builder.Facets();
+  if (facets.size() != 2 * subset.size() - 4) {
+    return NotConvexError(subset[0]);
+  }
+  return facets;
 }
 
 }  // namespace sdcb

@@ -32,6 +32,13 @@ struct KnotHull {
 // knots within about 1e-7 of each other (pairs 1e-9 apart are fine).
 StatusOr<KnotHull> ComputeKnotHull(const Eigen::MatrixX3d& knots);
 
+// Facets (as in KnotHull::facets, in knot indices) of the hull of the knots
+// listed in `subset` (at least 4 distinct indices into `knots`), under the
+// same perturbation: the same answer as ComputeKnotHull on those knots
+// alone with their original indices.
+StatusOr<std::vector<std::array<int, 3>>> ComputeKnotSubsetHull(
+    const Eigen::MatrixX3d& knots, const std::vector<int>& subset);
+
 }  // namespace sdcb
 
 #endif  // SDCB_CORE_KNOT_HULL_H_

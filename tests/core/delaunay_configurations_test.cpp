@@ -278,7 +278,7 @@ TEST(DelaunayConfigurationsTest, FacetCountIdentityForAnyDistribution) {
       {"90 % in a 10-degree cap", ClusteredKnots(3000, 0.9, 10, 3)},
       {"all in a 100-degree cap", ClusteredKnots(3000, 1.0, 100, 4)},
       {"lat-long grid", LatLongGrid(30, 40)},
-      {"great circle + poles", GreatCirclePlusPoles(60)}};
+      {"great circle + poles", GreatCirclePlusPoles(300)}};
   for (const auto& [label, knots] : sets) {
     const int n = static_cast<int>(knots.rows());
     DelaunayConfigurationStats stats;

@@ -7,6 +7,7 @@
 #include <map>
 #include <random>
 #include <utility>
+#include <vector>
 
 #include "core/perturbed_predicates.h"
 #include "tests/core/random_knots.h"
@@ -80,6 +81,26 @@ TEST(KnotHullTest, CoCircularKnotsAreTriangulatedUnderThePerturbation) {
   }
   cone.row(12) << 0, 0, 1;
   ExpectValidHull(cone);
+}
+
+// The perturbation depends only on the order of the knot indices, so the
+// hull of an ascending subset equals the hull of those knots renumbered.
+TEST(KnotHullTest, SubsetHullMatchesHullOfTheExtractedKnots) {
+  Eigen::MatrixX3d knots(28, 3);
+  knots << UniformKnots(20, 8), CubeKnots();  // co-circular knots included
+  const std::vector<int> subset = {1, 4, 5, 9, 13, 20, 21, 22, 23, 26, 27};
+  Eigen::MatrixX3d extracted(subset.size(), 3);
+  for (size_t i = 0; i < subset.size(); ++i)
+    extracted.row(i) = knots.row(subset[i]);
+  const auto expected = ComputeKnotHull(extracted);
+  const auto got = ComputeKnotSubsetHull(knots, subset);
+  ASSERT_TRUE(expected.ok() && got.ok());
+  std::vector<std::array<int, 3>> mapped;
+  for (const auto& f : expected->facets) {
+    mapped.push_back({subset[f[0]], subset[f[1]], subset[f[2]]});
+  }
+  std::sort(mapped.begin(), mapped.end());
+  EXPECT_EQ(*got, mapped);
 }
 
 TEST(KnotHullTest, IsReproducible) {
