@@ -2,7 +2,10 @@
 // (fixed seed) at n = 1,000 / 5,000 / 20,000 and degrees 3, 4, 5, plus a
 // clustered set (90 % of the knots in a 10-degree cap). Target (issue 4):
 // <= 50 ms for 1,000 knots at degree 5, growth close to n log n.
-// Usage: delaunay_configurations_bench [repetitions]
+// Usage: delaunay_configurations_bench [repetitions] [threads]
+// (threads: run inside a TBB arena of that many threads; default: all).
+#include <tbb/task_arena.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -50,10 +53,7 @@ double TimeMs(const Eigen::MatrixX3d& knots, int degree, int reps, long* sets,
   return best;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  const int reps = argc > 1 ? std::atoi(argv[1]) : 3;
+void Run(int reps) {
   std::printf("%-10s %7s %6s %10s %10s %10s %14s\n", "knots", "n", "degree",
               "wall_ms", "cpu_ms", "sets", "ns/(n log2 n)");
   // uniform; clustered: 90 % in a 10-degree cap; crowded: all in a
@@ -74,6 +74,19 @@ int main(int argc, char** argv) {
         std::fflush(stdout);
       }
     }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int reps = argc > 1 ? std::atoi(argv[1]) : 3;
+  const int threads = argc > 2 ? std::atoi(argv[2]) : 0;
+  if (threads > 0) {
+    tbb::task_arena arena(threads);
+    arena.execute([&] { Run(reps); });
+  } else {
+    Run(reps);
   }
   return 0;
 }
