@@ -35,7 +35,7 @@ using InteriorSet = std::array<int, kMaxDegree>;
 
 // One j-facet: boundary triple and the j knots on one side of its plane
 // (padded with kNone). A configuration when that side avoids the origin.
-struct Configuration {
+struct JFacet {
   std::array<int, 3> boundary;  // ascending
   InteriorSet interior;         // ascending
 };
@@ -202,7 +202,7 @@ bool PassesLocalCheck(const LevelContext& ctx, const PlaneSide& side, int inner,
 // hundreds of candidates).
 void FacetsWithInterior(const LevelContext& ctx, const InteriorSet& s, int m,
                         const std::vector<int>& cand,
-                        std::vector<Configuration>* out) {
+                        std::vector<JFacet>* out) {
   const int num_cand = static_cast<int>(cand.size());
   auto emit = [&](int a, int b, int c, int inner, const PlaneSide& side) {
     if (ctx.verify && !PassesLocalCheck(ctx, side, inner, s, m, a, b, c))
@@ -262,12 +262,12 @@ void SortRecords(int num_knots, std::vector<LinkRecord>* records) {
 // The m-facets from the (m-1)- and (m-2)-facets: the m knots s of an
 // m-facet and its boundary knots appear as an interior set and link
 // candidates of facets one or two levels lower (docs/CONFIGURATIONS.md).
-std::vector<Configuration> NextLevel(const LevelContext& ctx, int m,
-                                     const std::vector<Configuration>& lower1,
-                                     const std::vector<Configuration>* lower2) {
+std::vector<JFacet> NextLevel(const LevelContext& ctx, int m,
+                              const std::vector<JFacet>& lower1,
+                              const std::vector<JFacet>* lower2) {
   std::vector<LinkRecord> records;
   records.reserve(6 * lower1.size() + (lower2 ? 3 * lower2->size() : 0));
-  for (const Configuration& c : lower1) {
+  for (const JFacet& c : lower1) {
     const auto& b = c.boundary;
     for (int i = 0; i < 3; ++i) {
       const InteriorSet s = Union(c.interior, m - 1, {b[i]});
@@ -276,7 +276,7 @@ std::vector<Configuration> NextLevel(const LevelContext& ctx, int m,
     }
   }
   if (lower2 != nullptr) {
-    for (const Configuration& c : *lower2) {
+    for (const JFacet& c : *lower2) {
       const auto& b = c.boundary;
       for (int i = 0; i < 3; ++i) {
         records.push_back(MakeRecord(
@@ -297,7 +297,7 @@ std::vector<Configuration> NextLevel(const LevelContext& ctx, int m,
   // of threads.
   constexpr size_t kBlock = 512;
   const size_t num_blocks = (num_groups + kBlock - 1) / kBlock;
-  std::vector<std::vector<Configuration>> block_out(num_blocks);
+  std::vector<std::vector<JFacet>> block_out(num_blocks);
   tbb::parallel_for(size_t{0}, num_blocks, [&](size_t block) {
     std::vector<int> cand;
     for (size_t g = block * kBlock;
@@ -310,14 +310,14 @@ std::vector<Configuration> NextLevel(const LevelContext& ctx, int m,
                          &block_out[block]);
     }
   });
-  std::vector<Configuration> result;
+  std::vector<JFacet> result;
   for (const auto& b : block_out)
     result.insert(result.end(), b.begin(), b.end());
   return result;
 }
 
-DelaunayConfigurations GroupByUnorderedSet(
-    const std::vector<Configuration>& configs, int degree) {
+DelaunayConfigurations GroupByUnorderedSet(const std::vector<JFacet>& configs,
+                                           int degree) {
   // X~ = X_B u X_I (k + 3 <= 8 knots) packed into three words, then the
   // boundary: sorting groups by X~ and orders each group's boundaries.
   struct Keyed {
@@ -329,7 +329,7 @@ DelaunayConfigurations GroupByUnorderedSet(
   };
   std::vector<Keyed> keyed;
   keyed.reserve(configs.size());
-  for (const Configuration& c : configs) {
+  for (const JFacet& c : configs) {
     std::array<int, 9> all;
     all.fill(kNone);
     const InteriorSet& in = c.interior;
@@ -375,8 +375,8 @@ StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
 
   // 0-facets: the hull facets (nothing on their outer side); degree-0
   // configurations: those whose outer side avoids the origin.
-  std::vector<std::vector<Configuration>> facets(degree + 1);
-  std::vector<Configuration> empty_caps;
+  std::vector<std::vector<JFacet>> facets(degree + 1);
+  std::vector<JFacet> empty_caps;
   for (const auto& f : hull.facets) {
     std::array<int, 3> b = f;
     std::sort(b.begin(), b.end());
@@ -394,8 +394,8 @@ StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
   // plane without the origin (the smaller cap).
   auto configurations = [&](int m) {
     if (m == 0) return empty_caps;
-    std::vector<Configuration> result;
-    for (const Configuration& f : facets[m]) {
+    std::vector<JFacet> result;
+    for (const JFacet& f : facets[m]) {
       const auto& b = f.boundary;
       if (PerturbedOrient3dSign(knots, b[0], b[1], b[2], f.interior[0]) !=
           PerturbedOrient3dSign(knots, b[0], b[1], b[2], kOriginIndex)) {
@@ -404,7 +404,7 @@ StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
     }
     return result;
   };
-  std::vector<Configuration> top = configurations(degree);
+  std::vector<JFacet> top = configurations(degree);
   if (stats != nullptr) {
     stats->facets_per_degree.clear();
     stats->configurations_per_degree.clear();
