@@ -19,7 +19,6 @@
 
 #include "core/knot_hull.h"
 #include "core/perturbed_predicates.h"
-#include "core/sphere_geometry.h"
 
 namespace sdcb {
 namespace {
@@ -148,35 +147,13 @@ struct LevelContext {
   bool verify;
 };
 
-// Which side of the plane through knots a, b, c a knot is on, with the
-// corners' coordinates loaded once (PerturbedOrient3dSign semantics).
-class PlaneSide {
- public:
-  PlaneSide(const Eigen::MatrixX3d& knots, int a, int b, int c)
-      : knots_(knots),
-        corners_{a, b, c},
-        points_{knots.row(a).transpose(), knots.row(b).transpose(),
-                knots.row(c).transpose()} {}
-  int operator()(int q) const {
-    const int side = Orient3dSign(points_[0], points_[1], points_[2],
-                                  knots_.row(q).transpose());
-    if (side != 0) return side;
-    return internal::SymbolicOrient3dSign(
-        knots_, {corners_[0], corners_[1], corners_[2], q});
-  }
-
- private:
-  const Eigen::MatrixX3d& knots_;
-  std::array<int, 3> corners_;
-  std::array<Eigen::Vector3d, 3> points_;
-};
-
 // The redundant local emptiness test of DelaunayConfigurationOptions::
 // always_verify: every hull neighbour of the facet's knots that is not in s
 // must be off the `inner` side (the vertices of a polytope in a closed
 // half-space induce a connected subgraph, so that suffices).
-bool PassesLocalCheck(const LevelContext& ctx, const PlaneSide& side, int inner,
-                      const InteriorSet& s, int m, int a, int b, int c) {
+bool PassesLocalCheck(const LevelContext& ctx, const PerturbedPlane& plane,
+                      int inner, const InteriorSet& s, int m, int a, int b,
+                      int c) {
   std::array<int, kMaxDegree + 3> members;
   std::copy(s.begin(), s.begin() + m, members.begin());
   members[m] = a;
@@ -185,7 +162,8 @@ bool PassesLocalCheck(const LevelContext& ctx, const PlaneSide& side, int inner,
   const auto end = members.begin() + m + 3;
   for (auto it = members.begin(); it != end; ++it) {
     for (int nb : ctx.hull.neighbors[*it]) {
-      if (std::find(members.begin(), end, nb) == end && side(nb) == inner) {
+      if (std::find(members.begin(), end, nb) == end &&
+          plane.Side(nb) == inner) {
         return false;
       }
     }
@@ -204,8 +182,8 @@ void FacetsWithInterior(const LevelContext& ctx, const InteriorSet& s, int m,
                         const std::vector<int>& cand,
                         std::vector<JFacet>* out) {
   const int num_cand = static_cast<int>(cand.size());
-  auto emit = [&](int a, int b, int c, int inner, const PlaneSide& side) {
-    if (ctx.verify && !PassesLocalCheck(ctx, side, inner, s, m, a, b, c))
+  auto emit = [&](int a, int b, int c, int inner, const PerturbedPlane& plane) {
+    if (ctx.verify && !PassesLocalCheck(ctx, plane, inner, s, m, a, b, c))
       return;
     std::array<int, 3> boundary = {a, b, c};
     std::sort(boundary.begin(), boundary.end());
@@ -216,10 +194,10 @@ void FacetsWithInterior(const LevelContext& ctx, const InteriorSet& s, int m,
     const auto facets = ComputeKnotSubsetHull(ctx.knots, cand);
     if (!facets.ok()) return;  // unreachable: the knots passed the full hull
     for (const auto& f : *facets) {
-      const PlaneSide side(ctx.knots, f[0], f[1], f[2]);
+      const PerturbedPlane plane(ctx.knots, f[0], f[1], f[2]);
       bool ok = true;
-      for (int i = 0; i < m && ok; ++i) ok = side(s[i]) > 0;  // outside
-      if (ok) emit(f[0], f[1], f[2], +1, side);
+      for (int i = 0; i < m && ok; ++i) ok = plane.Side(s[i]) > 0;  // outside
+      if (ok) emit(f[0], f[1], f[2], +1, plane);
     }
     return;
   }
@@ -227,14 +205,14 @@ void FacetsWithInterior(const LevelContext& ctx, const InteriorSet& s, int m,
     for (int ib = ia + 1; ib < num_cand; ++ib) {
       for (int ic = ib + 1; ic < num_cand; ++ic) {
         const int a = cand[ia], b = cand[ib], c = cand[ic];
-        const PlaneSide side(ctx.knots, a, b, c);
-        const int inner = side(s[0]);
+        const PerturbedPlane plane(ctx.knots, a, b, c);
+        const int inner = plane.Side(s[0]);
         bool ok = true;
-        for (int i = 1; i < m && ok; ++i) ok = side(s[i]) == inner;
+        for (int i = 1; i < m && ok; ++i) ok = plane.Side(s[i]) == inner;
         for (int i = 0; i < num_cand && ok; ++i) {
-          if (i != ia && i != ib && i != ic) ok = side(cand[i]) != inner;
+          if (i != ia && i != ib && i != ic) ok = plane.Side(cand[i]) != inner;
         }
-        if (ok) emit(a, b, c, inner, side);
+        if (ok) emit(a, b, c, inner, plane);
       }
     }
   }

@@ -183,22 +183,28 @@ int PerturbedCapSide(const Eigen::MatrixX3d& knots, int a, int b, int c,
   return PerturbedCap(knots, a, b, c).Contains(q) ? 1 : -1;
 }
 
-PerturbedCap::PerturbedCap(const Eigen::MatrixX3d& knots, int a, int b, int c)
+PerturbedPlane::PerturbedPlane(const Eigen::MatrixX3d& knots, int a, int b,
+                               int c)
     : knots_(knots),
       corners_{a, b, c},
       points_{knots.row(a).transpose(), knots.row(b).transpose(),
-              knots.row(c).transpose()},
-      origin_side_(PerturbedOrient3dSign(knots, a, b, c, kOriginIndex)) {}
+              knots.row(c).transpose()} {}
 
-bool PerturbedCap::Contains(int q) const {
-  // Inside the smaller cap: on the other side of the plane than the origin.
-  int side = Orient3dSign(points_[0], points_[1], points_[2],
-                          knots_.row(q).transpose());
-  if (side == 0) {
-    side = internal::SymbolicOrient3dSign(
-        knots_, {corners_[0], corners_[1], corners_[2], q});
-  }
-  return side != origin_side_;
+int PerturbedPlane::Side(int q) const {
+  const int side = Orient3dSign(points_[0], points_[1], points_[2],
+                                knots_.row(q).transpose());
+  if (side != 0) return side;
+  return internal::SymbolicOrient3dSign(
+      knots_, {corners_[0], corners_[1], corners_[2], q});
 }
+
+int PerturbedPlane::OriginSide() const {
+  return PerturbedOrient3dSign(knots_, corners_[0], corners_[1], corners_[2],
+                               kOriginIndex);
+}
+
+// Inside the smaller cap: on the other side of the plane than the origin.
+PerturbedCap::PerturbedCap(const Eigen::MatrixX3d& knots, int a, int b, int c)
+    : plane_(knots, a, b, c), origin_side_(plane_.OriginSide()) {}
 
 }  // namespace sdcb

@@ -35,6 +35,24 @@ int PerturbedOrient3dSign(const Eigen::MatrixX3d& knots, int i, int j, int k,
 // must be distinct knot indices.
 int PerturbedCapSide(const Eigen::MatrixX3d& knots, int a, int b, int c, int q);
 
+// The plane through three knots, for testing many knots against it (loads
+// the corners once). Same answers as PerturbedOrient3dSign(a, b, c, q).
+class PerturbedPlane {
+ public:
+  // `knots` must outlive the object; a, b, c distinct knot indices.
+  PerturbedPlane(const Eigen::MatrixX3d& knots, int a, int b, int c);
+  // +1 or -1: the side of knot q (not a, b or c), i.e. the perturbed
+  // orient3d(a, b, c, q).
+  int Side(int q) const;
+  // The side of the origin.
+  int OriginSide() const;
+
+ private:
+  const Eigen::MatrixX3d& knots_;
+  std::array<int, 3> corners_;
+  std::array<Eigen::Vector3d, 3> points_;  // the corners' coordinates
+};
+
 // The cap of three knots, for testing many knots against one cap: computes
 // the origin's side once. Same answers as PerturbedCapSide.
 class PerturbedCap {
@@ -42,13 +60,11 @@ class PerturbedCap {
   // `knots` must outlive the object; a, b, c distinct knot indices.
   PerturbedCap(const Eigen::MatrixX3d& knots, int a, int b, int c);
   // True iff knot q (not a, b or c) is strictly inside the cap.
-  bool Contains(int q) const;
+  bool Contains(int q) const { return plane_.Side(q) != origin_side_; }
 
  private:
-  const Eigen::MatrixX3d& knots_;
-  std::array<int, 3> corners_;
-  std::array<Eigen::Vector3d, 3> points_;  // the corners' coordinates
-  int origin_side_;  // PerturbedOrient3dSign(a, b, c, origin)
+  PerturbedPlane plane_;
+  int origin_side_;
 };
 
 namespace internal {
