@@ -1,9 +1,9 @@
 // Convex hull of knots on S^2 under the symbolic perturbation of
 // core/perturbed_predicates.h. The perturbed knots are in general and convex
 // position, so every knot is a hull vertex and every facet is a triangle.
-// Its facets whose outer side avoids the origin are the degree-0 spherical
-// Delaunay configurations (paper Sec. 2); its edge graph is what the
-// configuration search walks.
+// Its facets are the 0-facets the configuration search starts from; those
+// whose outer side avoids the origin are the degree-0 spherical Delaunay
+// configurations (paper Sec. 2).
 #ifndef SDCB_CORE_KNOT_HULL_H_
 #define SDCB_CORE_KNOT_HULL_H_
 
