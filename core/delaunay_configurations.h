@@ -36,8 +36,9 @@ struct DelaunayConfigurations {
 // vectors on S^2), 0 <= degree <= 5, grouped by unordered set. Fails with
 // kInvalidArgument for a bad degree, fewer than degree + 4 knots, non-unit
 // (|norm - 1| > 1e-9) or non-finite knots, duplicate knots, or knots not in
-// convex position (only possible with three or more knots within about 1e-7
-// of each other: rounding off the sphere then dominates their curvature).
+// convex position (only possible with three or more knots within about 1e-8
+// of each other: rounding off the sphere then dominates their curvature),
+// or more than 2,097,150 knots (indices are packed into 21 bits).
 //
 // "Inside a cap" is decided by PerturbedCapSide (core/perturbed_predicates.h),
 // so co-circular knots, planes through the origin and near-duplicates give

@@ -15,7 +15,7 @@ Status NotConvexError(int knot) {
   return InvalidArgumentError(
       "knot " + std::to_string(knot) +
       " is not a vertex of the knots' convex hull (knots off the sphere, or "
-      "three or more knots within about 1e-7 of each other)");
+      "three or more knots within about 1e-8 of each other)");
 }
 
 struct Facet {

@@ -29,7 +29,7 @@ struct KnotHull {
 // result (unique under the perturbation) is reproducible: O(n log n)
 // expected. Returns kInvalidArgument for fewer than 4 knots or knots not in
 // convex position: on the sphere up to rounding that needs three or more
-// knots within about 1e-7 of each other (pairs 1e-9 apart are fine).
+// knots within about 1e-8 of each other (pairs 1e-9 apart are fine).
 StatusOr<KnotHull> ComputeKnotHull(const Eigen::MatrixX3d& knots);
 
 // Facets (as in KnotHull::facets, in knot indices) of the hull of the knots
