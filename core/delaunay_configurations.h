@@ -35,9 +35,40 @@ struct DelaunayConfigurations {
 // Computes all degree-`degree` configurations of `knots` (#knots by 3, unit
 // vectors on S^2), 0 <= degree <= 5, grouped by unordered set. Fails with
 // kInvalidArgument for a bad degree, fewer than degree + 4 knots, non-unit
-// or non-finite knots, or duplicate knots.
+// (|norm - 1| > 1e-9) or non-finite knots, duplicate knots, or knots not in
+// convex position (only possible with three or more knots within about 1e-8
+// of each other: rounding off the sphere then dominates their curvature),
+// or more than 2,097,150 knots (indices are packed into 21 bits).
+//
+// "Inside a cap" is decided by PerturbedCapSide (core/perturbed_predicates.h),
+// so co-circular knots, planes through the origin and near-duplicates give
+// a valid, deterministic configuration set: the exact configuration set of
+// the symbolically perturbed knots. Algorithm: docs/CONFIGURATIONS.md.
 StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
     const Eigen::MatrixX3d& knots, int degree);
+
+struct DelaunayConfigurationOptions {
+  // Also check every facet against the hull neighbours of its knots (a
+  // redundant local emptiness test, for testing). Slower; same result.
+  bool always_verify = false;
+};
+
+struct DelaunayConfigurationStats {
+  // facets_per_degree[j]: planes through three knots with exactly j knots on
+  // one side (either side), j = 0..degree. The search computes all of them;
+  // for knots in convex position it is 2(j+1)(n-j-2) (Welzl), whatever
+  // their distribution.
+  std::vector<int> facets_per_degree;
+  // configurations_per_degree[j]: those whose j knots avoid the origin's
+  // side, i.e. the degree-j configurations (X_B, X_I).
+  std::vector<int> configurations_per_degree;
+};
+
+// As above, with options; `stats` may be null.
+StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
+    const Eigen::MatrixX3d& knots, int degree,
+    const DelaunayConfigurationOptions& options,
+    DelaunayConfigurationStats* stats = nullptr);
 
 }  // namespace sdcb
 
