@@ -1,0 +1,40 @@
+#include "core/design_matrix.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <vector>
+
+namespace sdcb {
+
+DesignMatrix BuildDesignMatrix(const DcbBasis& basis,
+                               const Eigen::MatrixX3d& points) {
+  const Eigen::Index rows = points.rows();
+  // Each row is computed independently into its own slot; assembly below is
+  // sequential, so the bytes do not depend on scheduling.
+  std::vector<std::vector<BasisValue>> row_values(rows);
+  tbb::parallel_for(
+      tbb::blocked_range<Eigen::Index>(0, rows, 256),
+      [&](const tbb::blocked_range<Eigen::Index>& range) {
+        for (Eigen::Index r = range.begin(); r < range.end(); ++r) {
+          basis.NormalizedValues(points.row(r).transpose(), &row_values[r]);
+        }
+      });
+  DesignMatrix a(rows, basis.size());
+  Eigen::Index nonzeros = 0;
+  for (const auto& row : row_values) nonzeros += row.size();
+  a.resizeNonZeros(nonzeros);
+  Eigen::Index at = 0;
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    a.outerIndexPtr()[r] = static_cast<int>(at);
+    for (const BasisValue& v : row_values[r]) {
+      a.innerIndexPtr()[at] = v.index;
+      a.valuePtr()[at] = v.value;
+      ++at;
+    }
+  }
+  a.outerIndexPtr()[rows] = static_cast<int>(at);
+  return a;
+}
+
+}  // namespace sdcb
