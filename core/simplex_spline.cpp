@@ -125,9 +125,29 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
             "simplex spline knots: a subset lies on one great circle");
         return -1;
       }
+      // Default: the triple of largest |det|, whose barycentric coordinates
+      // stay small over the hull of S (the recursion then cancels little).
       size_t pick = 0;
+      double largest = -1.0;
+      for (size_t x = 0; x < spanning.size(); ++x) {
+        const auto& w = spanning[x];
+        const double v = std::abs(Det3(t(w[0]), t(w[1]), t(w[2])));
+        if (v > largest) {
+          largest = v;
+          pick = x;
+        }
+      }
       if (options.split_seed != 0) {
-        pick = Mix(options.split_seed * 0x9e3779b9U ^ mask) % spanning.size();
+        // Any W gives the same M; skip triples so thin that rounding would
+        // dominate (|det| below a quarter of the largest).
+        std::vector<size_t> fair;
+        for (size_t x = 0; x < spanning.size(); ++x) {
+          const auto& w = spanning[x];
+          if (std::abs(Det3(t(w[0]), t(w[1]), t(w[2]))) >= 0.25 * largest) {
+            fair.push_back(x);
+          }
+        }
+        pick = fair[Mix(options.split_seed * 0x9e3779b9U ^ mask) % fair.size()];
       }
       const std::array<int, 3> w = spanning[pick];
       auto mit = matrix_of.find(w);

@@ -50,8 +50,9 @@ bool InHalfOpenTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
 
 struct SimplexSplineOptions {
   // Choice of W at every node of the recursion (eq. 3); the value does not
-  // depend on it. 0: the first spanning triple of S in ascending local
-  // order. Otherwise a pseudo-random spanning triple derived from this seed
+  // depend on it, its rounding does. 0: the triple of S with the largest
+  // |det| (best conditioned). Otherwise a pseudo-random spanning triple
+  // derived from this seed among those with |det| >= 1/4 of the largest
   // (used by tests to check W-independence).
   std::uint32_t split_seed = 0;
 };
