@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "core/sphere_geometry.h"
 
@@ -188,6 +189,18 @@ int DcbBasis::CellOf(const Eigen::Vector3d& p) const {
       Clamp(static_cast<int>(std::floor((lon + kPi) / (2 * kPi) * cols)), 0,
             cols - 1);
   return r * cols + c;
+}
+
+std::vector<Eigen::Index> DcbBasis::LocalityOrder(
+    const Eigen::MatrixX3d& points) const {
+  std::vector<std::pair<int, Eigen::Index>> keyed(points.rows());
+  for (Eigen::Index r = 0; r < points.rows(); ++r) {
+    keyed[r] = {CellOf(points.row(r).transpose()), r};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<Eigen::Index> order(points.rows());
+  for (Eigen::Index r = 0; r < points.rows(); ++r) order[r] = keyed[r].second;
+  return order;
 }
 
 double DcbBasis::Value(int i, const Eigen::Vector3d& p) const {

@@ -67,6 +67,11 @@ class DcbBasis {
   // B_i and its R^3 derivatives up to `order`.
   ScalarJet Evaluate(int i, const Eigen::Vector3d& p, JetOrder order) const;
 
+  // A permutation of the rows of `points` (#P by 3 unit vectors) that visits
+  // them support-grid cell by cell (stable within a cell): evaluating in this
+  // order reuses the same few basis functions from cache.
+  std::vector<Eigen::Index> LocalityOrder(const Eigen::MatrixX3d& points) const;
+
   // Replaces `out` with the ascending indices of the basis functions whose
   // support cap contains p: every i with B_i(p) != 0 is among them.
   void Candidates(const Eigen::Vector3d& p, std::vector<int>* out) const;

@@ -12,11 +12,15 @@ DesignMatrix BuildDesignMatrix(const DcbBasis& basis,
   const Eigen::Index rows = points.rows();
   // Each row is computed independently into its own slot; assembly below is
   // sequential, so the bytes do not depend on scheduling.
+  // Points are visited cell by cell of the support grid so that consecutive
+  // ones share basis functions in cache.
   std::vector<std::vector<BasisValue>> row_values(rows);
+  const std::vector<Eigen::Index> order = basis.LocalityOrder(points);
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, rows, 256),
       [&](const tbb::blocked_range<Eigen::Index>& range) {
-        for (Eigen::Index r = range.begin(); r < range.end(); ++r) {
+        for (Eigen::Index o = range.begin(); o < range.end(); ++o) {
+          const Eigen::Index r = order[o];
           basis.NormalizedValues(points.row(r).transpose(), &row_values[r]);
         }
       });

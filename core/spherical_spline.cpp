@@ -122,10 +122,12 @@ SurfacePoint SphericalSpline::EvaluateDifferential(const Eigen::Vector3d& p,
 Eigen::MatrixX3d SphericalSpline::EvaluateMany(
     const Eigen::MatrixX3d& points) const {
   Eigen::MatrixX3d out(points.rows(), 3);
+  const std::vector<Eigen::Index> order = basis_.LocalityOrder(points);
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, points.rows(), 256),
       [&](const tbb::blocked_range<Eigen::Index>& range) {
-        for (Eigen::Index r = range.begin(); r < range.end(); ++r) {
+        for (Eigen::Index o = range.begin(); o < range.end(); ++o) {
+          const Eigen::Index r = order[o];
           out.row(r) = Evaluate(points.row(r).transpose()).transpose();
         }
       });
@@ -135,10 +137,12 @@ Eigen::MatrixX3d SphericalSpline::EvaluateMany(
 std::vector<SurfacePoint> SphericalSpline::EvaluateDifferentialMany(
     const Eigen::MatrixX3d& points, JetOrder order) const {
   std::vector<SurfacePoint> out(points.rows());
+  const std::vector<Eigen::Index> order = basis_.LocalityOrder(points);
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, points.rows(), 128),
       [&](const tbb::blocked_range<Eigen::Index>& range) {
-        for (Eigen::Index r = range.begin(); r < range.end(); ++r) {
+        for (Eigen::Index o = range.begin(); o < range.end(); ++o) {
+          const Eigen::Index r = order[o];
           out[r] = EvaluateDifferential(points.row(r).transpose(), order);
         }
       });

@@ -1,0 +1,76 @@
+// Design-matrix assembly time (issue 5): 37,000 points (the bunny's vertex
+// count), degree 4, about 5,000 basis functions. Prints numbers; never run
+// by CI. Usage: design_matrix_bench [knots=1000] [points=37000] [degree=4]
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+#include "bench/basis_bench_util.h"
+#include "core/dcb_basis.h"
+#include "core/delaunay_configurations.h"
+#include "core/design_matrix.h"
+
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since)
+      .count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int n = argc > 1 ? std::atoi(argv[1]) : 1000;
+  const int num_points = argc > 2 ? std::atoi(argv[2]) : 37000;
+  const int degree = argc > 3 ? std::atoi(argv[3]) : 4;
+  const Eigen::MatrixX3d knots = sdcb::bench::FibonacciKnots(n);
+  const Eigen::MatrixX3d points = sdcb::bench::UniformPoints(num_points, 7);
+
+  auto t0 = std::chrono::steady_clock::now();
+  auto configurations = sdcb::ComputeDelaunayConfigurations(knots, degree);
+  if (!configurations.ok()) {
+    std::fprintf(stderr, "%s\n", configurations.status().message().c_str());
+    return 1;
+  }
+  const double t_config = Seconds(t0);
+  t0 = std::chrono::steady_clock::now();
+  auto basis = sdcb::DcbBasis::Create(knots, *configurations);
+  if (!basis.ok()) {
+    std::fprintf(stderr, "%s\n", basis.status().message().c_str());
+    return 1;
+  }
+  const double t_basis = Seconds(t0);
+  std::printf("knots %d, degree %d, basis functions %d, points %d\n", n, degree,
+              basis->size(), num_points);
+  std::printf("configurations (stand-in) %.3f s, basis setup %.3f s\n",
+              t_config, t_basis);
+  for (int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                              threads);
+    double best = 1e9;
+    sdcb::DesignMatrix a;
+    for (int rep = 0; rep < 3; ++rep) {
+      t0 = std::chrono::steady_clock::now();
+      a = sdcb::BuildDesignMatrix(*basis, points);
+      const double t = Seconds(t0);
+      if (t < best) best = t;
+    }
+    std::vector<int> candidates;
+    long total_candidates = 0;
+    for (int r = 0; r < num_points; ++r) {
+      basis->Candidates(points.row(r).transpose(), &candidates);
+      total_candidates += candidates.size();
+    }
+    std::printf(
+        "threads %d: assembly %.3f s (best of 3), nonzeros %ld (%.1f per row), "
+        "%.1f cap candidates per row, %.3f us per nonzero basis evaluation "
+        "(thread-seconds)\n",
+        threads, best, static_cast<long>(a.nonZeros()),
+        double(a.nonZeros()) / num_points,
+        double(total_candidates) / num_points,
+        1e6 * best * threads / a.nonZeros());
+  }
+  return 0;
+}
