@@ -137,12 +137,12 @@ Eigen::MatrixX3d SphericalSpline::EvaluateMany(
 std::vector<SurfacePoint> SphericalSpline::EvaluateDifferentialMany(
     const Eigen::MatrixX3d& points, JetOrder order) const {
   std::vector<SurfacePoint> out(points.rows());
-  const std::vector<Eigen::Index> order = basis_.LocalityOrder(points);
+  const std::vector<Eigen::Index> visit = basis_.LocalityOrder(points);
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, points.rows(), 128),
       [&](const tbb::blocked_range<Eigen::Index>& range) {
         for (Eigen::Index o = range.begin(); o < range.end(); ++o) {
-          const Eigen::Index r = order[o];
+          const Eigen::Index r = visit[o];
           out[r] = EvaluateDifferential(points.row(r).transpose(), order);
         }
       });
