@@ -13,12 +13,19 @@ namespace sdcb {
 
 using DesignMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
+struct DesignMatrixOptions {
+  // true: Bbar_i = B_i / I (eq. 5, the surface's basis). false: the raw B_i
+  // of eq. 4 (for studies of the unnormalized spline space).
+  bool normalized = true;
+};
+
 // `points`: #P by 3 unit vectors. Returns the #P by basis.size() matrix of
-// normalized basis values (eq. 5), only nonzeros stored, columns ascending in
-// each row; rows sum to 1 up to rounding. Parallel (TBB); the result does
-// not depend on the number of threads.
+// basis values, only nonzeros stored, columns ascending in each row; with
+// normalization, rows sum to 1 up to rounding. Parallel (TBB); the result
+// does not depend on the number of threads.
 DesignMatrix BuildDesignMatrix(const DcbBasis& basis,
-                               const Eigen::MatrixX3d& points);
+                               const Eigen::MatrixX3d& points,
+                               const DesignMatrixOptions& options = {});
 
 }  // namespace sdcb
 
