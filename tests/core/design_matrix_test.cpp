@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <Eigen/SparseCholesky>
 #include <cmath>
 
 #include "core/brute_force_configurations.h"
@@ -60,6 +61,59 @@ TEST(DesignMatrix, TimesControlPointsIsTheSurfaceAndThreadIndependent) {
   ASSERT_TRUE(spline.ok());
   const Eigen::MatrixX3d f = one * control;
   EXPECT_LT((f - spline->EvaluateMany(points)).cwiseAbs().maxCoeff(), 1e-13);
+}
+
+// Least-squares max error of fitting a smooth function with degree-2
+// splines on n Fibonacci knots (quasi-uniform), sampled at 12 points per
+// basis function.
+double FitError(int n, bool normalized) {
+  Eigen::MatrixX3d knots(n, 3);
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  const Eigen::MatrixX3d jitter = testing::RandomUnitVectors(n, 77);
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / n, r = std::sqrt(1 - z * z);
+    const Eigen::Vector3d p(r * std::cos(golden * i), r * std::sin(golden * i),
+                            z);
+    knots.row(i) = (p + 0.1 / std::sqrt(n) * jitter.row(i).transpose())
+                       .normalized()
+                       .transpose();
+  }
+  StatusOr<DcbBasis> basis =
+      DcbBasis::Create(knots, testing::BruteForceConfigurations(knots, 2));
+  EXPECT_TRUE(basis.ok());
+  auto f = [](const Eigen::MatrixX3d& x) {
+    Eigen::VectorXd out(x.rows());
+    for (int r = 0; r < x.rows(); ++r) {
+      out[r] = std::exp(0.8 * x(r, 0)) * std::sin(1.5 * x(r, 1) + x(r, 2));
+    }
+    return out;
+  };
+  DesignMatrixOptions options;
+  options.normalized = normalized;
+  const Eigen::MatrixX3d samples =
+      testing::RandomUnitVectors(12 * basis->size(), 78);
+  const Eigen::SparseMatrix<double> a =
+      BuildDesignMatrix(*basis, samples, options);
+  const Eigen::SparseMatrix<double> normal = a.transpose() * a;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
+  EXPECT_EQ(solver.info(), Eigen::Success);
+  const Eigen::VectorXd c = solver.solve(a.transpose() * f(samples));
+  const Eigen::MatrixX3d test = testing::RandomUnitVectors(5000, 79);
+  return (BuildDesignMatrix(*basis, test, options) * c - f(test))
+      .cwiseAbs()
+      .maxCoeff();
+}
+
+// Halving the knot spacing (4x knots) should divide the max error by about
+// 2^(k+1) = 8 for k = 2; loose bound 4 (orders are reported by
+// bench/approximation_order_bench).
+TEST(DesignMatrix, LeastSquaresErrorFallsWithTheKnotSpacing) {
+  for (bool normalized : {true, false}) {
+    const double coarse = FitError(40, normalized);
+    const double fine = FitError(160, normalized);
+    EXPECT_GT(coarse / fine, 4.0) << "normalized " << normalized;
+    EXPECT_LT(fine, 5e-3);
+  }
 }
 
 }  // namespace
