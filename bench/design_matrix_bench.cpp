@@ -44,8 +44,14 @@ int main(int argc, char** argv) {
   const double t_basis = Seconds(t0);
   std::printf("knots %d, degree %d, basis functions %d, points %d\n", n, degree,
               basis->size(), num_points);
-  std::printf("configurations (stand-in) %.3f s, basis setup %.3f s\n",
-              t_config, t_basis);
+  double nodes = 0;
+  for (int i = 0; i < basis->size(); ++i) {
+    nodes += basis->simplex_spline(i).num_nodes();
+  }
+  std::printf(
+      "configurations (stand-in) %.3f s, basis setup %.3f s, %.1f memoized "
+      "subsets per simplex spline\n",
+      t_config, t_basis, nodes / basis->size());
   for (int threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                               threads);
