@@ -9,10 +9,10 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "bench/basis_bench_util.h"
 #include "core/dcb_basis.h"
 #include "core/delaunay_configurations.h"
 #include "core/design_matrix.h"
+#include "tests/core/random_sphere_points.h"
 
 namespace {
 
@@ -31,7 +31,7 @@ Eigen::VectorXd Sample(const Eigen::MatrixX3d& points) {
 
 // Max error of the least-squares fit, or a negative value on failure.
 double FitMaxError(int n, int degree, bool normalized, int* num_basis) {
-  const Eigen::MatrixX3d knots = sdcb::bench::FibonacciKnots(n, 3);
+  const Eigen::MatrixX3d knots = sdcb::testing::FibonacciPoints(n, 3);
   auto configurations = sdcb::ComputeDelaunayConfigurations(knots, degree);
   if (!configurations.ok()) {
     std::fprintf(stderr, "n=%d: %s\n", n,
@@ -44,7 +44,7 @@ double FitMaxError(int n, int degree, bool normalized, int* num_basis) {
   // 12 quasi-uniform samples per basis function; normal equations with a
   // tiny ridge (1e-12 of the mean diagonal) against rank deficiency.
   const Eigen::MatrixX3d samples =
-      sdcb::bench::FibonacciKnots(12 * basis->size(), 5);
+      sdcb::testing::FibonacciPoints(12 * basis->size(), 5);
   sdcb::DesignMatrixOptions options;
   options.normalized = normalized;
   const Eigen::SparseMatrix<double> a =
@@ -55,7 +55,7 @@ double FitMaxError(int n, int degree, bool normalized, int* num_basis) {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
   if (solver.info() != Eigen::Success) return -1;
   const Eigen::VectorXd c = solver.solve(a.transpose() * Sample(samples));
-  const Eigen::MatrixX3d test = sdcb::bench::UniformPoints(20000, 11);
+  const Eigen::MatrixX3d test = sdcb::testing::RandomUnitVectors(20000, 11);
   const sdcb::DesignMatrix at = sdcb::BuildDesignMatrix(*basis, test, options);
   return (at * c - Sample(test)).cwiseAbs().maxCoeff();
 }

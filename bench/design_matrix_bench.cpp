@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "bench/basis_bench_util.h"
 #include "core/dcb_basis.h"
 #include "core/delaunay_configurations.h"
 #include "core/design_matrix.h"
+#include "tests/core/random_sphere_points.h"
 
 namespace {
 
@@ -25,8 +25,9 @@ int main(int argc, char** argv) {
   const int n = argc > 1 ? std::atoi(argv[1]) : 1000;
   const int num_points = argc > 2 ? std::atoi(argv[2]) : 37000;
   const int degree = argc > 3 ? std::atoi(argv[3]) : 4;
-  const Eigen::MatrixX3d knots = sdcb::bench::FibonacciKnots(n);
-  const Eigen::MatrixX3d points = sdcb::bench::UniformPoints(num_points, 7);
+  const Eigen::MatrixX3d knots = sdcb::testing::FibonacciPoints(n, 1);
+  const Eigen::MatrixX3d points =
+      sdcb::testing::RandomUnitVectors(num_points, 7);
 
   auto t0 = std::chrono::steady_clock::now();
   auto configurations = sdcb::ComputeDelaunayConfigurations(knots, degree);

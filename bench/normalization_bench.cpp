@@ -6,20 +6,22 @@
 #include <cstdlib>
 #include <string>
 
-#include "bench/basis_bench_util.h"
 #include "core/dcb_basis.h"
 #include "core/delaunay_configurations.h"
+#include "tests/core/random_sphere_points.h"
 
 int main(int argc, char** argv) {
   const int degree = argc > 1 ? std::atoi(argv[1]) : 2;
   const int num_points = argc > 2 ? std::atoi(argv[2]) : 20000;
-  const Eigen::MatrixX3d points = sdcb::bench::UniformPoints(num_points, 17);
+  const Eigen::MatrixX3d points =
+      sdcb::testing::RandomUnitVectors(num_points, 17);
   std::printf("degree %d, I(p) over %d random points\n", degree, num_points);
   for (const char* kind : {"fibonacci", "random"}) {
     for (int n : {100, 120, 200, 500, 1000, 2000, 5000}) {
-      const Eigen::MatrixX3d knots = std::string(kind) == "random"
-                                         ? sdcb::bench::UniformPoints(n, 23)
-                                         : sdcb::bench::FibonacciKnots(n, 2);
+      const Eigen::MatrixX3d knots =
+          std::string(kind) == "random"
+              ? sdcb::testing::RandomUnitVectors(n, 23)
+              : sdcb::testing::FibonacciPoints(n, 2);
       auto configurations = sdcb::ComputeDelaunayConfigurations(knots, degree);
       if (!configurations.ok()) {
         std::printf("%-9s n=%5d: %s\n", kind, n,

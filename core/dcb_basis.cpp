@@ -1,5 +1,6 @@
 #include "core/dcb_basis.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
@@ -219,25 +220,29 @@ ScalarJet DcbBasis::Evaluate(int i, const Eigen::Vector3d& p,
 void DcbBasis::Candidates(const Eigen::Vector3d& p,
                           std::vector<int>* out) const {
   out->clear();
-  const int cell = CellOf(p);
-  const Eigen::Vector3d u = p.normalized();
-  for (int j = cell_start_[cell]; j < cell_start_[cell + 1]; ++j) {
-    const int i = cell_items_[j];
-    if (caps_[i].axis.dot(u) >= caps_[i].cos_radius) out->push_back(i);
-  }
+  ForEachCandidate(p, [&](int i) { out->push_back(i); });
 }
 
 void DcbBasis::NonzeroValues(const Eigen::Vector3d& p,
                              std::vector<BasisValue>* out) const {
   out->clear();
-  const int cell = CellOf(p);
-  const Eigen::Vector3d u = p.normalized();
-  for (int j = cell_start_[cell]; j < cell_start_[cell + 1]; ++j) {
-    const int i = cell_items_[j];
-    if (caps_[i].axis.dot(u) < caps_[i].cos_radius) continue;
+  ForEachCandidate(p, [&](int i) {
     const double v = Value(i, p);
     if (v != 0.0) out->push_back({i, v});
-  }
+  });
+}
+
+void DcbBasis::ParallelForEachPoint(
+    const Eigen::MatrixX3d& points,
+    const std::function<void(Eigen::Index)>& visit) const {
+  const std::vector<Eigen::Index> order = LocalityOrder(points);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.rows(), 128),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+                      for (Eigen::Index o = range.begin(); o < range.end();
+                           ++o) {
+                        visit(order[o]);
+                      }
+                    });
 }
 
 double DcbBasis::Normalization(const Eigen::Vector3d& p) const {

@@ -14,6 +14,7 @@
 #define SDCB_CORE_DCB_BASIS_H_
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "core/delaunay_configurations.h"
@@ -72,6 +73,13 @@ class DcbBasis {
   // order reuses the same few basis functions from cache.
   std::vector<Eigen::Index> LocalityOrder(const Eigen::MatrixX3d& points) const;
 
+  // Calls visit(r) once for every row r of `points` (#P by 3 unit vectors),
+  // in parallel (TBB), in LocalityOrder. `visit` may only write state that
+  // belongs to row r; results then do not depend on the thread count.
+  void ParallelForEachPoint(
+      const Eigen::MatrixX3d& points,
+      const std::function<void(Eigen::Index)>& visit) const;
+
   // Replaces `out` with the ascending indices of the basis functions whose
   // support cap contains p: every i with B_i(p) != 0 is among them.
   void Candidates(const Eigen::Vector3d& p, std::vector<int>* out) const;
@@ -87,6 +95,16 @@ class DcbBasis {
  private:
   DcbBasis() = default;
   int CellOf(const Eigen::Vector3d& p) const;
+  // Calls visit(i), ascending, for each basis i whose support cap holds p.
+  template <typename Visit>
+  void ForEachCandidate(const Eigen::Vector3d& p, Visit visit) const {
+    const int cell = CellOf(p);
+    const Eigen::Vector3d u = p.normalized();
+    for (int j = cell_start_[cell]; j < cell_start_[cell + 1]; ++j) {
+      const int i = cell_items_[j];
+      if (caps_[i].axis.dot(u) >= caps_[i].cos_radius) visit(i);
+    }
+  }
 
   int degree_ = 0;
   Eigen::MatrixX3d knots_;

@@ -1,8 +1,5 @@
 #include "core/design_matrix.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <vector>
 
 namespace sdcb {
@@ -13,23 +10,15 @@ DesignMatrix BuildDesignMatrix(const DcbBasis& basis,
   const Eigen::Index rows = points.rows();
   // Each row is computed independently into its own slot; assembly below is
   // sequential, so the bytes do not depend on scheduling.
-  // Points are visited cell by cell of the support grid so that consecutive
-  // ones share basis functions in cache.
   std::vector<std::vector<BasisValue>> row_values(rows);
-  const std::vector<Eigen::Index> order = basis.LocalityOrder(points);
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, rows, 256),
-                    [&](const tbb::blocked_range<Eigen::Index>& range) {
-                      for (Eigen::Index o = range.begin(); o < range.end();
-                           ++o) {
-                        const Eigen::Index r = order[o];
-                        const Eigen::Vector3d p = points.row(r).transpose();
-                        if (options.normalized) {
-                          basis.NormalizedValues(p, &row_values[r]);
-                        } else {
-                          basis.NonzeroValues(p, &row_values[r]);
-                        }
-                      }
-                    });
+  basis.ParallelForEachPoint(points, [&](Eigen::Index r) {
+    const Eigen::Vector3d p = points.row(r).transpose();
+    if (options.normalized) {
+      basis.NormalizedValues(p, &row_values[r]);
+    } else {
+      basis.NonzeroValues(p, &row_values[r]);
+    }
+  });
   DesignMatrix a(rows, basis.size());
   Eigen::Index nonzeros = 0;
   for (const auto& row : row_values) nonzeros += row.size();

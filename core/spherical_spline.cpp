@@ -1,8 +1,5 @@
 #include "core/spherical_spline.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
@@ -122,30 +119,18 @@ SurfacePoint SphericalSpline::EvaluateDifferential(const Eigen::Vector3d& p,
 Eigen::MatrixX3d SphericalSpline::EvaluateMany(
     const Eigen::MatrixX3d& points) const {
   Eigen::MatrixX3d out(points.rows(), 3);
-  const std::vector<Eigen::Index> order = basis_.LocalityOrder(points);
-  tbb::parallel_for(
-      tbb::blocked_range<Eigen::Index>(0, points.rows(), 256),
-      [&](const tbb::blocked_range<Eigen::Index>& range) {
-        for (Eigen::Index o = range.begin(); o < range.end(); ++o) {
-          const Eigen::Index r = order[o];
-          out.row(r) = Evaluate(points.row(r).transpose()).transpose();
-        }
-      });
+  basis_.ParallelForEachPoint(points, [&](Eigen::Index r) {
+    out.row(r) = Evaluate(points.row(r).transpose()).transpose();
+  });
   return out;
 }
 
 std::vector<SurfacePoint> SphericalSpline::EvaluateDifferentialMany(
     const Eigen::MatrixX3d& points, JetOrder order) const {
   std::vector<SurfacePoint> out(points.rows());
-  const std::vector<Eigen::Index> visit = basis_.LocalityOrder(points);
-  tbb::parallel_for(
-      tbb::blocked_range<Eigen::Index>(0, points.rows(), 128),
-      [&](const tbb::blocked_range<Eigen::Index>& range) {
-        for (Eigen::Index o = range.begin(); o < range.end(); ++o) {
-          const Eigen::Index r = visit[o];
-          out[r] = EvaluateDifferential(points.row(r).transpose(), order);
-        }
-      });
+  basis_.ParallelForEachPoint(points, [&](Eigen::Index r) {
+    out[r] = EvaluateDifferential(points.row(r).transpose(), order);
+  });
   return out;
 }
 

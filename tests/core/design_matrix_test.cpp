@@ -67,17 +67,7 @@ TEST(DesignMatrix, TimesControlPointsIsTheSurfaceAndThreadIndependent) {
 // splines on n Fibonacci knots (quasi-uniform), sampled at 12 points per
 // basis function.
 double FitError(int n, bool normalized) {
-  Eigen::MatrixX3d knots(n, 3);
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  const Eigen::MatrixX3d jitter = testing::RandomUnitVectors(n, 77);
-  for (int i = 0; i < n; ++i) {
-    const double z = 1.0 - (2.0 * i + 1.0) / n, r = std::sqrt(1 - z * z);
-    const Eigen::Vector3d p(r * std::cos(golden * i), r * std::sin(golden * i),
-                            z);
-    knots.row(i) = (p + 0.1 / std::sqrt(n) * jitter.row(i).transpose())
-                       .normalized()
-                       .transpose();
-  }
+  const Eigen::MatrixX3d knots = testing::FibonacciPoints(n, 77);
   StatusOr<DcbBasis> basis =
       DcbBasis::Create(knots, testing::BruteForceConfigurations(knots, 2));
   EXPECT_TRUE(basis.ok());

@@ -1,4 +1,4 @@
-// Deterministic random points for the basis tests.
+// Deterministic point sets for the basis tests and benchmarks.
 #ifndef SDCB_TESTS_CORE_RANDOM_SPHERE_POINTS_H_
 #define SDCB_TESTS_CORE_RANDOM_SPHERE_POINTS_H_
 
@@ -18,6 +18,27 @@ inline Eigen::MatrixX3d RandomUnitVectors(int n, unsigned seed) {
   for (int i = 0; i < n; ++i) {
     out.row(i) =
         Eigen::RowVector3d(normal(rng), normal(rng), normal(rng)).normalized();
+  }
+  return out;
+}
+
+// Quasi-uniform knots, close to a uniform spherical CVT: a Fibonacci spiral
+// with a deterministic jitter of `jitter` times the mean spacing (general
+// position).
+inline Eigen::MatrixX3d FibonacciPoints(int n, unsigned seed,
+                                        double jitter = 0.05) {
+  const Eigen::MatrixX3d noise = RandomUnitVectors(n, seed);
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  const double spacing = std::sqrt(4 * M_PI / n);
+  Eigen::MatrixX3d out(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / n;
+    const double r = std::sqrt(1.0 - z * z);
+    const Eigen::Vector3d p(r * std::cos(golden * i), r * std::sin(golden * i),
+                            z);
+    out.row(i) = (p + jitter * spacing * noise.row(i).transpose())
+                     .normalized()
+                     .transpose();
   }
   return out;
 }
