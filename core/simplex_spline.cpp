@@ -170,6 +170,25 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
   };
   build((1u << m) - 1);
   if (!failure.ok()) return failure;
+  // Leaves first (stable; still children before parents), so an evaluation
+  // can stop once all degree-0 values are known to vanish.
+  std::vector<int> new_index(s.nodes_.size());
+  std::vector<Node> ordered;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (size_t i = 0; i < s.nodes_.size(); ++i) {
+      if ((s.nodes_[i].matrix < 0) == (pass == 0)) {
+        new_index[i] = static_cast<int>(ordered.size());
+        ordered.push_back(s.nodes_[i]);
+      }
+    }
+    if (pass == 0) s.num_leaves_ = static_cast<int>(ordered.size());
+  }
+  for (Node& node : ordered) {
+    for (int& c : node.child) {
+      if (c >= 0) c = new_index[c];
+    }
+  }
+  s.nodes_ = std::move(ordered);
   return s;
 }
 
@@ -200,13 +219,16 @@ double SimplexSpline::Value(const Eigen::Vector3d& p) const {
   int signs[kMax * kMax];
   PairSigns(p, signs);
   double values[256];
+  // Degree 0 first: all zero iff p is outside the hull of V, then M = 0.
+  bool any = false;
+  for (int i = 0; i < num_leaves_; ++i) {
+    values[i] = LeafValue(nodes_[i], signs);
+    any = any || values[i] != 0.0;
+  }
+  if (!any) return 0.0;
   const int count = static_cast<int>(nodes_.size());
-  for (int i = 0; i < count; ++i) {
+  for (int i = num_leaves_; i < count; ++i) {
     const Node& node = nodes_[i];
-    if (node.matrix < 0) {
-      values[i] = LeafValue(node, signs);
-      continue;
-    }
     // Eq. 3: M(p|S) = sum_j b_j(p|W) M(p|S \ {w_j}).
     const Eigen::Vector3d b = matrices_[node.matrix] * p;
     values[i] = b[0] * values[node.child[0]] + b[1] * values[node.child[1]] +

@@ -101,7 +101,9 @@ class SimplexSpline {
   // t_i x t_j for i < j, indexed by PairIndex(i, j).
   std::vector<Eigen::Vector3d> pair_normals_;
   std::vector<Eigen::Matrix3d> matrices_;  // Spherical barycentric G of W.
-  std::vector<Node> nodes_;                // Children before parents.
+  // Children before parents; the num_leaves_ leaves (3 knots) first.
+  std::vector<Node> nodes_;
+  int num_leaves_ = 0;
 };
 
 }  // namespace sdcb
