@@ -10,6 +10,7 @@
 #include "core/dcb_basis.h"
 #include "core/delaunay_configurations.h"
 #include "core/design_matrix.h"
+#include "core/spherical_spline.h"
 #include "tests/core/random_sphere_points.h"
 
 namespace {
@@ -78,6 +79,29 @@ int main(int argc, char** argv) {
         double(a.nonZeros()) / num_points,
         double(total_candidates) / num_points,
         1e6 * best * threads / a.nonZeros());
+  }
+  // Surface evaluation with derivatives and curvature at every point.
+  Eigen::MatrixX3d control(basis->size(), 3);
+  for (int i = 0; i < basis->size(); ++i) {
+    control.row(i) = knots.row(configurations->sets[i].knots[0]);
+  }
+  auto spline =
+      sdcb::SphericalSpline::Create(std::move(basis).value(), control);
+  if (!spline.ok()) return 1;
+  for (int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                              threads);
+    t0 = std::chrono::steady_clock::now();
+    const Eigen::MatrixX3d f = spline->EvaluateMany(points);
+    const double t_position = Seconds(t0);
+    t0 = std::chrono::steady_clock::now();
+    const auto d = spline->EvaluateDifferentialMany(points);
+    const double t_curvature = Seconds(t0);
+    std::printf(
+        "threads %d: positions %.3f s (%.2f us/point), with derivatives and "
+        "curvatures %.3f s (%.2f us/point)\n",
+        threads, t_position, 1e6 * t_position / num_points, t_curvature,
+        1e6 * t_curvature / num_points);
   }
   return 0;
 }

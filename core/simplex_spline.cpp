@@ -215,17 +215,22 @@ double SimplexSpline::LeafValue(const Node& node, const int* signs) const {
   return inside ? node.inv_abs_det : 0.0;
 }
 
-double SimplexSpline::Value(const Eigen::Vector3d& p) const {
+bool SimplexSpline::LeafValues(const Eigen::Vector3d& p, double* values) const {
   int signs[kMax * kMax];
   PairSigns(p, signs);
-  double values[256];
-  // Degree 0 first: all zero iff p is outside the hull of V, then M = 0.
+  // All zero iff p is outside the hull of V; then M and its derivatives
+  // vanish.
   bool any = false;
   for (int i = 0; i < num_leaves_; ++i) {
     values[i] = LeafValue(nodes_[i], signs);
     any = any || values[i] != 0.0;
   }
-  if (!any) return 0.0;
+  return any;
+}
+
+double SimplexSpline::Value(const Eigen::Vector3d& p) const {
+  double values[256];
+  if (!LeafValues(p, values)) return 0.0;
   const int count = static_cast<int>(nodes_.size());
   for (int i = num_leaves_; i < count; ++i) {
     const Node& node = nodes_[i];
@@ -244,18 +249,16 @@ ScalarJet SimplexSpline::Evaluate(const Eigen::Vector3d& p,
     jet.value = Value(p);
     return jet;
   }
-  int signs[kMax * kMax];
-  PairSigns(p, signs);
+  double leaves[256];
+  if (!LeafValues(p, leaves)) return ScalarJet();
   const int count = static_cast<int>(nodes_.size());
   const bool hessian = order == JetOrder::kHessian;
   std::vector<ScalarJet> jets(count);
-  for (int i = 0; i < count; ++i) {
+  // Degree 0: piecewise constant, zero derivatives.
+  for (int i = 0; i < num_leaves_; ++i) jets[i].value = leaves[i];
+  for (int i = num_leaves_; i < count; ++i) {
     const Node& node = nodes_[i];
     ScalarJet& out = jets[i];
-    if (node.matrix < 0) {
-      out.value = LeafValue(node, signs);  // Derivatives of a constant: 0.
-      continue;
-    }
     // Differentiating eq. 3 (grad b_j = g_j, the rows of G, constant):
     //   grad M = sum_j g_j M_j + b_j grad M_j,
     //   hess M = sum_j g_j grad M_j^T + grad M_j g_j^T + b_j hess M_j.

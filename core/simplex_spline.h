@@ -96,6 +96,9 @@ class SimplexSpline {
   // Fills per-pair perturbed signs sigma(i, j) of det(p, t_i, t_j), i < j.
   void PairSigns(const Eigen::Vector3d& p, int* signs) const;
   double LeafValue(const Node& node, const int* signs) const;
+  // Degree-0 values of the num_leaves_ leaves into `values`; false if all
+  // are zero.
+  bool LeafValues(const Eigen::Vector3d& p, double* values) const;
 
   Eigen::MatrixX3d knots_;
   // t_i x t_j for i < j, indexed by PairIndex(i, j).
