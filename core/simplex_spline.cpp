@@ -23,8 +23,8 @@ const Eigen::Vector3d kAxis1(0.5773502691896258, 0.3141592653589793,
 const Eigen::Vector3d kAxis2(-0.2718281828459045, 0.8660254037844386,
                              0.1414213562373095);
 
-// Sign of p . n where n = a x b was rounded: exact beyond this relative
-// bound (a, b unit; generous compared with the few ulps of the products).
+// Sign of p . n where n = a x b was rounded: exact beyond kSignFilter
+// |p|_1 |a|_1 |b|_1 (the rounding error is below ~10 ulps of that).
 constexpr double kSignFilter = 1e-13;
 
 int ExactPerturbedSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
@@ -36,10 +36,12 @@ int ExactPerturbedSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
   return Det3Sign(kAxis2.cross(p), a, b);
 }
 
+// `scale` >= |a|_1 |b|_1.
 int FilteredSign(const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                 const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+                 const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                 double scale) {
   const double v = p.dot(n);
-  const double bound = kSignFilter * p.cwiseAbs().sum();
+  const double bound = kSignFilter * scale * p.cwiseAbs().sum();
   if (v > bound) return 1;
   if (v < -bound) return -1;
   return ExactPerturbedSign(p, a, b);
@@ -58,7 +60,8 @@ std::uint32_t Mix(std::uint32_t x) {
 
 int PerturbedDetSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                      const Eigen::Vector3d& b) {
-  return FilteredSign(p, a.cross(b), a, b);
+  return FilteredSign(p, a.cross(b), a, b,
+                      a.cwiseAbs().sum() * b.cwiseAbs().sum());
 }
 
 bool InHalfOpenTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
@@ -77,8 +80,9 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
     return InvalidArgumentError("a simplex spline needs 3 to 8 knots, got " +
                                 std::to_string(m));
   }
-  if (!knots.allFinite()) {
-    return InvalidArgumentError("simplex spline knots must be finite");
+  if (!knots.allFinite() ||
+      ((knots.rowwise().norm().array() - 1.0).abs() > 1e-6).any()) {
+    return InvalidArgumentError("simplex spline knots must be unit vectors");
   }
   SimplexSpline s;
   s.knots_ = knots;
@@ -197,8 +201,9 @@ void SimplexSpline::PairSigns(const Eigen::Vector3d& p, int* signs) const {
   for (int i = 0; i < m; ++i)
     for (int j = i + 1; j < m; ++j) {
       const int k = PairIndex(i, j);
+      // Unit knots: |t_i|_1 |t_j|_1 <= 3 (+ the 1e-6 tolerance of Create).
       signs[k] = FilteredSign(p, pair_normals_[k], knots_.row(i).transpose(),
-                              knots_.row(j).transpose());
+                              knots_.row(j).transpose(), 3.01);
     }
 }
 

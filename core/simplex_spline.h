@@ -63,7 +63,8 @@ class SimplexSpline {
   static constexpr int kMaxKnots = 8;
 
   // `knots`: (k + 3) by 3 unit vectors, 3 <= k + 3 <= kMaxKnots. Fails with
-  // kInvalidArgument for a bad size or non-finite knots, and with
+  // kInvalidArgument for a bad size or knots that are not unit vectors
+  // (within 1e-6), and with
   // kInvalidInput if some subset of >= 4 knots has no linearly independent
   // triple (all on one great circle).
   static StatusOr<SimplexSpline> Create(

@@ -295,6 +295,10 @@ TEST(SimplexSpline, CkMinus1AcrossKnotLinesAndKthDerivativeJumps) {
 TEST(SimplexSpline, RejectsBadKnotSets) {
   EXPECT_FALSE(SimplexSpline::Create(Eigen::MatrixX3d(2, 3)).ok());
   EXPECT_FALSE(SimplexSpline::Create(testing::RandomUnitVectors(9, 1)).ok());
+  EXPECT_EQ(SimplexSpline::Create(2.0 * testing::RandomUnitVectors(5, 1))
+                .status()
+                .code(),
+            StatusCode::kInvalidArgument);
   Eigen::MatrixX3d great_circle(4, 3);
   for (int i = 0; i < 4; ++i)
     great_circle.row(i) << std::cos(i), std::sin(i), 0;
