@@ -8,8 +8,8 @@
 // knots are among the K nearest neighbours of one of its knots, and count
 // the knots inside a cap exactly over the neighbourhood when the cap lies
 // inside it (else over all knots). Completeness is then checked with the
-// j-facet count 2(k+1)(n-k-2) for points in convex position; a mismatch is
-// an internal error. No perturbation: knots must be in general position.
+// j-facet count 2(k+1)(n-k-2) for points in convex position; on a mismatch
+// K doubles, up to n - 1. No perturbation: knots must be in general position.
 #include "core/delaunay_configurations.h"
 
 #include <Eigen/Geometry>
@@ -116,6 +116,8 @@ StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
     std::sort(set.begin(), set.end());
     found.push_back({t, set});
   };
+  const size_t expected =
+      2 * static_cast<size_t>(degree + 1) * (n - degree - 2);
   if (n <= 60) {
     for (int a = 0; a < n; ++a)
       for (int b = a + 1; b < n; ++b)
@@ -123,8 +125,12 @@ StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
           if (CountInside(knots, {a, b, c}, all, degree, &inside) == degree)
             record({a, b, c});
         }
-  } else {
-    const int kNeighbours = std::min(n - 1, 30 + 6 * degree);
+    return Group(degree, std::move(found));
+  }
+  // Neighbourhoods grow until the j-facet count is reached.
+  for (int neighbours = std::min(n - 1, 30 + 6 * degree);;
+       neighbours = std::min(n - 1, 2 * neighbours)) {
+    found.clear();
     for (int a = 0; a < n; ++a) {
       std::vector<std::pair<double, int>> by_distance;
       for (int q = 0; q < n; ++q) {
@@ -133,14 +139,14 @@ StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
               {(knots.row(q) - knots.row(a)).squaredNorm(), q});
         }
       }
-      std::partial_sort(by_distance.begin(), by_distance.begin() + kNeighbours,
+      std::partial_sort(by_distance.begin(), by_distance.begin() + neighbours,
                         by_distance.end());
       std::vector<int> near = {a};
-      for (int i = 0; i < kNeighbours; ++i)
+      for (int i = 0; i < neighbours; ++i)
         near.push_back(by_distance[i].second);
-      const double reach = std::sqrt(by_distance[kNeighbours - 1].first);
-      for (int i = 1; i <= kNeighbours; ++i)
-        for (int j = i + 1; j <= kNeighbours; ++j) {
+      const double reach = std::sqrt(by_distance[neighbours - 1].first);
+      for (int i = 1; i <= neighbours; ++i)
+        for (int j = i + 1; j <= neighbours; ++j) {
           Triple t = {a, near[i], near[j]};
           std::sort(t.begin(), t.end());
           if (ClearlyMoreInside(knots, t, near, degree)) continue;
@@ -159,18 +165,17 @@ StatusOr<DelaunayConfigurations> ComputeDelaunayConfigurations(
           if (count == degree) record(t);
         }
     }
+    DelaunayConfigurations out = Group(degree, std::move(found));
+    size_t total = 0;
+    for (const ConfigurationSet& s : out.sets) total += s.boundaries.size();
+    if (total == expected) return out;
+    if (neighbours == n - 1) {
+      return InternalError("stand-in configuration search: found " +
+                           std::to_string(total) + " of " +
+                           std::to_string(expected) +
+                           " configurations (knots not spread or degenerate)");
+    }
   }
-  DelaunayConfigurations out = Group(degree, std::move(found));
-  size_t total = 0;
-  for (const ConfigurationSet& s : out.sets) total += s.boundaries.size();
-  const size_t expected =
-      2 * static_cast<size_t>(degree + 1) * (n - degree - 2);
-  if (n > 60 && total != expected) {
-    return InternalError("stand-in configuration search incomplete: found " +
-                         std::to_string(total) + " of " +
-                         std::to_string(expected));
-  }
-  return out;
 }
 
 }  // namespace sdcb
