@@ -102,6 +102,43 @@ TEST(SphericalSpline, DerivativesNormalAndCurvaturesMatchFiniteDifferences) {
   }
 }
 
+// Differences of the tangent derivative and of the mean curvature between
+// the two points at distance eps on either side of a knot segment's midpoint.
+struct Jumps {
+  double du, mean_curvature;
+};
+Jumps AcrossKnotLine(const SphericalSpline& s, const Eigen::Vector3d& ti,
+                     const Eigen::Vector3d& tj, double eps) {
+  const Eigen::Vector3d q = (ti + tj).normalized();
+  const Eigen::Vector3d n = ti.cross(tj).normalized();
+  const SurfacePoint a = s.EvaluateDifferential((q + eps * n).normalized());
+  const SurfacePoint b = s.EvaluateDifferential((q - eps * n).normalized());
+  // Same frame on both sides up to O(eps): compare frame-free quantities.
+  return {std::abs(a.du.cross(a.dv).norm() - b.du.cross(b.dv).norm()),
+          std::abs(a.mean_curvature - b.mean_curvature)};
+}
+
+// F is C^(k-1): across a knot line first derivatives are continuous for
+// k >= 2 (differences shrink like eps), curvature (second derivatives)
+// jumps for k = 2 and is continuous for k = 3.
+TEST(SphericalSpline, SmoothnessOfTheSurfaceAcrossAKnotLine) {
+  for (int degree : {2, 3}) {
+    const SphericalSpline s = MakeSurface(60, degree, 60 + degree);
+    const std::vector<int>& set = s.basis().configuration_set(0).knots;
+    const Eigen::Vector3d ti = s.knots().row(set[0]),
+                          tj = s.knots().row(set[1]);
+    const Jumps wide = AcrossKnotLine(s, ti, tj, 1e-5);
+    const Jumps narrow = AcrossKnotLine(s, ti, tj, 1e-7);
+    EXPECT_LT(narrow.du, 0.05 * wide.du) << "degree " << degree;
+    if (degree == 2) {
+      EXPECT_GT(narrow.mean_curvature, 0.5 * wide.mean_curvature);
+      EXPECT_GT(narrow.mean_curvature, 1e-6);
+    } else {
+      EXPECT_LT(narrow.mean_curvature, 0.05 * wide.mean_curvature);
+    }
+  }
+}
+
 TEST(SphericalSpline, CurvaturesScaleWithTheSurface) {
   // Scaling every control point by R scales F by R (partition of unity), so
   // H scales by 1/R and K by 1/R^2.
