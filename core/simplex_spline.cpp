@@ -15,7 +15,12 @@ namespace {
 
 constexpr int kMax = SimplexSpline::kMaxKnots;
 
-int PairIndex(int i, int j) { return i * kMax + j; }
+// Index of the pair i < j among m knots: 0 .. m (m - 1) / 2 - 1, increasing
+// in the order (0,1), (0,2), ..., (0,m-1), (1,2), ...
+int PairIndex(int i, int j, int m) {
+  return i * (2 * m - i - 1) / 2 + j - i - 1;
+}
+constexpr int kMaxPairs = kMax * (kMax - 1) / 2;
 
 // Fixed generic axes of the half-open perturbation.
 const Eigen::Vector3d kAxis1(0.5773502691896258, 0.3141592653589793,
@@ -36,12 +41,10 @@ int ExactPerturbedSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
   return Det3Sign(kAxis2.cross(p), a, b);
 }
 
-// `scale` >= |a|_1 |b|_1.
-int FilteredSign(const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                 const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                 double scale) {
-  const double v = p.dot(n);
-  const double bound = kSignFilter * scale * p.cwiseAbs().sum();
+// Sign of v = p . n, n = a x b rounded, with the error bound `bound` (see
+// kSignFilter); exact (CGAL) and perturbed when |v| is within it.
+int FilteredSign(double v, double bound, const Eigen::Vector3d& p,
+                 const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   if (v > bound) return 1;
   if (v < -bound) return -1;
   return ExactPerturbedSign(p, a, b);
@@ -60,8 +63,9 @@ std::uint32_t Mix(std::uint32_t x) {
 
 int PerturbedDetSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                      const Eigen::Vector3d& b) {
-  return FilteredSign(p, a.cross(b), a, b,
-                      a.cwiseAbs().sum() * b.cwiseAbs().sum());
+  const double bound = kSignFilter * p.cwiseAbs().sum() * a.cwiseAbs().sum() *
+                       b.cwiseAbs().sum();
+  return FilteredSign(p.dot(a.cross(b)), bound, p, a, b);
 }
 
 bool InHalfOpenTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
@@ -87,10 +91,10 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
   SimplexSpline s;
   s.knots_ = knots;
   auto t = [&](int i) -> Eigen::Vector3d { return knots.row(i).transpose(); };
-  s.pair_normals_.assign(kMax * kMax, Eigen::Vector3d::Zero());
+  s.pair_normals_.assign(m * (m - 1) / 2, Eigen::Vector3d::Zero());
   for (int i = 0; i < m; ++i)
     for (int j = i + 1; j < m; ++j) {
-      s.pair_normals_[PairIndex(i, j)] = t(i).cross(t(j));
+      s.pair_normals_[PairIndex(i, j, m)] = t(i).cross(t(j));
     }
 
   // Depth-first construction, children first; `index_of` memoizes subsets.
@@ -110,6 +114,9 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       node.local[0] = a;
       node.local[1] = b;
       node.local[2] = c;
+      node.pair[0] = PairIndex(b, c, m);
+      node.pair[1] = PairIndex(a, c, m);
+      node.pair[2] = PairIndex(a, b, m);
       node.orientation = Det3Sign(t(a), t(b), t(c));
       if (node.orientation != 0) {
         node.inv_abs_det = 1.0 / std::abs(Det3(t(a), t(b), t(c)));
@@ -198,12 +205,13 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
 
 void SimplexSpline::PairSigns(const Eigen::Vector3d& p, int* signs) const {
   const int m = static_cast<int>(knots_.rows());
-  for (int i = 0; i < m; ++i)
-    for (int j = i + 1; j < m; ++j) {
-      const int k = PairIndex(i, j);
-      // Unit knots: |t_i|_1 |t_j|_1 <= 3 (+ the 1e-6 tolerance of Create).
-      signs[k] = FilteredSign(p, pair_normals_[k], knots_.row(i).transpose(),
-                              knots_.row(j).transpose(), 3.01);
+  // Unit knots: |t_i|_1 |t_j|_1 <= 3 (+ the 1e-6 tolerance of Create).
+  const double bound = kSignFilter * 3.01 * p.cwiseAbs().sum();
+  for (int i = 0, k = 0; i < m; ++i)
+    for (int j = i + 1; j < m; ++j, ++k) {
+      signs[k] =
+          FilteredSign(p.dot(pair_normals_[k]), bound, p,
+                       knots_.row(i).transpose(), knots_.row(j).transpose());
     }
 }
 
@@ -211,17 +219,15 @@ double SimplexSpline::LeafValue(const Node& node, const int* signs) const {
   // Inside [ta, tb, tc) (a < b < c) iff det(p,tb,tc), det(p,tc,ta) and
   // det(p,ta,tb) all have the triangle's orientation; det(p,tc,ta) is minus
   // the pair sign of (a, c).
-  const int a = node.local[0], b = node.local[1], c = node.local[2];
   const int o = node.orientation;
   if (o == 0) return 0.0;
-  const bool inside = signs[PairIndex(b, c)] == o &&
-                      signs[PairIndex(a, c)] == -o &&
-                      signs[PairIndex(a, b)] == o;
+  const bool inside = signs[node.pair[0]] == o && signs[node.pair[1]] == -o &&
+                      signs[node.pair[2]] == o;
   return inside ? node.inv_abs_det : 0.0;
 }
 
 bool SimplexSpline::LeafValues(const Eigen::Vector3d& p, double* values) const {
-  int signs[kMax * kMax];
+  int signs[kMaxPairs];
   PairSigns(p, signs);
   // All zero iff p is outside the hull of V; then M and its derivatives
   // vanish.

@@ -88,9 +88,10 @@ class SimplexSpline {
     // Internal: the children S \ {w_j} (node indices) and W's matrix.
     int child[3] = {-1, -1, -1};
     int local[3] = {-1, -1, -1};
-    int orientation = 0;       // Leaf: exact sign of det(t_a, t_b, t_c).
-    double inv_abs_det = 0.0;  // Leaf: 1 / |det|.
-    int matrix = -1;           // Internal: index into matrices_.
+    int pair[3] = {-1, -1, -1};  // Leaf: pairs (b,c), (a,c), (a,b).
+    int orientation = 0;         // Leaf: exact sign of det(t_a, t_b, t_c).
+    double inv_abs_det = 0.0;    // Leaf: 1 / |det|.
+    int matrix = -1;             // Internal: index into matrices_.
   };
 
   SimplexSpline() = default;
@@ -102,7 +103,7 @@ class SimplexSpline {
   bool LeafValues(const Eigen::Vector3d& p, double* values) const;
 
   Eigen::MatrixX3d knots_;
-  // t_i x t_j for i < j, indexed by PairIndex(i, j).
+  // t_i x t_j for the pairs i < j in the order (0,1), (0,2), ..., (1,2), ...
   std::vector<Eigen::Vector3d> pair_normals_;
   std::vector<Eigen::Matrix3d> matrices_;  // Spherical barycentric G of W.
   // Children before parents; the num_leaves_ leaves (3 knots) first.
