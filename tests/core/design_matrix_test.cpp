@@ -13,20 +13,25 @@
 namespace sdcb {
 namespace {
 
-TEST(DesignMatrix, EntriesAreNormalizedBasisValuesOfEveryFunction) {
-  const Eigen::MatrixX3d knots = testing::RandomUnitVectors(70, 1);
+// The degree-k basis on `knots`, configurations from the brute-force oracle.
+DcbBasis OracleBasis(const Eigen::MatrixX3d& knots, int degree) {
   StatusOr<DcbBasis> basis =
-      DcbBasis::Create(knots, testing::BruteForceConfigurations(knots, 3));
-  ASSERT_TRUE(basis.ok());
+      DcbBasis::Create(knots, testing::BruteForceConfigurations(knots, degree));
+  EXPECT_TRUE(basis.ok()) << basis.status().message();
+  return std::move(basis).value();
+}
+
+TEST(DesignMatrix, EntriesAreNormalizedBasisValuesOfEveryFunction) {
+  const DcbBasis basis = OracleBasis(testing::RandomUnitVectors(70, 1), 3);
   const Eigen::MatrixX3d points = testing::RandomUnitVectors(500, 2);
-  const DesignMatrix a = BuildDesignMatrix(*basis, points);
+  const DesignMatrix a = BuildDesignMatrix(basis, points);
   ASSERT_EQ(a.rows(), 500);
-  ASSERT_EQ(a.cols(), basis->size());
+  ASSERT_EQ(a.cols(), basis.size());
   // Oracle: all basis functions, without the support index.
   for (int r = 0; r < points.rows(); ++r) {
     const Eigen::Vector3d p = points.row(r);
-    Eigen::VectorXd all(basis->size());
-    for (int i = 0; i < basis->size(); ++i) all[i] = basis->Value(i, p);
+    Eigen::VectorXd all(basis.size());
+    for (int i = 0; i < basis.size(); ++i) all[i] = basis.Value(i, p);
     all /= all.sum();
     const Eigen::VectorXd row = Eigen::VectorXd(a.row(r).transpose());
     EXPECT_LT((row - all).cwiseAbs().maxCoeff(), 1e-14);
@@ -36,28 +41,25 @@ TEST(DesignMatrix, EntriesAreNormalizedBasisValuesOfEveryFunction) {
 }
 
 TEST(DesignMatrix, TimesControlPointsIsTheSurfaceAndThreadIndependent) {
-  const Eigen::MatrixX3d knots = testing::RandomUnitVectors(90, 3);
-  StatusOr<DcbBasis> basis =
-      DcbBasis::Create(knots, testing::BruteForceConfigurations(knots, 2));
-  ASSERT_TRUE(basis.ok());
+  DcbBasis basis = OracleBasis(testing::RandomUnitVectors(90, 3), 2);
   const Eigen::MatrixX3d points = testing::RandomUnitVectors(4000, 4);
   DesignMatrix one, two;
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-    one = BuildDesignMatrix(*basis, points);
+    one = BuildDesignMatrix(basis, points);
   }
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-    two = BuildDesignMatrix(*basis, points);
+    two = BuildDesignMatrix(basis, points);
   }
   ASSERT_EQ(one.nonZeros(), two.nonZeros());
   for (Eigen::Index i = 0; i < one.nonZeros(); ++i) {
     ASSERT_EQ(one.valuePtr()[i], two.valuePtr()[i]);
     ASSERT_EQ(one.innerIndexPtr()[i], two.innerIndexPtr()[i]);
   }
-  const Eigen::MatrixX3d control = testing::RandomUnitVectors(basis->size(), 5);
+  const Eigen::MatrixX3d control = testing::RandomUnitVectors(basis.size(), 5);
   StatusOr<SphericalSpline> spline =
-      SphericalSpline::Create(std::move(basis).value(), control);
+      SphericalSpline::Create(std::move(basis), control);
   ASSERT_TRUE(spline.ok());
   const Eigen::MatrixX3d f = one * control;
   EXPECT_LT((f - spline->EvaluateMany(points)).cwiseAbs().maxCoeff(), 1e-13);
@@ -67,10 +69,7 @@ TEST(DesignMatrix, TimesControlPointsIsTheSurfaceAndThreadIndependent) {
 // splines on n Fibonacci knots (quasi-uniform), sampled at 12 points per
 // basis function.
 double FitError(int n, bool normalized) {
-  const Eigen::MatrixX3d knots = testing::FibonacciPoints(n, 77);
-  StatusOr<DcbBasis> basis =
-      DcbBasis::Create(knots, testing::BruteForceConfigurations(knots, 2));
-  EXPECT_TRUE(basis.ok());
+  const DcbBasis basis = OracleBasis(testing::FibonacciPoints(n, 77), 2);
   auto f = [](const Eigen::MatrixX3d& x) {
     Eigen::VectorXd out(x.rows());
     for (int r = 0; r < x.rows(); ++r) {
@@ -81,15 +80,15 @@ double FitError(int n, bool normalized) {
   DesignMatrixOptions options;
   options.normalized = normalized;
   const Eigen::MatrixX3d samples =
-      testing::RandomUnitVectors(12 * basis->size(), 78);
+      testing::RandomUnitVectors(12 * basis.size(), 78);
   const Eigen::SparseMatrix<double> a =
-      BuildDesignMatrix(*basis, samples, options);
+      BuildDesignMatrix(basis, samples, options);
   const Eigen::SparseMatrix<double> normal = a.transpose() * a;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
   EXPECT_EQ(solver.info(), Eigen::Success);
   const Eigen::VectorXd c = solver.solve(a.transpose() * f(samples));
   const Eigen::MatrixX3d test = testing::RandomUnitVectors(5000, 79);
-  return (BuildDesignMatrix(*basis, test, options) * c - f(test))
+  return (BuildDesignMatrix(basis, test, options) * c - f(test))
       .cwiseAbs()
       .maxCoeff();
 }
