@@ -1,0 +1,32 @@
+// The least-squares design matrix of the spherical DCB-spline (paper eq. 6):
+// A(r, i) = Bbar_i(u_r), rows = parameter points u_r, columns = basis
+// functions, so that F(u_r) = (A C)(r, :) for control points C (#basis by 3).
+#ifndef SDCB_CORE_DESIGN_MATRIX_H_
+#define SDCB_CORE_DESIGN_MATRIX_H_
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "core/dcb_basis.h"
+
+namespace sdcb {
+
+using DesignMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+struct DesignMatrixOptions {
+  // true: Bbar_i = B_i / I (eq. 5, the surface's basis). false: the raw B_i
+  // of eq. 4 (for studies of the unnormalized spline space).
+  bool normalized = true;
+};
+
+// `points`: #P by 3 unit vectors. Returns the #P by basis.size() matrix of
+// basis values, only nonzeros stored, columns ascending in each row; with
+// normalization, rows sum to 1 up to rounding. Parallel (TBB); the result
+// does not depend on the number of threads.
+DesignMatrix BuildDesignMatrix(const DcbBasis& basis,
+                               const Eigen::MatrixX3d& points,
+                               const DesignMatrixOptions& options = {});
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_DESIGN_MATRIX_H_
