@@ -1,0 +1,409 @@
+#include "core/spherical_cvt.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "core/point_kd_tree.h"
+#include "core/sphere_geometry.h"
+
+namespace sdcb {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
+// Samples per parallel block. Fixed (not derived from the thread count) so
+// that the per-block partial sums, added in block order, are the same for
+// any number of threads.
+constexpr int kBlockSize = 4096;
+
+double ChordFromAngle(double angle) {
+  return 2 * std::sin(std::min(angle, kPi) / 2);
+}
+double AngleFromChord(double chord) {
+  return 2 * std::asin(std::min(1.0, chord / 2));
+}
+
+// Area of the spherical triangle with unit-vector corners a, b, c:
+// tan(A/2) = |det(a,b,c)| / (1 + a.b + b.c + c.a) (Van Oosterom & Strackee).
+double SphericalTriangleArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& c) {
+  return 2 * std::atan2(std::abs(Det3(a, b, c)),
+                        1 + a.dot(b) + b.dot(c) + c.dot(a));
+}
+
+// The fixed quadrature of the CVT energy (see the header).
+struct Quadrature {
+  std::vector<Eigen::Vector3d> points;  // unit vectors
+  std::vector<double> areas;            // steradians, sum 4 pi
+  std::vector<double> weights;          // area * density
+  int size() const { return static_cast<int>(points.size()); }
+};
+
+Quadrature BuildQuadrature(const SphericalDensity& density, int m) {
+  // Barycentric grid node (i, j) of a triangle (a, b, c) is
+  // (i a + j b + (m - i - j) c) / m. Up triangles (i,j),(i+1,j),(i,j+1) for
+  // i + j <= m - 1 and down triangles (i+1,j),(i+1,j+1),(i,j+1) for
+  // i + j <= m - 2: m^2 in all.
+  std::vector<Eigen::Vector3i> sub;  // (i, j, up ? 1 : 0)
+  for (int i = 0; i < m; ++i) {
+    for (int j = 0; i + j < m; ++j) {
+      sub.emplace_back(i, j, 1);
+      if (i + j <= m - 2) sub.emplace_back(i, j, 0);
+    }
+  }
+  const int per_face = static_cast<int>(sub.size());
+  const int num_faces = static_cast<int>(density.faces.rows());
+  Quadrature q;
+  q.points.resize(static_cast<size_t>(num_faces) * per_face);
+  q.areas.resize(q.points.size());
+  q.weights.resize(q.points.size());
+  tbb::parallel_for(tbb::blocked_range<int>(0, num_faces), [&](const auto& r) {
+    for (int f = r.begin(); f < r.end(); ++f) {
+      Eigen::Matrix3d corners;  // columns a, b, c
+      Eigen::Vector3d rho;
+      for (int k = 0; k < 3; ++k) {
+        corners.col(k) = density.sphere_vertices.row(density.faces(f, k));
+        rho[k] = density.values[density.faces(f, k)];
+      }
+      auto node = [&](int i, int j) -> Eigen::Vector3d {
+        return Eigen::Vector3d(i, j, m - i - j) / m;  // barycentric
+      };
+      for (int s = 0; s < per_face; ++s) {
+        const int i = sub[s][0], j = sub[s][1];
+        Eigen::Vector3d l0, l1, l2;
+        if (sub[s][2]) {
+          l0 = node(i, j), l1 = node(i + 1, j), l2 = node(i, j + 1);
+        } else {
+          l0 = node(i + 1, j), l1 = node(i + 1, j + 1), l2 = node(i, j + 1);
+        }
+        const Eigen::Vector3d centroid = (l0 + l1 + l2) / 3;
+        const size_t out = static_cast<size_t>(f) * per_face + s;
+        q.points[out] = (corners * centroid).normalized();
+        q.areas[out] = SphericalTriangleArea((corners * l0).normalized(),
+                                             (corners * l1).normalized(),
+                                             (corners * l2).normalized());
+        q.weights[out] = q.areas[out] * rho.dot(centroid);
+      }
+    }
+  });
+  return q;
+}
+
+Status ValidateDensity(const SphericalDensity& density) {
+  const Eigen::Index nv = density.sphere_vertices.rows();
+  if (nv < 3 || density.faces.rows() < 1) {
+    return InvalidArgumentError("density mesh has no triangles");
+  }
+  if (density.values.size() != nv) {
+    return InvalidArgumentError(
+        "density has " + std::to_string(density.values.size()) +
+        " values for " + std::to_string(nv) + " vertices");
+  }
+  if (!density.sphere_vertices.allFinite() ||
+      ((density.sphere_vertices.rowwise().norm().array() - 1).abs() > 1e-6)
+          .any()) {
+    return InvalidArgumentError("density mesh vertices must be unit vectors");
+  }
+  if (density.faces.minCoeff() < 0 || density.faces.maxCoeff() >= nv) {
+    return InvalidArgumentError("density mesh has a vertex index out of range");
+  }
+  if (!density.values.allFinite() || density.values.minCoeff() < 0) {
+    return InvalidArgumentError("density values must be finite and >= 0");
+  }
+  return Status::Ok();
+}
+
+Status ValidateOptions(const CvtOptions& options, int new_knots) {
+  if (new_knots < 0) {
+    return InvalidArgumentError("number of new knots must be >= 0");
+  }
+  if (options.max_iterations < 0) {
+    return InvalidArgumentError("CVT max_iterations must be >= 0");
+  }
+  if (!(options.relative_energy_tolerance >= 0)) {
+    return InvalidArgumentError("CVT relative_energy_tolerance must be >= 0");
+  }
+  if (!(options.min_separation >= 0 && options.min_separation < 1)) {
+    return InvalidArgumentError("CVT min_separation must be in [0, 1) radians");
+  }
+  if (options.samples_per_knot < 1 || options.max_subdivision < 1) {
+    return InvalidArgumentError(
+        "CVT samples_per_knot and max_subdivision must be >= 1");
+  }
+  return Status::Ok();
+}
+
+// Result of assigning every sample to its nearest knot.
+struct Assignment {
+  double energy = 0;
+  // Per free knot: density-weighted sum of sample positions and mass.
+  std::vector<Eigen::Vector3d> moment;
+  std::vector<double> mass;
+};
+
+// Nearest-knot assignment against the free knots, given each sample's
+// squared distance to the nearest fixed knot (a fixed knot wins ties).
+Assignment Assign(const Quadrature& q, const std::vector<double>& fixed_d2,
+                  const Eigen::MatrixX3d& free_knots) {
+  const int num_free = static_cast<int>(free_knots.rows());
+  const PointKdTree tree(free_knots);
+  const int num_blocks = (q.size() + kBlockSize - 1) / kBlockSize;
+  std::vector<Assignment> blocks(num_blocks);
+  tbb::parallel_for(tbb::blocked_range<int>(0, num_blocks), [&](const auto& r) {
+    for (int b = r.begin(); b < r.end(); ++b) {
+      Assignment& out = blocks[b];
+      out.moment.assign(num_free, Eigen::Vector3d::Zero());
+      out.mass.assign(num_free, 0.0);
+      const int end = std::min(q.size(), (b + 1) * kBlockSize);
+      for (int s = b * kBlockSize; s < end; ++s) {
+        const PointKdTree::Neighbor n = tree.Nearest(q.points[s], fixed_d2[s]);
+        if (n.index < 0) {
+          out.energy += q.weights[s] * fixed_d2[s];
+          continue;
+        }
+        out.energy += q.weights[s] * n.squared_distance;
+        out.moment[n.index] += q.weights[s] * q.points[s];
+        out.mass[n.index] += q.weights[s];
+      }
+    }
+  });
+  Assignment total;
+  total.moment.assign(num_free, Eigen::Vector3d::Zero());
+  total.mass.assign(num_free, 0.0);
+  for (const Assignment& block : blocks) {  // ordered reduction
+    total.energy += block.energy;
+    for (int k = 0; k < num_free; ++k) {
+      total.moment[k] += block.moment[k];
+      total.mass[k] += block.mass[k];
+    }
+  }
+  return total;
+}
+
+// Uniform double in [0, 1) from 53 random bits (the same on every
+// platform, unlike std::uniform_real_distribution).
+double UnitUniform(std::mt19937_64* rng) {
+  return static_cast<double>((*rng)() >> 11) * 0x1.0p-53;
+}
+
+// Index s drawn with probability p[s] / sum(p); -1 if the sum is 0.
+int Draw(const std::vector<double>& p, std::mt19937_64* rng) {
+  double total = 0;
+  for (double v : p) total += v;
+  if (!(total > 0)) return -1;
+  const double target = UnitUniform(rng) * total;
+  double running = 0;
+  int last_positive = -1;
+  for (size_t s = 0; s < p.size(); ++s) {
+    if (p[s] <= 0) continue;
+    running += p[s];
+    last_positive = static_cast<int>(s);
+    if (running > target) return last_positive;
+  }
+  return last_positive;  // rounding at the very end of the range
+}
+
+// k-means++ seeding of the new knots on the quadrature samples: each new
+// knot is a sample drawn with probability proportional to density times the
+// squared distance to the nearest knot so far, among the samples at least
+// min_separation away from every knot; by area where those samples carry no
+// density. `d2` holds each sample's squared distance to the nearest knot so
+// far and is updated.
+StatusOr<Eigen::MatrixX3d> SeedNewKnots(const Quadrature& q,
+                                        std::vector<double> d2, int new_knots,
+                                        double separation_d2,
+                                        std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  Eigen::MatrixX3d knots(new_knots, 3);
+  std::vector<double> p(q.size());
+  for (int k = 0; k < new_knots; ++k) {
+    auto fill = [&](const std::vector<double>& base) {
+      for (int s = 0; s < q.size(); ++s) {
+        p[s] = d2[s] < separation_d2 ? 0.0
+                                     : base[s] * (d2[s] == kInf ? 1.0 : d2[s]);
+      }
+    };
+    fill(q.weights);
+    int chosen = Draw(p, &rng);
+    if (chosen < 0) {
+      fill(q.areas);
+      chosen = Draw(p, &rng);
+    }
+    if (chosen < 0) {
+      return UnsupportedError(
+          "cannot place " + std::to_string(new_knots) +
+          " new knots at least min_separation apart from the others and "
+          "each other");
+    }
+    const Eigen::Vector3d t = q.points[chosen];
+    knots.row(k) = t.transpose();
+    tbb::parallel_for(tbb::blocked_range<int>(0, q.size()), [&](const auto& r) {
+      for (int s = r.begin(); s < r.end(); ++s) {
+        d2[s] = std::min(d2[s], (q.points[s] - t).squaredNorm());
+      }
+    });
+  }
+  return knots;
+}
+
+}  // namespace
+
+StatusOr<Eigen::VectorXd> DensityFromValues(const Eigen::VectorXd& values,
+                                            double alpha) {
+  if (!(alpha > 0) || !std::isfinite(alpha)) {
+    return InvalidArgumentError("density exponent alpha must be > 0");
+  }
+  if (values.size() == 0 || !values.allFinite() || values.minCoeff() < 0 ||
+      !(values.maxCoeff() > 0)) {
+    return InvalidArgumentError(
+        "density values must be finite, >= 0 and not all 0");
+  }
+  return Eigen::VectorXd(
+      (values / values.maxCoeff()).array().pow(alpha).matrix());
+}
+
+KnotSeparation MinimumKnotSeparation(const Eigen::MatrixX3d& knots) {
+  KnotSeparation result;
+  result.angle = kInf;
+  const PointKdTree tree(knots);
+  double best = kInf;
+  for (int i = 0; i < knots.rows(); ++i) {
+    const PointKdTree::Neighbor n =
+        tree.Nearest(knots.row(i).transpose(), kInf, i);
+    if (n.index < 0) continue;
+    const int a = std::min(i, n.index), b = std::max(i, n.index);
+    if (n.squared_distance < best ||
+        (n.squared_distance == best &&
+         std::make_pair(a, b) < std::make_pair(result.first, result.second))) {
+      best = n.squared_distance;
+      result.first = a;
+      result.second = b;
+    }
+  }
+  if (result.first >= 0) result.angle = AngleFromChord(std::sqrt(best));
+  return result;
+}
+
+StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
+                                   const Eigen::MatrixX3d& fixed_knots,
+                                   int new_knots, const CvtOptions& options) {
+  SDCB_RETURN_IF_ERROR(ValidateOptions(options, new_knots));
+  SDCB_RETURN_IF_ERROR(ValidateDensity(density));
+  const int num_fixed = static_cast<int>(fixed_knots.rows());
+  if (!fixed_knots.allFinite() ||
+      ((fixed_knots.rowwise().norm().array() - 1).abs() > 1e-6).any()) {
+    return InvalidArgumentError("fixed knots must be unit vectors");
+  }
+  if (num_fixed + new_knots == 0) {
+    return InvalidArgumentError("no knots: no fixed knots and none to place");
+  }
+  const KnotSeparation fixed_separation = MinimumKnotSeparation(fixed_knots);
+  if (fixed_separation.angle < options.min_separation) {
+    return InvalidArgumentError(
+        "fixed knots " + std::to_string(fixed_separation.first) + " and " +
+        std::to_string(fixed_separation.second) +
+        " are closer than the minimum separation");
+  }
+  const double chord = ChordFromAngle(options.min_separation);
+  const double separation_d2 = chord * chord;
+
+  // Quadrature resolution (see CvtOptions::samples_per_knot).
+  const double wanted =
+      static_cast<double>(options.samples_per_knot) * (num_fixed + new_knots);
+  int m = 1;
+  while (m < options.max_subdivision &&
+         static_cast<double>(density.faces.rows()) * m * m < wanted) {
+    ++m;
+  }
+  const Quadrature q = BuildQuadrature(density, m);
+  double area = 0, mass = 0;
+  for (int s = 0; s < q.size(); ++s) {
+    area += q.areas[s];
+    mass += q.weights[s];
+  }
+  if (std::abs(area - 4 * kPi) > 1e-3 * 4 * kPi) {
+    return InvalidArgumentError(
+        "density triangles cover an area of " + std::to_string(area) +
+        " sr instead of 4 pi: not a valid spherical parameterization");
+  }
+  if (!(mass > 0)) {
+    return InvalidInputError("density integrates to 0 over the sphere");
+  }
+
+  // Squared distance of every sample to its nearest fixed knot: fixed knots
+  // never move, so this is computed once.
+  std::vector<double> fixed_d2(q.size(), kInf);
+  if (num_fixed > 0) {
+    const PointKdTree fixed_tree(fixed_knots);
+    tbb::parallel_for(tbb::blocked_range<int>(0, q.size()), [&](const auto& r) {
+      for (int s = r.begin(); s < r.end(); ++s) {
+        fixed_d2[s] = fixed_tree.Nearest(q.points[s]).squared_distance;
+      }
+    });
+  }
+  SDCB_ASSIGN_OR_RETURN(
+      Eigen::MatrixX3d free_knots,
+      SeedNewKnots(q, fixed_d2, new_knots, separation_d2, options.seed));
+
+  KnotPlacement result;
+  result.num_fixed = num_fixed;
+  result.quadrature_samples = q.size();
+  const PointKdTree fixed_tree(fixed_knots);
+  for (int iteration = 0;; ++iteration) {
+    const Assignment assignment = Assign(q, fixed_d2, free_knots);
+    result.energy_history.push_back(assignment.energy);
+    if (iteration > 0) {
+      const double previous = result.energy_history[iteration - 1];
+      if (previous - assignment.energy <=
+          options.relative_energy_tolerance * previous) {
+        result.converged = true;
+        break;
+      }
+    }
+    if (new_knots == 0) {
+      result.converged = true;
+      break;
+    }
+    if (iteration == options.max_iterations) break;
+    // Lloyd step: each free knot to the projected centroid of its cell, in
+    // order, unless that would bring it within min_separation of a knot in
+    // its current position (then it stays; E still does not increase).
+    bool moved = false;
+    for (int k = 0; k < new_knots; ++k) {
+      const Eigen::Vector3d& moment = assignment.moment[k];
+      if (!(assignment.mass[k] > 0) || moment.squaredNorm() == 0) continue;
+      const Eigen::Vector3d target = moment.normalized();
+      if (fixed_tree.Nearest(target, separation_d2).index >= 0) continue;
+      bool too_close = false;
+      for (int j = 0; j < new_knots && !too_close; ++j) {
+        too_close =
+            j != k && (free_knots.row(j).transpose() - target).squaredNorm() <
+                          separation_d2;
+      }
+      if (too_close) continue;
+      moved = moved || free_knots.row(k).transpose() != target;
+      free_knots.row(k) = target.transpose();
+    }
+    result.iterations = iteration + 1;
+    if (!moved) {
+      result.energy_history.push_back(assignment.energy);
+      result.converged = true;
+      break;
+    }
+  }
+  result.initial_energy = result.energy_history.front();
+  result.final_energy = result.energy_history.back();
+  result.knots.resize(num_fixed + new_knots, 3);
+  result.knots << fixed_knots, free_knots;
+  result.min_separation = MinimumKnotSeparation(result.knots).angle;
+  return result;
+}
+
+}  // namespace sdcb
