@@ -40,10 +40,6 @@ TEST(CurvatureOnCgalMeshesTest, SpheresHaveCurvednessTwoOverRadius) {
         << c.name;
     const auto kappa = Curvedness(*mesh);
     ASSERT_TRUE(kappa.ok()) << kappa.status().message();
-    double worst = 0;
-    for (int v = 0; v < mesh->num_vertices(); ++v)
-      worst = std::max(worst, std::abs((*kappa)[v] * radius[v] / 2 - 1));
-    printf("%s worst %g\n", c.name, worst);
     for (int v = 0; v < mesh->num_vertices(); ++v) {
       ASSERT_NEAR((*kappa)[v] * radius[v] / 2, 1, c.tolerance)
           << c.name << " vertex " << v;
