@@ -40,9 +40,15 @@ double SphericalTriangleArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 
 // The fixed quadrature of the CVT energy (see the header).
 struct Quadrature {
-  std::vector<Eigen::Vector3d> points;  // unit vectors
-  std::vector<double> areas;            // steradians, sum 4 pi
-  std::vector<double> weights;          // area * density
+  // Unit vectors, or after Aggregate() the weighted mean of a bin's samples
+  // (inside the ball). Either way the nearest unit knot t to a point c is
+  // the one maximizing c.t, since |c - t|^2 = |c|^2 + 1 - 2 c.t.
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> areas;    // steradians, sum 4 pi
+  std::vector<double> weights;  // integral of the density
+  // Energy of the samples a point stands for about the point itself,
+  // sum w |x - c|^2 = W (1 - |c|^2); 0 for plain samples.
+  double spread_energy = 0;
   int size() const { return static_cast<int>(points.size()); }
 };
 
@@ -96,6 +102,80 @@ Quadrature BuildQuadrature(const SphericalDensity& density, int m) {
   return q;
 }
 
+// Merges the samples into bins: each bin becomes one point, the weighted
+// mean c of its samples, with their total weight W. Since
+// sum w |x - t|^2 = W |c - t|^2 + sum w |x - c|^2 for any t, the CVT energy
+// is unchanged wherever all of a bin's samples share their nearest knot
+// (all but the bins on Voronoi edges), and Lloyd's centroids likewise.
+// Bins adapt to the density like CVT cells do: a cell's area goes as
+// rho^(-1/2), so bins are split (median cuts along their widest axis) until
+// each holds at most 1/bins of the total integral of rho^(1/2), and none is
+// wider than 16 uniform bins in area. Bins without density keep an
+// area-weighted position (for seeding by area).
+Quadrature Aggregate(const Quadrature& fine, int bins) {
+  const int n = fine.size();
+  std::vector<double> root_mass(n);  // area * rho^(1/2) = sqrt(w * area)
+  double total_root_mass = 0;
+  for (int s = 0; s < n; ++s) {
+    root_mass[s] = std::sqrt(fine.weights[s] * fine.areas[s]);
+    total_root_mass += root_mass[s];
+  }
+  const double max_root_mass = total_root_mass / bins;
+  const double max_area = 16 * 4 * kPi / bins;
+  std::vector<int> order(n);
+  for (int s = 0; s < n; ++s) order[s] = s;
+  Quadrature q;
+  auto emit = [&](int begin, int end) {
+    Eigen::Vector3d moment = Eigen::Vector3d::Zero(),
+                    area_moment = Eigen::Vector3d::Zero();
+    double weight = 0, area = 0;
+    for (int i = begin; i < end; ++i) {
+      const int s = order[i];
+      moment += fine.weights[s] * fine.points[s];
+      area_moment += fine.areas[s] * fine.points[s];
+      weight += fine.weights[s];
+      area += fine.areas[s];
+    }
+    if (!(area > 0)) return;
+    const Eigen::Vector3d c = weight > 0 ? Eigen::Vector3d(moment / weight)
+                                         : Eigen::Vector3d(area_moment / area);
+    q.points.push_back(c);
+    q.areas.push_back(area);
+    q.weights.push_back(weight);
+    q.spread_energy += weight * std::max(0.0, 1 - c.squaredNorm());
+  };
+  // Depth-first over an explicit stack, left half first: a fixed order.
+  std::vector<std::pair<int, int>> stack = {{0, n}};
+  while (!stack.empty()) {
+    const auto [begin, end] = stack.back();
+    stack.pop_back();
+    double root = 0, area = 0;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(kInf), hi = -lo;
+    for (int i = begin; i < end; ++i) {
+      root += root_mass[order[i]];
+      area += fine.areas[order[i]];
+      lo = lo.cwiseMin(fine.points[order[i]]);
+      hi = hi.cwiseMax(fine.points[order[i]]);
+    }
+    if (end - begin == 1 || (root <= max_root_mass && area <= max_area)) {
+      emit(begin, end);
+      continue;
+    }
+    int axis;
+    (hi - lo).maxCoeff(&axis);
+    const int mid = begin + (end - begin) / 2;
+    std::nth_element(order.begin() + begin, order.begin() + mid,
+                     order.begin() + end, [&](int a, int b) {
+                       const double pa = fine.points[a][axis],
+                                    pb = fine.points[b][axis];
+                       return pa < pb || (pa == pb && a < b);
+                     });
+    stack.emplace_back(mid, end);
+    stack.emplace_back(begin, mid);
+  }
+  return q;
+}
+
 Status ValidateDensity(const SphericalDensity& density) {
   const Eigen::Index nv = density.sphere_vertices.rows();
   if (nv < 3 || density.faces.rows() < 1) {
@@ -133,9 +213,11 @@ Status ValidateOptions(const CvtOptions& options, int new_knots) {
   if (!(options.min_separation >= 0 && options.min_separation < 1)) {
     return InvalidArgumentError("CVT min_separation must be in [0, 1) radians");
   }
-  if (options.samples_per_knot < 1 || options.max_subdivision < 1) {
+  if (options.samples_per_knot < 1 || options.max_subdivision < 1 ||
+      options.bins_per_knot < 0) {
     return InvalidArgumentError(
-        "CVT samples_per_knot and max_subdivision must be >= 1");
+        "CVT samples_per_knot and max_subdivision must be >= 1, "
+        "bins_per_knot >= 0");
   }
   return Status::Ok();
 }
@@ -175,6 +257,7 @@ Assignment Assign(const Quadrature& q, const std::vector<double>& fixed_d2,
     }
   });
   Assignment total;
+  total.energy = q.spread_energy;
   total.moment.assign(num_free, Eigen::Vector3d::Zero());
   total.mass.assign(num_free, 0.0);
   for (const Assignment& block : blocks) {  // ordered reduction
@@ -210,39 +293,54 @@ int Draw(const std::vector<double>& p, std::mt19937_64* rng) {
   return last_positive;  // rounding at the very end of the range
 }
 
-// k-means++ seeding of the new knots on the quadrature samples: each new
-// knot is a sample drawn with probability proportional to density times the
-// squared distance to the nearest knot so far, among the samples at least
-// min_separation away from every knot; by area where those samples carry no
-// density. `d2` holds each sample's squared distance to the nearest knot so
-// far and is updated.
+// k-means++ seeding of the new knots on the quadrature points: each new
+// knot is a point (pushed onto S^2) drawn with probability proportional to
+// its weight times its squared distance to the nearest knot so far, among
+// the points whose projection is at least min_separation from every knot;
+// by area where those points carry no density. `d2` holds each point's
+// squared distance to the nearest knot so far and is updated.
 StatusOr<Eigen::MatrixX3d> SeedNewKnots(const Quadrature& q,
-                                        std::vector<double> d2, int new_knots,
-                                        double separation_d2,
+                                        std::vector<double> d2,
+                                        const PointKdTree& fixed_tree,
+                                        int new_knots, double separation_d2,
                                         std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   Eigen::MatrixX3d knots(new_knots, 3);
   std::vector<double> p(q.size());
-  for (int k = 0; k < new_knots; ++k) {
-    auto fill = [&](const std::vector<double>& base) {
-      for (int s = 0; s < q.size(); ++s) {
-        p[s] = d2[s] < separation_d2 ? 0.0
-                                     : base[s] * (d2[s] == kInf ? 1.0 : d2[s]);
+  std::vector<char> excluded(q.size(), 0);
+  auto far_enough = [&](const Eigen::Vector3d& t, int placed) {
+    if (fixed_tree.Nearest(t, separation_d2).index >= 0) return false;
+    for (int j = 0; j < placed; ++j) {
+      if ((knots.row(j).transpose() - t).squaredNorm() < separation_d2) {
+        return false;
       }
-    };
-    fill(q.weights);
-    int chosen = Draw(p, &rng);
-    if (chosen < 0) {
-      fill(q.areas);
-      chosen = Draw(p, &rng);
     }
-    if (chosen < 0) {
+    return true;
+  };
+  for (int k = 0; k < new_knots; ++k) {
+    Eigen::Vector3d t;
+    bool found = false;
+    for (const std::vector<double>* base : {&q.weights, &q.areas}) {
+      while (!found) {
+        for (int s = 0; s < q.size(); ++s) {
+          p[s] = excluded[s] || q.points[s].squaredNorm() == 0
+                     ? 0.0
+                     : (*base)[s] * (d2[s] == kInf ? 1.0 : d2[s]);
+        }
+        const int s = Draw(p, &rng);
+        if (s < 0) break;
+        t = q.points[s].normalized();
+        found = far_enough(t, k);
+        if (!found) excluded[s] = 1;
+      }
+      if (found) break;
+    }
+    if (!found) {
       return UnsupportedError(
           "cannot place " + std::to_string(new_knots) +
           " new knots at least min_separation apart from the others and "
           "each other");
     }
-    const Eigen::Vector3d t = q.points[chosen];
     knots.row(k) = t.transpose();
     tbb::parallel_for(tbb::blocked_range<int>(0, q.size()), [&](const auto& r) {
       for (int s = r.begin(); s < r.end(); ++s) {
@@ -322,7 +420,7 @@ StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
          static_cast<double>(density.faces.rows()) * m * m < wanted) {
     ++m;
   }
-  const Quadrature q = BuildQuadrature(density, m);
+  Quadrature q = BuildQuadrature(density, m);
   double area = 0, mass = 0;
   for (int s = 0; s < q.size(); ++s) {
     area += q.areas[s];
@@ -336,26 +434,30 @@ StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
   if (!(mass > 0)) {
     return InvalidInputError("density integrates to 0 over the sphere");
   }
+  const double bins =
+      static_cast<double>(options.bins_per_knot) * (num_fixed + new_knots);
+  if (options.bins_per_knot > 0 && q.size() > 2 * bins) {
+    q = Aggregate(q, static_cast<int>(bins));
+  }
 
   // Squared distance of every sample to its nearest fixed knot: fixed knots
   // never move, so this is computed once.
+  const PointKdTree fixed_tree(fixed_knots);
   std::vector<double> fixed_d2(q.size(), kInf);
   if (num_fixed > 0) {
-    const PointKdTree fixed_tree(fixed_knots);
     tbb::parallel_for(tbb::blocked_range<int>(0, q.size()), [&](const auto& r) {
       for (int s = r.begin(); s < r.end(); ++s) {
         fixed_d2[s] = fixed_tree.Nearest(q.points[s]).squared_distance;
       }
     });
   }
-  SDCB_ASSIGN_OR_RETURN(
-      Eigen::MatrixX3d free_knots,
-      SeedNewKnots(q, fixed_d2, new_knots, separation_d2, options.seed));
+  SDCB_ASSIGN_OR_RETURN(Eigen::MatrixX3d free_knots,
+                        SeedNewKnots(q, fixed_d2, fixed_tree, new_knots,
+                                     separation_d2, options.seed));
 
   KnotPlacement result;
   result.num_fixed = num_fixed;
   result.quadrature_samples = q.size();
-  const PointKdTree fixed_tree(fixed_knots);
   for (int iteration = 0;; ++iteration) {
     const Assignment assignment = Assign(q, fixed_d2, free_knots);
     result.energy_history.push_back(assignment.energy);

@@ -14,7 +14,8 @@
 // m^2 sub-triangles (barycentric grid of the flat triangle, corners pushed
 // onto S^2); one sample at each sub-triangle's centroid carries the exact
 // spherical area of the sub-triangle times the density there. The samples
-// are a fixed quadrature: Lloyd minimizes its discrete energy exactly.
+// are a fixed quadrature: Lloyd minimizes its discrete energy exactly. With
+// few knots, samples are merged into bins (CvtOptions::bins_per_knot).
 #ifndef SDCB_CORE_SPHERICAL_CVT_H_
 #define SDCB_CORE_SPHERICAL_CVT_H_
 
@@ -66,6 +67,15 @@ struct CvtOptions {
   // max_subdivision.
   int samples_per_knot = 16;
   int max_subdivision = 8;
+  // With few knots on a fine mesh, samples far outnumber what the cells
+  // need: when there are more than 2 * bins_per_knot * (total knots)
+  // samples, they are merged into bins, each holding at most
+  // 1 / (bins_per_knot * total knots) of the integral of rho^(1/2) (CVT
+  // cells hold equal shares of it asymptotically), split along their widest
+  // axis. A bin is its samples' weighted mean and total weight, which keeps
+  // E and the centroids exact except in bins cut by a Voronoi edge.
+  // 0 never merges.
+  int bins_per_knot = 64;
   // Seed of the deterministic initialization of the new knots.
   std::uint64_t seed = 0x5dcb;
 };
@@ -86,7 +96,7 @@ struct KnotPlacement {
   bool converged = false;  // relative_energy_tolerance reached
   // Smallest angle between two knots (radians); +inf for fewer than 2.
   double min_separation = 0;
-  int quadrature_samples = 0;
+  int quadrature_samples = 0;  // points after merging into bins
 };
 
 // Places `new_knots` (>= 0) knots minimizing the CVT energy with

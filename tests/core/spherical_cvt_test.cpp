@@ -121,12 +121,21 @@ TEST(SphericalCvtTest, ConvergedKnotsAreCentroidsOfTheirCells) {
   options.max_iterations = 2000;
   options.relative_energy_tolerance = 1e-12;
   options.samples_per_knot = 400;
-  const auto placed =
-      PlaceKnots(Uniform(5), Eigen::MatrixX3d(0, 3), 60, options);
+  options.bins_per_knot = 0;  // the fine quadrature itself
+  auto placed = PlaceKnots(Uniform(5), Eigen::MatrixX3d(0, 3), 60, options);
   ASSERT_TRUE(placed.ok());
+  EXPECT_EQ(placed->quadrature_samples, 81920);
   // Cells have a radius of ~0.25 rad; the Monte Carlo centroid error with
   // ~3300 samples per cell is ~0.003 rad.
   ExpectKnotsAreCellCentroids(*placed, 0.012);
+
+  // Default merging into 64 bins per knot (~0.06 rad wide): the bins cut by
+  // cell edges shift the centroids by a fraction of a bin.
+  options.bins_per_knot = CvtOptions().bins_per_knot;
+  placed = PlaceKnots(Uniform(5), Eigen::MatrixX3d(0, 3), 60, options);
+  ASSERT_TRUE(placed.ok());
+  EXPECT_LT(placed->quadrature_samples, 5000);
+  ExpectKnotsAreCellCentroids(*placed, 0.03);
 }
 
 TEST(SphericalCvtTest, FixedKnotsStayAndNewKnotsCentreInTheGaps) {
