@@ -15,6 +15,7 @@
 
 #include "core/curvature.h"
 #include "core/icosphere.h"
+#include "core/point_kd_tree.h"
 #include "core/spherical_cvt.h"
 #include "io/mesh_reader.h"
 
@@ -129,14 +130,30 @@ SphericalDensity BenchDensity(const TriangleMesh& sphere) {
   return {sphere.vertices, sphere.faces, *sdcb::DensityFromValues(v, 4)};
 }
 
-void CvtRounds() {
-  const TriangleMesh sphere = sdcb::MakeIcosphere(6);
-  const SphericalDensity density = BenchDensity(sphere);
+// The bunny's curvedness carried onto the sphere by direction from its
+// centroid (the nearest bunny vertex direction; not a bijection, the bunny
+// is not star-shaped, but a realistic kappa^4 density: very peaked).
+SphericalDensity BunnyDensity(const TriangleMesh& sphere) {
+  const TriangleMesh bunny = Load("bunny00.off");
+  const Eigen::VectorXd kappa = *sdcb::Curvedness(bunny);
+  const Eigen::RowVector3d center = bunny.vertices.colwise().mean();
+  const Eigen::MatrixX3d directions =
+      (bunny.vertices.rowwise() - center).rowwise().normalized();
+  const sdcb::PointKdTree tree(directions);
+  Eigen::VectorXd v(sphere.num_vertices());
+  for (int i = 0; i < v.size(); ++i) {
+    v[i] = kappa[tree.Nearest(sphere.vertices.row(i).transpose()).index];
+  }
+  return {sphere.vertices, sphere.faces, *sdcb::DensityFromValues(v, 4)};
+}
+
+void CvtRounds(const char* label, const SphericalDensity& density) {
   std::printf(
-      "\n== Spherical CVT: one round of 100 new knots on an icosphere with "
-      "%d vertices, %d faces (defaults: <= %d Lloyd iterations, relative "
-      "energy tolerance %g) ==\n",
-      sphere.num_vertices(), sphere.num_faces(), CvtOptions().max_iterations,
+      "\n== Spherical CVT, %s: one round of 100 new knots on an icosphere "
+      "with %d vertices, %d faces (defaults: <= %d Lloyd iterations, "
+      "relative energy tolerance %g) ==\n",
+      label, static_cast<int>(density.sphere_vertices.rows()),
+      static_cast<int>(density.faces.rows()), CvtOptions().max_iterations,
       CvtOptions().relative_energy_tolerance);
   for (int fixed_count : {0, 1000, 5000}) {
     Eigen::MatrixX3d fixed(0, 3);
@@ -191,6 +208,8 @@ void CvtRounds() {
 int main() {
   CurvatureTimes();
   CurvatureAccuracy();
-  CvtRounds();
+  const TriangleMesh sphere = sdcb::MakeIcosphere(6);
+  CvtRounds("smooth bumps density", BenchDensity(sphere));
+  CvtRounds("bunny00 curvedness^4 by direction", BunnyDensity(sphere));
   return 0;
 }
