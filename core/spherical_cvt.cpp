@@ -230,10 +230,27 @@ struct Assignment {
   std::vector<double> mass;
 };
 
-// Nearest-knot assignment against the free knots, given each sample's
+// Which points provably still belong to their nearest fixed knot, so that
+// Lloyd iterations skip them (with many fixed knots, most points). When
+// point s was last searched, its nearest free knot was at least margin[s]
+// (chord) farther than its nearest fixed knot; since then every free knot
+// has moved by at most travel - travel_at[s] (sum over the iterations of the
+// largest move), so by the triangle inequality the fixed knot is still
+// strictly nearer while margin[s] > travel - travel_at[s]. Skipping does not
+// change the assignment, only its cost.
+struct FixedCapture {
+  std::vector<double> margin;     // chord; -1: search again
+  std::vector<double> travel_at;  // `travel` when margin was recorded
+  double travel = 0;
+  double window = 0;  // how far beyond the fixed distance searches look
+};
+
+// Nearest-knot assignment against the free knots, given each point's
 // squared distance to the nearest fixed knot (a fixed knot wins ties).
 Assignment Assign(const Quadrature& q, const std::vector<double>& fixed_d2,
-                  const Eigen::MatrixX3d& free_knots) {
+                  const Eigen::MatrixX3d& free_knots, FixedCapture* capture) {
+  // Rounding allowance (chord) on the skip test and recorded margins.
+  constexpr double kSlack = 1e-9;
   const int num_free = static_cast<int>(free_knots.rows());
   const PointKdTree tree(free_knots);
   const int num_blocks = (q.size() + kBlockSize - 1) / kBlockSize;
@@ -245,14 +262,28 @@ Assignment Assign(const Quadrature& q, const std::vector<double>& fixed_d2,
       out.mass.assign(num_free, 0.0);
       const int end = std::min(q.size(), (b + 1) * kBlockSize);
       for (int s = b * kBlockSize; s < end; ++s) {
-        const PointKdTree::Neighbor n = tree.Nearest(q.points[s], fixed_d2[s]);
-        if (n.index < 0) {
-          out.energy += q.weights[s] * fixed_d2[s];
+        const double d2_fixed = fixed_d2[s];
+        if (capture->margin[s] - (capture->travel - capture->travel_at[s]) >
+            kSlack) {
+          out.energy += q.weights[s] * d2_fixed;
           continue;
         }
-        out.energy += q.weights[s] * n.squared_distance;
-        out.moment[n.index] += q.weights[s] * q.points[s];
-        out.mass[n.index] += q.weights[s];
+        const double d_fixed = std::sqrt(d2_fixed);
+        const double reach = d_fixed + capture->window;
+        const PointKdTree::Neighbor n =
+            tree.Nearest(q.points[s], reach * reach);
+        capture->travel_at[s] = capture->travel;
+        if (n.index >= 0 && n.squared_distance < d2_fixed) {
+          capture->margin[s] = -1;
+          out.energy += q.weights[s] * n.squared_distance;
+          out.moment[n.index] += q.weights[s] * q.points[s];
+          out.mass[n.index] += q.weights[s];
+          continue;
+        }
+        capture->margin[s] =
+            (n.index >= 0 ? std::sqrt(n.squared_distance) : reach) - d_fixed -
+            kSlack;
+        out.energy += q.weights[s] * d2_fixed;
       }
     }
   });
@@ -458,8 +489,14 @@ StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
   KnotPlacement result;
   result.num_fixed = num_fixed;
   result.quadrature_samples = q.size();
+  FixedCapture capture;
+  capture.margin.assign(q.size(), -1.0);
+  capture.travel_at.assign(q.size(), 0.0);
+  // About one knot spacing: points farther than that beyond their fixed
+  // knot are left alone until the free knots have travelled as far.
+  capture.window = std::sqrt(4 * kPi / (num_fixed + new_knots));
   for (int iteration = 0;; ++iteration) {
-    const Assignment assignment = Assign(q, fixed_d2, free_knots);
+    const Assignment assignment = Assign(q, fixed_d2, free_knots, &capture);
     result.energy_history.push_back(assignment.energy);
     if (iteration > 0) {
       const double previous = result.energy_history[iteration - 1];
@@ -478,6 +515,7 @@ StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
     // order, unless that would bring it within min_separation of a knot in
     // its current position (then it stays; E still does not increase).
     bool moved = false;
+    double largest_move = 0;
     for (int k = 0; k < new_knots; ++k) {
       const Eigen::Vector3d& moment = assignment.moment[k];
       if (!(assignment.mass[k] > 0) || moment.squaredNorm() == 0) continue;
@@ -490,9 +528,12 @@ StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
                           separation_d2;
       }
       if (too_close) continue;
-      moved = moved || free_knots.row(k).transpose() != target;
+      const double move = (free_knots.row(k).transpose() - target).norm();
+      moved = moved || move > 0;
+      largest_move = std::max(largest_move, move);
       free_knots.row(k) = target.transpose();
     }
+    capture.travel += largest_move;
     result.iterations = iteration + 1;
     if (!moved) {
       result.energy_history.push_back(assignment.energy);
