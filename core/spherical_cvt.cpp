@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "core/point_kd_tree.h"
 #include "core/sphere_geometry.h"
@@ -100,6 +101,44 @@ Quadrature BuildQuadrature(const SphericalDensity& density, int m) {
     }
   });
   return q;
+}
+
+// Reorders the points along a Morton (Z-order) curve of their position, so
+// that consecutive points, hence the points of a block, are close in space:
+// the seeding skips whole blocks far from a new knot, and nearest-knot
+// queries in a block touch the same part of the k-d tree. The quadrature is
+// a set; only rounding of the sums depends on the order.
+void SortSpatially(Quadrature* q) {
+  auto spread = [](std::uint64_t v) {  // 10 bits -> every third of 30 bits
+    std::uint64_t x = v & 0x3ff;
+    x = (x | (x << 16)) & 0x30000ff;
+    x = (x | (x << 8)) & 0x300f00f;
+    x = (x | (x << 4)) & 0x30c30c3;
+    x = (x | (x << 2)) & 0x9249249;
+    return x;
+  };
+  const int n = q->size();
+  std::vector<std::pair<std::uint64_t, int>> keys(n);
+  for (int s = 0; s < n; ++s) {
+    std::uint64_t code = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double u = std::clamp((q->points[s][k] + 1) / 2, 0.0, 1.0);
+      code |= spread(static_cast<std::uint64_t>(u * 1023)) << k;
+    }
+    keys[s] = {code, s};
+  }
+  std::sort(keys.begin(), keys.end());
+  Quadrature sorted;
+  sorted.spread_energy = q->spread_energy;
+  sorted.points.reserve(n);
+  sorted.areas.reserve(n);
+  sorted.weights.reserve(n);
+  for (const auto& key : keys) {
+    sorted.points.push_back(q->points[key.second]);
+    sorted.areas.push_back(q->areas[key.second]);
+    sorted.weights.push_back(q->weights[key.second]);
+  }
+  *q = std::move(sorted);
 }
 
 // Merges the samples into bins: each bin becomes one point, the weighted
@@ -307,29 +346,136 @@ double UnitUniform(std::mt19937_64* rng) {
   return static_cast<double>((*rng)() >> 11) * 0x1.0p-53;
 }
 
-// Index s drawn with probability p[s] / sum(p); -1 if the sum is 0.
-int Draw(const std::vector<double>& p, std::mt19937_64* rng) {
-  double total = 0;
-  for (double v : p) total += v;
-  if (!(total > 0)) return -1;
-  const double target = UnitUniform(rng) * total;
-  double running = 0;
-  int last_positive = -1;
-  for (size_t s = 0; s < p.size(); ++s) {
-    if (p[s] <= 0) continue;
-    running += p[s];
-    last_positive = static_cast<int>(s);
-    if (running > target) return last_positive;
+// Sampling probabilities of the seeding, p[s] = base[s] * d2[s] for the two
+// bases (density weight, area), kept with per-block sums so that a draw
+// costs O(#blocks + block size). An update visits only the blocks whose
+// bounding box is nearer to the new knot than their largest d2 (points are
+// in Morton order, so blocks are compact).
+class SeedSampler {
+ public:
+  SeedSampler(const Quadrature& q, std::vector<double> d2)
+      : q_(q),
+        d2_(std::move(d2)),
+        excluded_(q.size(), 0),
+        p_{std::vector<double>(q.size()), std::vector<double>(q.size())},
+        block_sum_{std::vector<double>(NumBlocks()),
+                   std::vector<double>(NumBlocks())},
+        block_lo_(NumBlocks()),
+        block_hi_(NumBlocks()),
+        block_max_d2_(NumBlocks()) {
+    for (int b = 0; b < NumBlocks(); ++b) {
+      block_lo_[b] = Eigen::Vector3d::Constant(kInf);
+      block_hi_[b] = -block_lo_[b];
+      for (int s = b * kSeedBlock; s < BlockEnd(b); ++s) {
+        block_lo_[b] = block_lo_[b].cwiseMin(q.points[s]);
+        block_hi_[b] = block_hi_[b].cwiseMax(q.points[s]);
+      }
+      block_max_d2_[b] = kInf;
+    }
+    Update(nullptr);
   }
-  return last_positive;  // rounding at the very end of the range
-}
+
+  // Lowers every point's d2 to its distance to t (if given) and refreshes
+  // the probabilities and the block sums.
+  void Update(const Eigen::Vector3d* t) {
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, NumBlocks()), [&](const auto& r) {
+          for (int b = r.begin(); b < r.end(); ++b) {
+            if (t != nullptr) {
+              const Eigen::Vector3d gap =
+                  (block_lo_[b] - *t).cwiseMax(*t - block_hi_[b]).cwiseMax(0);
+              if (gap.squaredNorm() >= block_max_d2_[b]) continue;
+            }
+            double max_d2 = 0;
+            for (int s = b * kSeedBlock; s < BlockEnd(b); ++s) {
+              if (t != nullptr) {
+                d2_[s] = std::min(d2_[s], (q_.points[s] - *t).squaredNorm());
+              }
+              max_d2 = std::max(max_d2, d2_[s]);
+              Refresh(s);
+            }
+            block_max_d2_[b] = max_d2;
+            SumBlock(b);
+          }
+        });
+  }
+
+  // Never draws point s again.
+  void Exclude(int s) {
+    excluded_[s] = 1;
+    Refresh(s);
+    SumBlock(s / kSeedBlock);
+  }
+
+  // A point drawn with probability p_base[s] / sum(p_base), base 0 the
+  // density weight and 1 the area; -1 if that sum is 0.
+  int Draw(int base, std::mt19937_64* rng) const {
+    const std::vector<double>& sums = block_sum_[base];
+    double total = 0;
+    for (double v : sums) total += v;  // in block order
+    if (!(total > 0)) return -1;
+    double target = UnitUniform(rng) * total;
+    int last_positive = -1;
+    for (int b = 0; b < NumBlocks(); ++b) {
+      if (!(sums[b] > 0)) continue;
+      if (target >= sums[b]) {  // not in this block (up to rounding)
+        target -= sums[b];
+        last_positive = b;
+        continue;
+      }
+      return DrawInBlock(base, b, target);
+    }
+    // Rounding pushed the target past the end: the last positive block.
+    return last_positive < 0 ? -1 : DrawInBlock(base, last_positive, kInf);
+  }
+
+ private:
+  static constexpr int kSeedBlock = 256;
+  int NumBlocks() const { return (q_.size() + kSeedBlock - 1) / kSeedBlock; }
+  int BlockEnd(int b) const {
+    return std::min(q_.size(), (b + 1) * kSeedBlock);
+  }
+
+  void Refresh(int s) {
+    const bool usable = !excluded_[s] && q_.points[s].squaredNorm() > 0;
+    const double d2 = d2_[s] == kInf ? 1.0 : d2_[s];
+    p_[0][s] = usable ? q_.weights[s] * d2 : 0.0;
+    p_[1][s] = usable ? q_.areas[s] * d2 : 0.0;
+  }
+  void SumBlock(int b) {
+    for (int base = 0; base < 2; ++base) {
+      double sum = 0;
+      for (int s = b * kSeedBlock; s < BlockEnd(b); ++s) sum += p_[base][s];
+      block_sum_[base][b] = sum;
+    }
+  }
+  int DrawInBlock(int base, int b, double target) const {
+    int last_positive = -1;
+    double running = 0;
+    for (int s = b * kSeedBlock; s < BlockEnd(b); ++s) {
+      if (!(p_[base][s] > 0)) continue;
+      running += p_[base][s];
+      last_positive = s;
+      if (running > target) break;
+    }
+    return last_positive;
+  }
+
+  const Quadrature& q_;
+  std::vector<double> d2_;  // squared distance to the nearest knot so far
+  std::vector<char> excluded_;
+  std::vector<double> p_[2];
+  std::vector<double> block_sum_[2];
+  std::vector<Eigen::Vector3d> block_lo_, block_hi_;  // bounding boxes
+  std::vector<double> block_max_d2_;  // an upper bound of d2 in the block
+};
 
 // k-means++ seeding of the new knots on the quadrature points: each new
 // knot is a point (pushed onto S^2) drawn with probability proportional to
-// its weight times its squared distance to the nearest knot so far, among
-// the points whose projection is at least min_separation from every knot;
-// by area where those points carry no density. `d2` holds each point's
-// squared distance to the nearest knot so far and is updated.
+// its weight times its squared distance to the nearest knot so far (`d2`:
+// to the fixed knots at first), among the points whose projection is at
+// least min_separation from every knot; by area where those points carry
+// no density.
 StatusOr<Eigen::MatrixX3d> SeedNewKnots(const Quadrature& q,
                                         std::vector<double> d2,
                                         const PointKdTree& fixed_tree,
@@ -337,8 +483,7 @@ StatusOr<Eigen::MatrixX3d> SeedNewKnots(const Quadrature& q,
                                         std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   Eigen::MatrixX3d knots(new_knots, 3);
-  std::vector<double> p(q.size());
-  std::vector<char> excluded(q.size(), 0);
+  SeedSampler sampler(q, std::move(d2));
   auto far_enough = [&](const Eigen::Vector3d& t, int placed) {
     if (fixed_tree.Nearest(t, separation_d2).index >= 0) return false;
     for (int j = 0; j < placed; ++j) {
@@ -351,20 +496,14 @@ StatusOr<Eigen::MatrixX3d> SeedNewKnots(const Quadrature& q,
   for (int k = 0; k < new_knots; ++k) {
     Eigen::Vector3d t;
     bool found = false;
-    for (const std::vector<double>* base : {&q.weights, &q.areas}) {
+    for (int base = 0; base < 2 && !found; ++base) {
       while (!found) {
-        for (int s = 0; s < q.size(); ++s) {
-          p[s] = excluded[s] || q.points[s].squaredNorm() == 0
-                     ? 0.0
-                     : (*base)[s] * (d2[s] == kInf ? 1.0 : d2[s]);
-        }
-        const int s = Draw(p, &rng);
+        const int s = sampler.Draw(base, &rng);
         if (s < 0) break;
         t = q.points[s].normalized();
         found = far_enough(t, k);
-        if (!found) excluded[s] = 1;
+        if (!found) sampler.Exclude(s);
       }
-      if (found) break;
     }
     if (!found) {
       return UnsupportedError(
@@ -373,11 +512,7 @@ StatusOr<Eigen::MatrixX3d> SeedNewKnots(const Quadrature& q,
           "each other");
     }
     knots.row(k) = t.transpose();
-    tbb::parallel_for(tbb::blocked_range<int>(0, q.size()), [&](const auto& r) {
-      for (int s = r.begin(); s < r.end(); ++s) {
-        d2[s] = std::min(d2[s], (q.points[s] - t).squaredNorm());
-      }
-    });
+    sampler.Update(&t);
   }
   return knots;
 }
@@ -470,6 +605,7 @@ StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
   if (options.bins_per_knot > 0 && q.size() > 2 * bins) {
     q = Aggregate(q, static_cast<int>(bins));
   }
+  SortSpatially(&q);
 
   // Squared distance of every sample to its nearest fixed knot: fixed knots
   // never move, so this is computed once.

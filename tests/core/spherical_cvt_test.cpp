@@ -8,6 +8,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 #include "core/icosphere.h"
@@ -165,13 +166,20 @@ TEST(SphericalCvtTest, KnotDensityFollowsSquareRootOfDensity) {
   for (int v = 0; v < density.values.size(); ++v) {
     density.values[v] = density.sphere_vertices(v, 2) > 0.5 ? 16 : 1;
   }
+  // Lloyd ends in a local minimum that depends on the seeding: measured
+  // fractions 0.563 .. 0.620 over seeds with 300 knots, so average 4 seeds.
   const int n = 300;
-  const auto placed = PlaceKnots(density, Eigen::MatrixX3d(0, 3), n);
-  ASSERT_TRUE(placed.ok()) << placed.status().message();
-  const double in_cap = (placed->knots.col(2).array() > 0.5).count();
-  // Measured: 0.597 (179 of 300; unchanged when run to convergence): the
-  // asymptotic law holds up to the knots along the density jump.
-  EXPECT_NEAR(in_cap / n, 4.0 / 7.0, 0.04);
+  double mean = 0;
+  for (std::uint64_t seed : {1, 2, 3, 4}) {
+    CvtOptions options;
+    options.seed = seed;
+    const auto placed = PlaceKnots(density, Eigen::MatrixX3d(0, 3), n, options);
+    ASSERT_TRUE(placed.ok()) << placed.status().message();
+    const double in_cap = (placed->knots.col(2).array() > 0.5).count();
+    EXPECT_NEAR(in_cap / n, 4.0 / 7.0, 0.06) << seed;
+    mean += in_cap / n / 4;
+  }
+  EXPECT_NEAR(mean, 4.0 / 7.0, 0.03);
 }
 
 TEST(SphericalCvtTest, DeterministicForAnyThreadCount) {
