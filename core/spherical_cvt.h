@@ -14,7 +14,7 @@
 // m^2 sub-triangles (barycentric grid of the flat triangle, corners pushed
 // onto S^2); one sample at each sub-triangle's centroid carries the exact
 // spherical area of the sub-triangle times the density there. The samples
-// are a fixed quadrature: Lloyd minimizes its discrete energy exactly. With
+// are a fixed quadrature whose discrete energy Lloyd lowers monotonically. With
 // few knots, samples are merged into bins (CvtOptions::bins_per_knot).
 #ifndef SDCB_CORE_SPHERICAL_CVT_H_
 #define SDCB_CORE_SPHERICAL_CVT_H_
