@@ -282,6 +282,7 @@ struct FixedCapture {
   std::vector<double> travel_at;  // `travel` when margin was recorded
   double travel = 0;
   double window = 0;  // how far beyond the fixed distance searches look
+  bool enabled = true;
 };
 
 // Nearest-knot assignment against the free knots, given each point's
@@ -302,8 +303,9 @@ Assignment Assign(const Quadrature& q, const std::vector<double>& fixed_d2,
       const int end = std::min(q.size(), (b + 1) * kBlockSize);
       for (int s = b * kBlockSize; s < end; ++s) {
         const double d2_fixed = fixed_d2[s];
-        if (capture->margin[s] - (capture->travel - capture->travel_at[s]) >
-            kSlack) {
+        if (capture->enabled &&
+            capture->margin[s] - (capture->travel - capture->travel_at[s]) >
+                kSlack) {
           out.energy += q.weights[s] * d2_fixed;
           continue;
         }
@@ -630,7 +632,9 @@ StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
   capture.travel_at.assign(q.size(), 0.0);
   // About one knot spacing: points farther than that beyond their fixed
   // knot are left alone until the free knots have travelled as far.
-  capture.window = std::sqrt(4 * kPi / (num_fixed + new_knots));
+  capture.enabled = options.skip_settled_points;
+  capture.window =
+      capture.enabled ? std::sqrt(4 * kPi / (num_fixed + new_knots)) : 0.0;
   for (int iteration = 0;; ++iteration) {
     const Assignment assignment = Assign(q, fixed_d2, free_knots, &capture);
     result.energy_history.push_back(assignment.energy);

@@ -158,6 +158,22 @@ TEST(SphericalCvtTest, FixedKnotsStayAndNewKnotsCentreInTheGaps) {
   }
 }
 
+TEST(SphericalCvtTest, SkippingSettledPointsChangesNothing) {
+  // The skip rule (margin vs. accumulated travel of the free knots) against
+  // the plain search of every point in every iteration.
+  SphericalDensity density = Uniform(5);
+  density.values = (density.sphere_vertices.col(1).array() + 1.2).pow(4);
+  const Eigen::MatrixX3d fixed = RandomUnit(300, 21);
+  CvtOptions skipping, plain;
+  plain.skip_settled_points = false;
+  const auto a = PlaceKnots(density, fixed, 60, skipping);
+  const auto b = PlaceKnots(density, fixed, 60, plain);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_GT(a->iterations, 5);
+  EXPECT_EQ(a->knots, b->knots);
+  EXPECT_EQ(a->energy_history, b->energy_history);
+}
+
 TEST(SphericalCvtTest, KnotDensityFollowsSquareRootOfDensity) {
   // rho = 16 in the cap z > 1/2 (area pi), 1 elsewhere (area 3 pi). A CVT
   // on a 2-manifold has point density ~ rho^(d/(d+2)) = rho^(1/2), so the
