@@ -615,8 +615,21 @@ StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
   std::vector<double> fixed_d2(q.size(), kInf);
   if (num_fixed > 0) {
     tbb::parallel_for(tbb::blocked_range<int>(0, q.size()), [&](const auto& r) {
+      // Consecutive points are close (Morton order): the previous point's
+      // nearest knot bounds the search. The bound admits that knot, so the
+      // answer (ties included) is the unbounded one.
+      int previous = -1;
       for (int s = r.begin(); s < r.end(); ++s) {
-        fixed_d2[s] = fixed_tree.Nearest(q.points[s]).squared_distance;
+        double bound = kInf;
+        if (previous >= 0) {
+          const double d2 =
+              (fixed_knots.row(previous).transpose() - q.points[s])
+                  .squaredNorm();
+          bound = d2 * (1 + 1e-12) + 1e-300;
+        }
+        const PointKdTree::Neighbor n = fixed_tree.Nearest(q.points[s], bound);
+        fixed_d2[s] = n.squared_distance;
+        previous = n.index;
       }
     });
   }
