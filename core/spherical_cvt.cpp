@@ -301,6 +301,7 @@ Assignment Assign(const Quadrature& q, const std::vector<double>& fixed_d2,
       out.moment.assign(num_free, Eigen::Vector3d::Zero());
       out.mass.assign(num_free, 0.0);
       const int end = std::min(q.size(), (b + 1) * kBlockSize);
+      int previous = -1;  // nearest free knot of the last searched point
       for (int s = b * kBlockSize; s < end; ++s) {
         const double d2_fixed = fixed_d2[s];
         if (capture->enabled &&
@@ -311,8 +312,17 @@ Assignment Assign(const Quadrature& q, const std::vector<double>& fixed_d2,
         }
         const double d_fixed = std::sqrt(d2_fixed);
         const double reach = d_fixed + capture->window;
-        const PointKdTree::Neighbor n =
-            tree.Nearest(q.points[s], reach * reach);
+        // The previous point's nearest free knot (points are in Morton
+        // order) tightens the bound; the bound admits that knot, so the
+        // answer is unchanged whenever it is the tighter one.
+        double bound = reach * reach;
+        if (previous >= 0) {
+          const double d2 = (free_knots.row(previous).transpose() - q.points[s])
+                                .squaredNorm();
+          bound = std::min(bound, d2 * (1 + 1e-12) + 1e-300);
+        }
+        const PointKdTree::Neighbor n = tree.Nearest(q.points[s], bound);
+        if (n.index >= 0) previous = n.index;
         capture->travel_at[s] = capture->travel;
         if (n.index >= 0 && n.squared_distance < d2_fixed) {
           capture->margin[s] = -1;
