@@ -1,6 +1,8 @@
 // Prints time and the paper's Table-1 metrics of the spherical
 // parameterization (Sec. 4.3) for meshes of CGAL's data set.
 // Usage: spherical_parameterization_bench [MESH.off ...] [--lambda L ...]
+//   [--threads T] [--level-sweeps N] [--finest-sweeps N] [--tolerance R]
+//   [--lambda-growth G] [--verbose]
 // Default: bunny00.off at lambda = 0.2, 1 and 10 (the paper's Bunny).
 #include <chrono>
 #include <cstdio>
@@ -16,10 +18,24 @@ int main(int argc, char** argv) {
   std::vector<std::string> meshes;
   std::vector<double> lambdas;
   int threads = 0;
+  bool verbose = false;
+  const sdcb::SphericalParameterizationOptions defaults;
+  int level_sweeps = defaults.level_sweeps, finest_sweeps = defaults.finest_sweeps;
+  double tolerance = defaults.relative_tolerance, lambda_growth = defaults.lambda_growth;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--lambda" && i + 1 < argc) {
       lambdas.push_back(std::atof(argv[++i]));
+    } else if (a == "--level-sweeps" && i + 1 < argc) {
+      level_sweeps = std::atoi(argv[++i]);
+    } else if (a == "--finest-sweeps" && i + 1 < argc) {
+      finest_sweeps = std::atoi(argv[++i]);
+    } else if (a == "--tolerance" && i + 1 < argc) {
+      tolerance = std::atof(argv[++i]);
+    } else if (a == "--lambda-growth" && i + 1 < argc) {
+      lambda_growth = std::atof(argv[++i]);
+    } else if (a == "--verbose") {
+      verbose = true;
     } else if (a == "--threads" && i + 1 < argc) {
       threads = std::atoi(argv[++i]);
     } else {
@@ -42,7 +58,19 @@ int main(int argc, char** argv) {
       sdcb::SphericalParameterizationOptions options;
       options.lambda = lambda;
       options.threads = threads;
+      options.level_sweeps = level_sweeps;
+      options.finest_sweeps = finest_sweeps;
+      options.relative_tolerance = tolerance;
+      options.lambda_growth = lambda_growth;
       const auto start = std::chrono::steady_clock::now();
+      if (verbose) {
+        options.progress = [start](const std::string& stage, double fraction) {
+          std::fprintf(stderr, "  %8.3f s  %-10s %5.1f%%\n",
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                           .count(),
+                       stage.c_str(), 100.0 * fraction);
+        };
+      }
       auto param = sdcb::ParameterizeOnSphere(*mesh, options);
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -93,7 +93,7 @@ double TriangleEnergy(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
     if (grad_s0 != nullptr) grad_s0->setZero();
     return kInf;
   }
-  const double area_pow = std::pow(e_area, lambda);
+  const double area_pow = lambda == 1.0 ? e_area : std::pow(e_area, lambda);
   const double energy = am * e_angle * area_pow;  // eq. (12), one term
   if (grad_s0 != nullptr) {
     // d area / d s0 = 2 (D grad(det) - det grad(D)) / (det^2 + D^2).
@@ -104,7 +104,7 @@ double TriangleEnergy(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
     const Eigen::Vector3d d_angle = d_n / (2.0 * a) - n / (2.0 * a * a) * d_a;
     const Eigen::Vector3d d_area = (1.0 / am - am / (a * a)) * d_a;
     *grad_s0 = am * (area_pow * d_angle +
-                     e_angle * lambda * std::pow(e_area, lambda - 1.0) * d_area);
+                     e_angle * lambda * (area_pow / e_area) * d_area);
   }
   return energy;
 }

@@ -75,6 +75,9 @@ class LevelOptimizer {
   LevelOptimizer(const Eigen::MatrixX3d& mesh_positions, double lambda)
       : mesh_positions_(mesh_positions), lambda_(lambda) {}
 
+  void set_lambda(double lambda) { lambda_ = lambda; }
+  double lambda() const { return lambda_; }
+
   // Rebuilds the one-rings, shapes, colors and step sizes for `level`.
   void Prepare(const LevelState& level, const Eigen::MatrixX3d& sphere) {
     const int nv = static_cast<int>(mesh_positions_.rows());
@@ -458,10 +461,17 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
   Status status = Status::Ok();
   arena.execute([&] {
     Eigen::MatrixX3d sphere;
+    report("base", 0.0);
     status = EmbedBaseMesh(level, &sphere);
     if (!status.ok()) return;
     LevelOptimizer optimizer(mesh.vertices, options.lambda);
     optimizer.Prepare(level, sphere);
+    // Continuation in lambda: a large lambda makes eq. (12) so stiff that
+    // descent from the Tutte embedding stalls. Coarse levels use
+    // min(lambda, 1); the finest level multiplies it by `lambda_growth` per
+    // round up to the requested value.
+    const double coarse_lambda = std::min(1.0, options.lambda);
+    optimizer.set_lambda(coarse_lambda);
     result.energy = optimizer.Optimize(&sphere, options.base_sweeps,
                                        options.relative_tolerance);
     result.levels = 1;
@@ -473,15 +483,20 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
       while (next > 0 && alive < target) {
         const HalfEdgeCollapse& collapse = hierarchy.collapses[--next];
         UndoCollapse(collapse, &level.faces, &level.face_alive, &level.vertex_alive);
-        status = PlaceSplitVertex(collapse, mesh.vertices, area_scale, options.lambda,
-                                  &sphere);
+        status = PlaceSplitVertex(collapse, mesh.vertices, area_scale,
+                                  optimizer.lambda(), &sphere);
         if (!status.ok()) return;
         ++alive;
       }
       optimizer.Prepare(level, sphere);
-      result.energy = optimizer.Optimize(
-          &sphere, next == 0 ? options.finest_sweeps : options.level_sweeps,
-          options.relative_tolerance);
+      for (double lambda = coarse_lambda;;
+           lambda = std::min(options.lambda_growth * lambda, options.lambda)) {
+        optimizer.set_lambda(lambda);
+        result.energy = optimizer.Optimize(
+            &sphere, next == 0 ? options.finest_sweeps : options.level_sweeps,
+            options.relative_tolerance);
+        if (next > 0 || lambda >= options.lambda) break;
+      }
       ++result.levels;
     }
     result.sphere = std::move(sphere);

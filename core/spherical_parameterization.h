@@ -55,6 +55,10 @@ struct SphericalParameterizationOptions {
   int level_sweeps = 30;
   int finest_sweeps = 60;
   double relative_tolerance = 1e-4;
+  // Continuation for lambda > 1: coarse levels are optimized with lambda = 1;
+  // the finest level runs rounds of `finest_sweeps` with lambda multiplied by
+  // this factor each round until it reaches `lambda`.
+  double lambda_growth = 2.0;
   // Called with a stage name and the finished fraction in [0, 1].
   std::function<void(const std::string& stage, double fraction)> progress;
 };
