@@ -134,6 +134,7 @@ StatusOr<ParameterizationDistortion> MeasureParameterizationDistortion(
   ParameterizationDistortion d;
   d.face_angle_distortion.assign(mesh.num_faces(), kInf);
   d.face_area_distortion.assign(mesh.num_faces(), kInf);
+  d.face_mesh_area.assign(mesh.num_faces(), 0.0);
   double weight = 0.0, angle_sum = 0.0, area_sum = 0.0;
   for (int f = 0; f < mesh.num_faces(); ++f) {
     Eigen::Vector3d m[3], s[3];
@@ -141,11 +142,12 @@ StatusOr<ParameterizationDistortion> MeasureParameterizationDistortion(
       m[i] = mesh.vertices.row(mesh.faces(f, i)).transpose();
       s[i] = sphere.row(mesh.faces(f, i)).transpose();
     }
+    const MeshTriangleShape shape = ComputeMeshTriangleShape(m[0], m[1], m[2], scale);
+    d.face_mesh_area[f] = shape.area;
     if (Det3Sign(s[0], s[1], s[2]) <= 0) {
       ++d.flipped_triangles;
       continue;
     }
-    const MeshTriangleShape shape = ComputeMeshTriangleShape(m[0], m[1], m[2], scale);
     const double e_angle = AngleDistortion(shape, s[0], s[1], s[2]);
     const double e_area = AreaDistortion(shape, s[0], s[1], s[2]);
     d.face_angle_distortion[f] = e_angle;

@@ -3,17 +3,20 @@
 // parameterization minimizes, and the Table-1 summary metrics.
 //
 // Conventions used everywhere in sdcb (one place for each formula):
-// - area(T_S2) is the area of the geodesic (spherical) triangle, the solid
-//   angle of its three points; the edge lengths |e_i| of eq. (10) are chord
-//   lengths. The spherical areas of a bijection sum to exactly 4*pi, the
-//   total the mesh is scaled to, and the area goes to 0 as a triangle
-//   approaches a fold (its points on one great circle), a barrier the
-//   chord triangle's area does not give. For two flat triangles the eq.-10
-//   form is exactly sigma1/sigma2 + sigma2/sigma1 of the affine map between
-//   them (AngleDistortionFormula); on the sphere that holds up to
-//   O(triangle size^2), so an isometric sphere mesh gives 2 + O(h^2).
-// - The mesh is uniformly scaled to total area 4*pi before areas are
-//   compared (eq. 11).
+// - area(T_S2) in eqs. (10) and (11) is the area of the spherical
+//   (geodesic) triangle, its solid angle; the edge lengths |e_i| of eq. (10)
+//   are chord lengths. Reasons: the spherical areas of a bijection sum to
+//   exactly 4*pi, the total the mesh is scaled to; and the area goes to 0
+//   as a triangle approaches a fold (its three points on one great circle),
+//   a barrier that keeps the optimizer away from folds, which the chord
+//   triangle's area does not give (it stays positive there).
+// - For two flat triangles the eq.-10 form is exactly sigma1/sigma2 +
+//   sigma2/sigma1 of the affine map between them (AngleDistortionFormula
+//   with the flat area). On the sphere the spherical and chord areas differ
+//   by a factor 1 + O(h^2) (h: edge length), so E_angle can differ from
+//   sigma1/sigma2 + sigma2/sigma1 (and even be below 2) by O(h^2): an
+//   icosphere mapped to itself gives E_angle = 2 - O(h^2) and E_area =
+//   2 + O(h^4).
 #ifndef SDCB_CORE_PARAMETERIZATION_DISTORTION_H_
 #define SDCB_CORE_PARAMETERIZATION_DISTORTION_H_
 
@@ -62,11 +65,13 @@ double AreaDistortionFormula(double mesh_area, double sphere_area);
 double AngleDistortion(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
                        const Eigen::Vector3d& s1, const Eigen::Vector3d& s2);
 
-// Eq. (11): E_area = area(T_S2)/area(T_M) + area(T_M)/area(T_S2).
+// Eq. (11): E_area = area(T_S2)/area(T_M) + area(T_M)/area(T_S2), with the
+// spherical triangle's area.
 double AreaDistortion(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
                       const Eigen::Vector3d& s1, const Eigen::Vector3d& s2);
 
-// One term of eq. (12): area(T_M) * E_angle * E_area^lambda. When `grad_s0`
+// One term of eq. (12): area(T_M) * E_angle * E_area^lambda (infinite for
+// a triangle that is not positively oriented). When `grad_s0`
 // is not null it receives the gradient in R^3 with respect to s0 (the
 // caller projects it onto the sphere's tangent plane).
 double TriangleEnergy(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
@@ -89,6 +94,8 @@ struct ParameterizationDistortion {
   // Per face: E_angle and E_area (#F entries each, in face order).
   std::vector<double> face_angle_distortion;
   std::vector<double> face_area_distortion;
+  // Per face: mesh-triangle area after scaling the mesh to area 4*pi.
+  std::vector<double> face_mesh_area;
 };
 
 // Measures `sphere` (#V by 3, unit vectors, row i for mesh vertex i) as a map

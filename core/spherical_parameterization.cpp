@@ -433,8 +433,8 @@ Status CheckSphericalBijection(const TriangleMesh& mesh,
 
 StatusOr<SphericalParameterization> ParameterizeOnSphere(
     const TriangleMesh& mesh, const SphericalParameterizationOptions& options) {
-  if (!(options.lambda >= 0.0) || !std::isfinite(options.lambda)) {
-    return InvalidArgumentError("lambda must be a finite number >= 0");
+  if (!(options.lambda > 0.0) || !std::isfinite(options.lambda)) {
+    return InvalidArgumentError("lambda must be a finite number > 0");
   }
   if (options.level_growth <= 1.0 || options.threads < 0) {
     return InvalidArgumentError("level_growth must be > 1 and threads >= 0");

@@ -38,9 +38,10 @@
 namespace sdcb {
 
 struct SphericalParameterizationOptions {
-  // Exponent of the area term in eq. (12). 0 = angle distortion only; larger
-  // values trade angle distortion for area distortion. The paper's Table 1
-  // uses 0.2 and 10; 1 balances both.
+  // Exponent of the area term in eq. (12), > 0 (the area term is the
+  // barrier against folds). Larger values trade angle distortion for area
+  // distortion. The paper's Table 1 uses 0.2 and 10; the default 1 balances
+  // both.
   double lambda = 1.0;
   // Worker threads; 0 = all cores. The result is the same for any value.
   int threads = 0;
@@ -73,7 +74,7 @@ struct SphericalParameterization {
 
 // Parameterizes `mesh`, which must pass RequireClosedGenusZero (else its
 // kUnsupported status is returned). kInvalidArgument for a lambda that is
-// negative or not finite; kInternal if the result fails the bijection check
+// <= 0 or not finite; kInternal if the result fails the bijection check
 // (never expected).
 StatusOr<SphericalParameterization> ParameterizeOnSphere(
     const TriangleMesh& mesh, const SphericalParameterizationOptions& options = {});
