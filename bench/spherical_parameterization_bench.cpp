@@ -20,8 +20,10 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool verbose = false;
   const sdcb::SphericalParameterizationOptions defaults;
-  int level_sweeps = defaults.level_sweeps, finest_sweeps = defaults.finest_sweeps;
-  double tolerance = defaults.relative_tolerance, lambda_growth = defaults.lambda_growth;
+  int level_sweeps = defaults.level_sweeps,
+      finest_sweeps = defaults.finest_sweeps;
+  double tolerance = defaults.relative_tolerance,
+         lambda_growth = defaults.lambda_growth;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--lambda" && i + 1 < argc) {
@@ -44,10 +46,12 @@ int main(int argc, char** argv) {
                            : a);
     }
   }
-  if (meshes.empty()) meshes.push_back(std::string(SDCB_MESH_DIR) + "/bunny00.off");
+  if (meshes.empty())
+    meshes.push_back(std::string(SDCB_MESH_DIR) + "/bunny00.off");
   if (lambdas.empty()) lambdas = {0.2, 1.0, 10.0};
-  std::printf("%-22s %7s %8s %8s %8s %9s %9s %7s %8s\n", "mesh", "lambda", "faces",
-              "seconds", "angleAvg", "angleMax", "areaAvg", "areaMax", "flipped");
+  std::printf("%-22s %7s %8s %8s %8s %9s %9s %7s %8s\n", "mesh", "lambda",
+              "faces", "seconds", "angleAvg", "angleMax", "areaAvg", "areaMax",
+              "flipped");
   for (const std::string& path : meshes) {
     auto mesh = sdcb::ReadMesh(path);
     if (!mesh.ok()) {
@@ -66,14 +70,16 @@ int main(int argc, char** argv) {
       if (verbose) {
         options.progress = [start](const std::string& stage, double fraction) {
           std::fprintf(stderr, "  %8.3f s  %-10s %5.1f%%\n",
-                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                       std::chrono::duration<double>(
+                           std::chrono::steady_clock::now() - start)
                            .count(),
                        stage.c_str(), 100.0 * fraction);
         };
       }
       auto param = sdcb::ParameterizeOnSphere(*mesh, options);
-      const double seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double seconds = std::chrono::duration<double>(
+                                 std::chrono::steady_clock::now() - start)
+                                 .count();
       const std::string name = path.substr(path.find_last_of('/') + 1);
       if (!param.ok()) {
         std::printf("%-22s %7.2f FAILED: %s\n", name.c_str(), lambda,
@@ -81,10 +87,11 @@ int main(int argc, char** argv) {
         continue;
       }
       auto d = sdcb::MeasureParameterizationDistortion(*mesh, param->sphere);
-      std::printf("%-22s %7.2f %8d %8.3f %8.3f %9.3f %9.3f %7.3g %8d\n", name.c_str(),
-                  lambda, mesh->num_faces(), seconds, d->angle_distortion_avg,
-                  d->angle_distortion_max, d->area_distortion_avg,
-                  d->area_distortion_max, d->flipped_triangles);
+      std::printf("%-22s %7.2f %8d %8.3f %8.3f %9.3f %9.3f %7.3g %8d\n",
+                  name.c_str(), lambda, mesh->num_faces(), seconds,
+                  d->angle_distortion_avg, d->angle_distortion_max,
+                  d->area_distortion_avg, d->area_distortion_max,
+                  d->flipped_triangles);
       std::fflush(stdout);
     }
   }

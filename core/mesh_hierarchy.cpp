@@ -66,7 +66,8 @@ class Collapser {
         return false;
       }
       // No new slivers: they would ask the sphere triangles to be slivers.
-      if (Quality(f, v, u) < std::min(min_quality_, Quality(f, -1, v))) return false;
+      if (Quality(f, v, u) < std::min(min_quality_, Quality(f, -1, v)))
+        return false;
     }
     record->removed = v;
     record->kept = u;
@@ -137,10 +138,12 @@ class Collapser {
       const int x = faces_(f, i) == from ? to : faces_(f, i);
       p[i] = positions_.row(x).transpose();
     }
-    const double squares =
-        (p[1] - p[0]).squaredNorm() + (p[2] - p[1]).squaredNorm() + (p[0] - p[2]).squaredNorm();
+    const double squares = (p[1] - p[0]).squaredNorm() +
+                           (p[2] - p[1]).squaredNorm() +
+                           (p[0] - p[2]).squaredNorm();
     if (squares == 0.0) return 0.0;
-    return 2.0 * std::sqrt(3.0) * (p[1] - p[0]).cross(p[2] - p[0]).norm() / squares;
+    return 2.0 * std::sqrt(3.0) * (p[1] - p[0]).cross(p[2] - p[0]).norm() /
+           squares;
   }
 
   // v's neighbors counter-clockwise, starting at `first`.
@@ -177,13 +180,14 @@ using QueueEntry = std::tuple<double, int, int, int, int>;
 
 }  // namespace
 
-StatusOr<MeshHierarchy> BuildMeshHierarchy(const TriangleMesh& mesh,
-                                           const MeshHierarchyOptions& options) {
+StatusOr<MeshHierarchy> BuildMeshHierarchy(
+    const TriangleMesh& mesh, const MeshHierarchyOptions& options) {
   if (options.base_vertices < 4) {
     return InvalidArgumentError("base_vertices must be at least 4");
   }
   Collapser collapser(mesh, options);
-  std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>> queue;
+  std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>>
+      queue;
   auto push_edges = [&](int a) {
     for (int b : collapser.Neighbors(a)) {
       const int lo = std::min(a, b), hi = std::max(a, b);
@@ -217,7 +221,8 @@ StatusOr<MeshHierarchy> BuildMeshHierarchy(const TriangleMesh& mesh,
 }
 
 void UndoCollapse(const HalfEdgeCollapse& collapse, Eigen::MatrixX3i* faces,
-                  std::vector<bool>* face_alive, std::vector<bool>* vertex_alive) {
+                  std::vector<bool>* face_alive,
+                  std::vector<bool>* vertex_alive) {
   for (int f : collapse.repointed_faces) {
     for (int i = 0; i < 3; ++i) {
       if ((*faces)(f, i) == collapse.kept) (*faces)(f, i) = collapse.removed;

@@ -59,13 +59,14 @@ struct MeshHierarchy {
 // consistently oriented genus-0 mesh (RequireClosedGenusZero). Collapses are
 // chosen shortest edge first, ties broken by vertex indices, so the result
 // is deterministic.
-StatusOr<MeshHierarchy> BuildMeshHierarchy(const TriangleMesh& mesh,
-                                           const MeshHierarchyOptions& options = {});
+StatusOr<MeshHierarchy> BuildMeshHierarchy(
+    const TriangleMesh& mesh, const MeshHierarchyOptions& options = {});
 
 // Undoes `collapse` (a vertex split) on `faces`/`face_alive`/`vertex_alive`,
 // which must be in the state right after that collapse.
 void UndoCollapse(const HalfEdgeCollapse& collapse, Eigen::MatrixX3i* faces,
-                  std::vector<bool>* face_alive, std::vector<bool>* vertex_alive);
+                  std::vector<bool>* face_alive,
+                  std::vector<bool>* vertex_alive);
 
 }  // namespace sdcb
 

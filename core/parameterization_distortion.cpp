@@ -25,8 +25,9 @@ double Cot(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
 }
 
 // sum_i cot_i |e_i|^2, the numerator of eq. (10).
-double CotWeightedEdges(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
-                        const Eigen::Vector3d& s1, const Eigen::Vector3d& s2) {
+double CotWeightedEdges(const MeshTriangleShape& shape,
+                        const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
+                        const Eigen::Vector3d& s2) {
   return shape.cot[0] * (s2 - s1).squaredNorm() +
          shape.cot[1] * (s0 - s2).squaredNorm() +
          shape.cot[2] * (s1 - s0).squaredNorm();
@@ -52,10 +53,13 @@ MeshTriangleShape RotateShape(const MeshTriangleShape& shape, int first) {
   return rotated;
 }
 
-double SphericalTriangleArea(const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
+double SphericalTriangleArea(const Eigen::Vector3d& s0,
+                             const Eigen::Vector3d& s1,
                              const Eigen::Vector3d& s2) {
-  // Van Oosterom and Strackee: tan(area / 2) = det / (1 + s0.s1 + s1.s2 + s2.s0).
-  return 2.0 * std::atan2(Det3(s0, s1, s2), 1.0 + s0.dot(s1) + s1.dot(s2) + s2.dot(s0));
+  // Van Oosterom and Strackee: tan(area / 2) = det / (1 + s0.s1 + s1.s2 +
+  // s2.s0).
+  return 2.0 * std::atan2(Det3(s0, s1, s2),
+                          1.0 + s0.dot(s1) + s1.dot(s2) + s2.dot(s0));
 }
 
 double AngleDistortionFormula(double cot_weighted_edges, double sphere_area) {
@@ -68,8 +72,9 @@ double AreaDistortionFormula(double mesh_area, double sphere_area) {
   return sphere_area / mesh_area + mesh_area / sphere_area;  // eq. (11)
 }
 
-double AngleDistortion(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
-                       const Eigen::Vector3d& s1, const Eigen::Vector3d& s2) {
+double AngleDistortion(const MeshTriangleShape& shape,
+                       const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
+                       const Eigen::Vector3d& s2) {
   return AngleDistortionFormula(CotWeightedEdges(shape, s0, s1, s2),
                                 SphericalTriangleArea(s0, s1, s2));
 }
@@ -97,7 +102,8 @@ double TriangleEnergy(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
   const double energy = am * e_angle * area_pow;  // eq. (12), one term
   if (grad_s0 != nullptr) {
     // d area / d s0 = 2 (D grad(det) - det grad(D)) / (det^2 + D^2).
-    const Eigen::Vector3d d_a = 2.0 * (denominator * s1.cross(s2) - det * (s1 + s2)) /
+    const Eigen::Vector3d d_a = 2.0 *
+                                (denominator * s1.cross(s2) - det * (s1 + s2)) /
                                 (det * det + denominator * denominator);
     const Eigen::Vector3d d_n =
         2.0 * shape.cot[1] * (s0 - s2) + 2.0 * shape.cot[2] * (s0 - s1);
@@ -125,10 +131,10 @@ StatusOr<double> AreaScaleToUnitSphere(const TriangleMesh& mesh) {
 StatusOr<ParameterizationDistortion> MeasureParameterizationDistortion(
     const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere) {
   if (sphere.rows() != mesh.num_vertices()) {
-    return InvalidArgumentError("parameterization has " +
-                                std::to_string(sphere.rows()) +
-                                " points for a mesh of " +
-                                std::to_string(mesh.num_vertices()) + " vertices");
+    return InvalidArgumentError(
+        "parameterization has " + std::to_string(sphere.rows()) +
+        " points for a mesh of " + std::to_string(mesh.num_vertices()) +
+        " vertices");
   }
   SDCB_ASSIGN_OR_RETURN(const double scale, AreaScaleToUnitSphere(mesh));
   ParameterizationDistortion d;
@@ -142,7 +148,8 @@ StatusOr<ParameterizationDistortion> MeasureParameterizationDistortion(
       m[i] = mesh.vertices.row(mesh.faces(f, i)).transpose();
       s[i] = sphere.row(mesh.faces(f, i)).transpose();
     }
-    const MeshTriangleShape shape = ComputeMeshTriangleShape(m[0], m[1], m[2], scale);
+    const MeshTriangleShape shape =
+        ComputeMeshTriangleShape(m[0], m[1], m[2], scale);
     d.face_mesh_area[f] = shape.area;
     if (Det3Sign(s[0], s[1], s[2]) <= 0) {
       ++d.flipped_triangles;

@@ -50,7 +50,8 @@ MeshTriangleShape RotateShape(const MeshTriangleShape& shape, int first);
 
 // Signed area of the spherical triangle (s0, s1, s2) (unit vectors): its
 // solid angle, in (-2*pi, 2*pi), positive when det[s0 s1 s2] > 0.
-double SphericalTriangleArea(const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
+double SphericalTriangleArea(const Eigen::Vector3d& s0,
+                             const Eigen::Vector3d& s1,
                              const Eigen::Vector3d& s2);
 
 // Eq. (10) from its parts: sum_i cot_i |e_i|^2 and area(T_S2). Infinite
@@ -62,8 +63,9 @@ double AreaDistortionFormula(double mesh_area, double sphere_area);
 
 // Eq. (10): E_angle = (sum_i cot_i |e_i|^2) / (2 area(T_S2)) with e_i the
 // chord opposite corner i. Infinite unless T_S2 is positively oriented.
-double AngleDistortion(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
-                       const Eigen::Vector3d& s1, const Eigen::Vector3d& s2);
+double AngleDistortion(const MeshTriangleShape& shape,
+                       const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
+                       const Eigen::Vector3d& s2);
 
 // Eq. (11): E_area = area(T_S2)/area(T_M) + area(T_M)/area(T_S2), with the
 // spherical triangle's area.

@@ -49,7 +49,8 @@ double GreatCircleStep(Eigen::Vector3d* p, double* step, const EnergyFn& energy,
   const Eigen::Vector3d direction = -tangent / slope;
   double t = *step;
   for (int k = 0; k < kMaxHalvings; ++k, t *= 0.5) {
-    const Eigen::Vector3d q = (std::cos(t) * *p + std::sin(t) * direction).normalized();
+    const Eigen::Vector3d q =
+        (std::cos(t) * *p + std::sin(t) * direction).normalized();
     if (!valid(q)) continue;
     const double e1 = energy(q, nullptr);
     if (e1 <= e0 - kArmijo * t * slope) {
@@ -86,9 +87,10 @@ class LevelOptimizer {
     for (int f = 0; f < level.faces.rows(); ++f) {
       if (!level.face_alive[f]) continue;
       alive_faces.push_back(f);
-      total_area += ComputeMeshTriangleShape(Corner(level, f, 0), Corner(level, f, 1),
-                                             Corner(level, f, 2), 1.0)
-                        .area;
+      total_area +=
+          ComputeMeshTriangleShape(Corner(level, f, 0), Corner(level, f, 1),
+                                   Corner(level, f, 2), 1.0)
+              .area;
     }
     const double scale = 4.0 * M_PI / total_area;
     // Incidences in CSR order: vertex v owns [offset_[v], offset_[v + 1]).
@@ -125,7 +127,8 @@ class LevelOptimizer {
       int c = 0;
       while (used[c]) ++c;
       color[v] = c;
-      if (c >= static_cast<int>(color_classes_.size())) color_classes_.resize(c + 1);
+      if (c >= static_cast<int>(color_classes_.size()))
+        color_classes_.resize(c + 1);
       color_classes_[c].push_back(v);
     }
     // Initial step: a quarter of the mean one-ring edge length on S^2.
@@ -178,15 +181,16 @@ class LevelOptimizer {
   }
 
   // Energy of v's one-ring with v at p (p on S^2), and its gradient in R^3.
-  double LocalEnergy(int v, const Eigen::Vector3d& p, const Eigen::MatrixX3d& sphere,
+  double LocalEnergy(int v, const Eigen::Vector3d& p,
+                     const Eigen::MatrixX3d& sphere,
                      Eigen::Vector3d* gradient) const {
     double e = 0.0;
     if (gradient != nullptr) gradient->setZero();
     Eigen::Vector3d g;
     for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
       const Incidence& inc = incidences_[k];
-      e += TriangleEnergy(inc.shape, p, Row(sphere, inc.a), Row(sphere, inc.b), lambda_,
-                          gradient != nullptr ? &g : nullptr);
+      e += TriangleEnergy(inc.shape, p, Row(sphere, inc.a), Row(sphere, inc.b),
+                          lambda_, gradient != nullptr ? &g : nullptr);
       if (gradient != nullptr) *gradient += g;
     }
     return e;
@@ -196,7 +200,8 @@ class LevelOptimizer {
   bool OneRingValid(int v, const Eigen::Vector3d& p,
                     const Eigen::MatrixX3d& sphere) const {
     for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
-      if (Det3Sign(p, Row(sphere, incidences_[k].a), Row(sphere, incidences_[k].b)) <= 0) {
+      if (Det3Sign(p, Row(sphere, incidences_[k].a),
+                   Row(sphere, incidences_[k].b)) <= 0) {
         return false;
       }
     }
@@ -239,7 +244,8 @@ Status EmbedBaseMesh(const LevelState& level, Eigen::MatrixX3d* sphere) {
   }
   int pole = -1;
   for (int v = 0; v < nv; ++v) {
-    if (level.vertex_alive[v] && (pole < 0 || ring[v].size() > ring[pole].size())) {
+    if (level.vertex_alive[v] &&
+        (pole < 0 || ring[v].size() > ring[pole].size())) {
       pole = v;
     }
   }
@@ -253,7 +259,8 @@ Status EmbedBaseMesh(const LevelState& level, Eigen::MatrixX3d* sphere) {
   std::vector<Eigen::Vector2d> plane(nv, Eigen::Vector2d::Zero());
   for (size_t i = 0; i < link.size(); ++i) {
     const double angle = -2.0 * M_PI * static_cast<double>(i) / link.size();
-    plane[link[i]] = kBoundaryRadius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    plane[link[i]] =
+        kBoundaryRadius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
     index[link[i]] = -2;
   }
   index[pole] = -2;
@@ -261,12 +268,14 @@ Status EmbedBaseMesh(const LevelState& level, Eigen::MatrixX3d* sphere) {
   for (int v = 0; v < nv; ++v) {
     if (level.vertex_alive[v] && index[v] == -1) index[v] = unknowns++;
   }
-  // Uniform Laplacian: deg(v) x_v - sum_{interior w} x_w = sum_{boundary w} x_w.
+  // Uniform Laplacian: deg(v) x_v - sum_{interior w} x_w = sum_{boundary w}
+  // x_w.
   std::vector<Eigen::Triplet<double>> triplets;
   Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(unknowns, 2);
   for (int v = 0; v < nv; ++v) {
     if (index[v] < 0) continue;
-    triplets.emplace_back(index[v], index[v], static_cast<double>(ring[v].size()));
+    triplets.emplace_back(index[v], index[v],
+                          static_cast<double>(ring[v].size()));
     for (const auto& [w, unused] : ring[v]) {
       if (index[w] >= 0) {
         triplets.emplace_back(index[v], index[w], -1.0);
@@ -280,7 +289,8 @@ Status EmbedBaseMesh(const LevelState& level, Eigen::MatrixX3d* sphere) {
     laplacian.setFromTriplets(triplets.begin(), triplets.end());
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
     if (solver.info() != Eigen::Success) {
-      return InternalError("the base mesh's Tutte system could not be factored");
+      return InternalError(
+          "the base mesh's Tutte system could not be factored");
     }
     const Eigen::MatrixX2d x = solver.solve(rhs);
     for (int v = 0; v < nv; ++v) {
@@ -290,15 +300,18 @@ Status EmbedBaseMesh(const LevelState& level, Eigen::MatrixX3d* sphere) {
   sphere->setZero(nv, 3);
   for (int v = 0; v < nv; ++v) {
     if (!level.vertex_alive[v]) continue;
-    sphere->row(v) =
-        Eigen::Vector3d(plane[v].x(), plane[v].y(), 1.0).normalized().transpose();
+    sphere->row(v) = Eigen::Vector3d(plane[v].x(), plane[v].y(), 1.0)
+                         .normalized()
+                         .transpose();
   }
   sphere->row(pole) = Eigen::RowVector3d(0.0, 0.0, -1.0);
   for (int f = 0; f < level.faces.rows(); ++f) {
     if (!level.face_alive[f]) continue;
-    if (Det3Sign(Row(*sphere, level.faces(f, 0)), Row(*sphere, level.faces(f, 1)),
+    if (Det3Sign(Row(*sphere, level.faces(f, 0)),
+                 Row(*sphere, level.faces(f, 1)),
                  Row(*sphere, level.faces(f, 2))) <= 0) {
-      return InternalError("the base mesh's Tutte embedding has a folded triangle");
+      return InternalError(
+          "the base mesh's Tutte embedding has a folded triangle");
     }
   }
   return Status::Ok();
@@ -308,8 +321,9 @@ Status EmbedBaseMesh(const LevelState& level, Eigen::MatrixX3d* sphere) {
 // one-ring on S^2 (all one-ring triangles positively oriented, checked
 // exactly), at the candidate whose worst one-ring triangle is fattest.
 Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
-                        const Eigen::MatrixX3d& mesh_positions, double area_scale,
-                        double lambda, Eigen::MatrixX3d* sphere) {
+                        const Eigen::MatrixX3d& mesh_positions,
+                        double area_scale, double lambda,
+                        Eigen::MatrixX3d* sphere) {
   const std::vector<int>& link = collapse.link;
   const size_t k = link.size();
   // Smallest det(q,a,b) / (|q-a| |q-b| |a-b|) over the one-ring (a sine
@@ -322,7 +336,7 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
       const Eigen::Vector3d b = Row(*sphere, link[(i + 1) % k]);
       if (Det3Sign(q, a, b) <= 0) return -1.0;
       worst = std::min(worst, Det3(q, a, b) / ((q - a).norm() * (q - b).norm() *
-                                                  (a - b).norm()));
+                                               (a - b).norm()));
     }
     return worst;
   };
@@ -357,26 +371,27 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
     const Eigen::Vector3d side = u.cross(t1.normalized());
     const double reach = 0.5 * std::min(t1.norm(), t2.norm());
     int extra_halvings = 3;
-    for (double eps = reach; eps > 1e-14 * reach && extra_halvings > 0; eps *= 0.5) {
-      for (const Eigen::Vector3d& d : {bisector, Eigen::Vector3d(-bisector), side,
-                                       Eigen::Vector3d(-side)}) {
+    for (double eps = reach; eps > 1e-14 * reach && extra_halvings > 0;
+         eps *= 0.5) {
+      for (const Eigen::Vector3d& d : {bisector, Eigen::Vector3d(-bisector),
+                                       side, Eigen::Vector3d(-side)}) {
         if (d.norm() > 1e-9) consider((u + eps * d.normalized()).normalized());
       }
       if (best_score > 0.0) --extra_halvings;
     }
   }
   if (best_score <= 0.0) {
-    return InternalError("a vertex split found no valid position on the sphere");
+    return InternalError(
+        "a vertex split found no valid position on the sphere");
   }
   // A few descent steps of the new vertex alone, so that vertices split
   // next to it later in the same level find a fat one-ring.
   constexpr int kRelaxSteps = 8;
   std::vector<MeshTriangleShape> shapes(k);
   for (size_t i = 0; i < k; ++i) {
-    shapes[i] = ComputeMeshTriangleShape(Row(mesh_positions, collapse.removed),
-                                         Row(mesh_positions, link[i]),
-                                         Row(mesh_positions, link[(i + 1) % k]),
-                                         area_scale);
+    shapes[i] = ComputeMeshTriangleShape(
+        Row(mesh_positions, collapse.removed), Row(mesh_positions, link[i]),
+        Row(mesh_positions, link[(i + 1) % k]), area_scale);
   }
   auto energy = [&](const Eigen::Vector3d& q, Eigen::Vector3d* gradient) {
     double e = 0.0;
@@ -406,11 +421,13 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
 Status CheckSphericalBijection(const TriangleMesh& mesh,
                                const Eigen::MatrixX3d& sphere) {
   if (sphere.rows() != mesh.num_vertices()) {
-    return InvalidArgumentError("parameterization size does not match the mesh");
+    return InvalidArgumentError(
+        "parameterization size does not match the mesh");
   }
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     if (!(std::abs(sphere.row(v).norm() - 1.0) <= 1e-12)) {
-      return InternalError("vertex " + std::to_string(v) + " is off the unit sphere");
+      return InternalError("vertex " + std::to_string(v) +
+                           " is off the unit sphere");
     }
   }
   double total = 0.0;
@@ -426,7 +443,8 @@ Status CheckSphericalBijection(const TriangleMesh& mesh,
   }
   if (std::abs(total - 4.0 * M_PI) > 1e-6) {
     return InternalError("sphere triangles cover S^2 " +
-                         std::to_string(total / (4.0 * M_PI)) + " times, not once");
+                         std::to_string(total / (4.0 * M_PI)) +
+                         " times, not once");
   }
   return Status::Ok();
 }
@@ -479,10 +497,12 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
     size_t next = hierarchy.collapses.size();
     while (next > 0) {
       report("optimize", static_cast<double>(alive) / mesh.num_vertices());
-      const int target = std::max(alive + 1, static_cast<int>(alive * options.level_growth));
+      const int target =
+          std::max(alive + 1, static_cast<int>(alive * options.level_growth));
       while (next > 0 && alive < target) {
         const HalfEdgeCollapse& collapse = hierarchy.collapses[--next];
-        UndoCollapse(collapse, &level.faces, &level.face_alive, &level.vertex_alive);
+        UndoCollapse(collapse, &level.faces, &level.face_alive,
+                     &level.vertex_alive);
         status = PlaceSplitVertex(collapse, mesh.vertices, area_scale,
                                   optimizer.lambda(), &sphere);
         if (!status.ok()) return;

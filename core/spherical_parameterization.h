@@ -77,7 +77,8 @@ struct SphericalParameterization {
 // <= 0 or not finite; kInternal if the result fails the bijection check
 // (never expected).
 StatusOr<SphericalParameterization> ParameterizeOnSphere(
-    const TriangleMesh& mesh, const SphericalParameterizationOptions& options = {});
+    const TriangleMesh& mesh,
+    const SphericalParameterizationOptions& options = {});
 
 // Exact check that `sphere` (#V by 3) is a bijective map of `mesh` onto S^2:
 // every row has unit length within 1e-12, every face is positively oriented

@@ -2,7 +2,6 @@
 //            [--colors angle|area] [--threads T] [--quiet]
 // Spherical parameterization (paper Sec. 4.3): writes the mesh with every
 // vertex moved to its point on S^2, same vertex order and faces.
-#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "core/mesh_topology.h"
 #include "core/parameterization_distortion.h"
@@ -30,7 +30,9 @@ constexpr const char* kParamUsage =
 // more red (linear in log2(value / 2) between).
 Eigen::Matrix<std::uint8_t, 1, 3> DistortionColor(double value) {
   const double t = std::clamp(std::log2(std::max(value, 2.0) / 2.0), 0.0, 1.0);
-  auto to_byte = [](double x) { return static_cast<std::uint8_t>(std::lround(255.0 * x)); };
+  auto to_byte = [](double x) {
+    return static_cast<std::uint8_t>(std::lround(255.0 * x));
+  };
   if (t < 0.5) {
     const double s = t / 0.5;  // blue -> white
     return {to_byte(s), to_byte(s), 255};
@@ -65,7 +67,9 @@ VertexColors VertexDistortionColors(const TriangleMesh& mesh,
 int RunParam(const std::vector<std::string>& argv) {
   const Args args(argv, {"lambda", "json", "colors", "threads"}, {"quiet"});
   args.RequirePositionals(1, std::string("MESH (") + kParamUsage + ")");
-  if (!args.Has("output")) throw UsageError{std::string("missing -o SPHERE_MESH (") + kParamUsage + ")"};
+  if (!args.Has("output"))
+    throw UsageError{std::string("missing -o SPHERE_MESH (") + kParamUsage +
+                     ")"};
   const std::string& path = args.positionals()[0];
   const std::string output = args.Get("output");
   SphericalParameterizationOptions options;
@@ -75,9 +79,11 @@ int RunParam(const std::vector<std::string>& argv) {
   const std::string colors = args.Get("colors", "");
   if (args.Has("colors")) {
     if (colors != "angle" && colors != "area") {
-      throw UsageError{"--colors takes 'angle' or 'area', not '" + colors + "'"};
+      throw UsageError{"--colors takes 'angle' or 'area', not '" + colors +
+                       "'"};
     }
-    const std::string ext = output.size() >= 4 ? output.substr(output.size() - 4) : "";
+    const std::string ext =
+        output.size() >= 4 ? output.substr(output.size() - 4) : "";
     if (ext != ".ply" && ext != ".PLY") {
       throw UsageError{"--colors needs a .ply output file"};
     }
@@ -85,7 +91,8 @@ int RunParam(const std::vector<std::string>& argv) {
   const bool show_progress = !args.Has("quiet") && isatty(STDERR_FILENO);
   if (show_progress) {
     options.progress = [](const std::string& stage, double fraction) {
-      std::fprintf(stderr, "\rsdcb param: %-10s %5.1f%%", stage.c_str(), 100.0 * fraction);
+      std::fprintf(stderr, "\rsdcb param: %-10s %5.1f%%", stage.c_str(),
+                   100.0 * fraction);
       std::fflush(stderr);
     };
   }
@@ -96,21 +103,26 @@ int RunParam(const std::vector<std::string>& argv) {
   if (!intake.ok()) return ReportError(intake.WithPrefix(path));
 
   const auto start = std::chrono::steady_clock::now();
-  StatusOr<SphericalParameterization> param = ParameterizeOnSphere(*mesh, options);
+  StatusOr<SphericalParameterization> param =
+      ParameterizeOnSphere(*mesh, options);
   const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
   if (show_progress) std::fprintf(stderr, "\n");
   if (!param.ok()) return ReportError(param.status().WithPrefix(path));
   StatusOr<ParameterizationDistortion> distortion =
       MeasureParameterizationDistortion(*mesh, param->sphere);
-  if (!distortion.ok()) return ReportError(distortion.status().WithPrefix(path));
+  if (!distortion.ok())
+    return ReportError(distortion.status().WithPrefix(path));
   const ParameterizationDistortion& d = *distortion;
 
   MeshWriteOptions write_options;
   if (colors == "angle") {
-    write_options.colors = VertexDistortionColors(*mesh, d.face_angle_distortion, d.face_mesh_area);
+    write_options.colors = VertexDistortionColors(
+        *mesh, d.face_angle_distortion, d.face_mesh_area);
   } else if (colors == "area") {
-    write_options.colors = VertexDistortionColors(*mesh, d.face_area_distortion, d.face_mesh_area);
+    write_options.colors =
+        VertexDistortionColors(*mesh, d.face_area_distortion, d.face_mesh_area);
   }
   const TriangleMesh sphere_mesh{param->sphere, mesh->faces};
   const Status written = WriteMesh(output, sphere_mesh, write_options);
@@ -132,15 +144,17 @@ int RunParam(const std::vector<std::string>& argv) {
     j["levels"] = param->levels;
     j["base_vertices"] = param->base_vertices;
     j["seconds"] = seconds;
-    const Status json_written = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
+    const Status json_written =
+        WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
     if (!json_written.ok()) return ReportError(json_written);
   }
   if (!args.Has("quiet") && args.Get("json") != "-") {
-    std::printf("%s -> %s: %d flipped triangles, E_angle avg %.4f max %.4g, "
-                "E_area avg %.4f max %.4g, %.2f s\n",
-                path.c_str(), output.c_str(), d.flipped_triangles, d.angle_distortion_avg,
-                d.angle_distortion_max, d.area_distortion_avg, d.area_distortion_max,
-                seconds);
+    std::printf(
+        "%s -> %s: %d flipped triangles, E_angle avg %.4f max %.4g, "
+        "E_area avg %.4f max %.4g, %.2f s\n",
+        path.c_str(), output.c_str(), d.flipped_triangles,
+        d.angle_distortion_avg, d.angle_distortion_max, d.area_distortion_avg,
+        d.area_distortion_max, seconds);
   }
   return kExitOk;
 }

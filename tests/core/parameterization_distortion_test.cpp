@@ -1,5 +1,4 @@
 #include "core/parameterization_distortion.h"
-#include "core/sphere_geometry.h"
 
 #include <gtest/gtest.h>
 
@@ -7,6 +6,8 @@
 #include <cmath>
 #include <map>
 #include <random>
+
+#include "core/sphere_geometry.h"
 
 namespace sdcb {
 namespace {
@@ -23,16 +24,17 @@ TriangleMesh Icosphere(int levels) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   TriangleMesh m;
   m.vertices.resize(12, 3);
-  m.vertices << -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0, -1, -t,
-      0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1;
+  m.vertices << -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0,
+      -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1;
   m.vertices.rowwise().normalize();
   m.faces.resize(20, 3);
-  m.faces << 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10,
-      2, 10, 7, 6, 7, 1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4,
-      11, 6, 2, 10, 8, 6, 7, 9, 8, 1;
+  m.faces << 0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4,
+      11, 10, 2, 10, 7, 6, 7, 1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9,
+      4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1;
   for (int l = 0; l < levels; ++l) {
     std::vector<Vector3d> v;
-    for (int i = 0; i < m.num_vertices(); ++i) v.push_back(m.vertices.row(i).transpose());
+    for (int i = 0; i < m.num_vertices(); ++i)
+      v.push_back(m.vertices.row(i).transpose());
     std::map<std::pair<int, int>, int> mid;
     auto midpoint = [&](int a, int b) {
       const auto key = std::minmax(a, b);
@@ -63,18 +65,21 @@ TEST(ParameterizationDistortion, AffineStretchGivesSingularValueRatio) {
   // values are s1 and s2, so eq. (10) must give s1/s2 + s2/s1.
   const Vector3d m0(0.1, -0.3, 0.0), m1(1.3, 0.2, 0.0), m2(0.4, 0.9, 0.0);
   const double s1 = 2.5, s2 = 0.7, angle = 0.6;
-  Eigen::Matrix3d rotation = Eigen::AngleAxisd(angle, Vector3d::UnitZ()).toRotationMatrix();
-  const Eigen::Matrix3d a = rotation * Vector3d(s1, s2, 1.0).asDiagonal() * rotation.transpose();
+  Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(angle, Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d a =
+      rotation * Vector3d(s1, s2, 1.0).asDiagonal() * rotation.transpose();
   const MeshTriangleShape shape = ComputeMeshTriangleShape(m0, m1, m2, 1.0);
   const Vector3d t0 = a * m0, t1 = a * m1, t2 = a * m2;
   const double weighted = shape.cot[0] * (t2 - t1).squaredNorm() +
                           shape.cot[1] * (t0 - t2).squaredNorm() +
                           shape.cot[2] * (t1 - t0).squaredNorm();
   const double flat_area = 0.5 * (t1 - t0).cross(t2 - t0).norm();
-  EXPECT_NEAR(AngleDistortionFormula(weighted, flat_area), s1 / s2 + s2 / s1, 1e-12);
-  // The area ratio of the map is s1 * s2.
-  EXPECT_NEAR(AreaDistortionFormula(shape.area, flat_area), s1 * s2 + 1.0 / (s1 * s2),
+  EXPECT_NEAR(AngleDistortionFormula(weighted, flat_area), s1 / s2 + s2 / s1,
               1e-12);
+  // The area ratio of the map is s1 * s2.
+  EXPECT_NEAR(AreaDistortionFormula(shape.area, flat_area),
+              s1 * s2 + 1.0 / (s1 * s2), 1e-12);
 }
 
 TEST(ParameterizationDistortion, SmallSimilarTriangleOnSphere) {
@@ -88,7 +93,8 @@ TEST(ParameterizationDistortion, SmallSimilarTriangleOnSphere) {
     const Vector3d s1 = (c + 0.1 * RandomUnit(rng)).normalized();
     const Vector3d s2 = (c + 0.1 * RandomUnit(rng)).normalized();
     if (Det3(s0, s1, s2) <= 0) continue;
-    const MeshTriangleShape shape = ComputeMeshTriangleShape(3 * s0, 3 * s1, 3 * s2, 1.0);
+    const MeshTriangleShape shape =
+        ComputeMeshTriangleShape(3 * s0, 3 * s1, 3 * s2, 1.0);
     const double chord_area = 0.5 * (s1 - s0).cross(s2 - s0).norm();
     EXPECT_NEAR(AngleDistortion(shape, s0, s1, s2),
                 2.0 * chord_area / SphericalTriangleArea(s0, s1, s2), 1e-12);
@@ -125,13 +131,15 @@ TEST(ParameterizationDistortion, SphericalAreaSumsToFourPi) {
   const TriangleMesh sphere = Icosphere(3);
   double total = 0.0;
   for (int f = 0; f < sphere.num_faces(); ++f) {
-    total += SphericalTriangleArea(sphere.vertices.row(sphere.faces(f, 0)).transpose(),
-                                   sphere.vertices.row(sphere.faces(f, 1)).transpose(),
-                                   sphere.vertices.row(sphere.faces(f, 2)).transpose());
+    total += SphericalTriangleArea(
+        sphere.vertices.row(sphere.faces(f, 0)).transpose(),
+        sphere.vertices.row(sphere.faces(f, 1)).transpose(),
+        sphere.vertices.row(sphere.faces(f, 2)).transpose());
   }
   EXPECT_NEAR(total, 4.0 * M_PI, 1e-10);
   // Octant triangle: area pi/2 (Girard: 3 right angles - pi).
-  EXPECT_NEAR(SphericalTriangleArea(Vector3d::UnitX(), Vector3d::UnitY(), Vector3d::UnitZ()),
+  EXPECT_NEAR(SphericalTriangleArea(Vector3d::UnitX(), Vector3d::UnitY(),
+                                    Vector3d::UnitZ()),
               M_PI / 2, 1e-14);
 }
 
@@ -152,8 +160,9 @@ TEST(ParameterizationDistortion, EnergyGradientMatchesFiniteDifferences) {
       Vector3d s[3];
       for (auto& x : s) x = (c + 0.3 * RandomUnit(rng)).normalized();
       if (Det3(s[0], s[1], s[2]) < 0) std::swap(s[1], s[2]);
-      const MeshTriangleShape shape = ComputeMeshTriangleShape(
-          Vector3d(0, 0, 0), Vector3d(0.2, 0.01, 0.05), Vector3d(0.05, 0.15, -0.02), 1.0);
+      const MeshTriangleShape shape =
+          ComputeMeshTriangleShape(Vector3d(0, 0, 0), Vector3d(0.2, 0.01, 0.05),
+                                   Vector3d(0.05, 0.15, -0.02), 1.0);
       Vector3d gradient;
       TriangleEnergy(shape, s[0], s[1], s[2], lambda, &gradient);
       for (int k = 0; k < 3; ++k) {
@@ -164,7 +173,8 @@ TEST(ParameterizationDistortion, EnergyGradientMatchesFiniteDifferences) {
         const double fd = (TriangleEnergy(shape, plus, s[1], s[2], lambda) -
                            TriangleEnergy(shape, minus, s[1], s[2], lambda)) /
                           (2 * h);
-        EXPECT_NEAR(gradient[k], fd, 1e-5 * (1.0 + std::abs(fd))) << lambda << " " << k;
+        EXPECT_NEAR(gradient[k], fd, 1e-5 * (1.0 + std::abs(fd)))
+            << lambda << " " << k;
       }
     }
   }
