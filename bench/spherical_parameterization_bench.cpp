@@ -2,7 +2,7 @@
 // parameterization (Sec. 4.3) for meshes of CGAL's data set.
 // Usage: spherical_parameterization_bench [MESH.off ...] [--lambda L ...]
 //   [--threads T] [--level-sweeps N] [--finest-sweeps N] [--tolerance R]
-//   [--lambda-growth G] [--verbose]
+//   [--lambda-growth G] [--coarse-lambda L] [--verbose]
 // Default: bunny00.off at lambda = 0.2, 1 and 10 (the paper's Bunny).
 #include <chrono>
 #include <cstdio>
@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
       finest_sweeps = defaults.finest_sweeps;
   double tolerance = defaults.relative_tolerance,
          lambda_growth = defaults.lambda_growth;
+  double coarse_lambda = defaults.coarse_lambda;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--lambda" && i + 1 < argc) {
@@ -34,6 +35,8 @@ int main(int argc, char** argv) {
       finest_sweeps = std::atoi(argv[++i]);
     } else if (a == "--tolerance" && i + 1 < argc) {
       tolerance = std::atof(argv[++i]);
+    } else if (a == "--coarse-lambda" && i + 1 < argc) {
+      coarse_lambda = std::atof(argv[++i]);
     } else if (a == "--lambda-growth" && i + 1 < argc) {
       lambda_growth = std::atof(argv[++i]);
     } else if (a == "--verbose") {
@@ -66,6 +69,7 @@ int main(int argc, char** argv) {
       options.finest_sweeps = finest_sweeps;
       options.relative_tolerance = tolerance;
       options.lambda_growth = lambda_growth;
+      options.coarse_lambda = coarse_lambda;
       const auto start = std::chrono::steady_clock::now();
       if (verbose) {
         options.progress = [start](const std::string& stage, double fraction) {

@@ -157,13 +157,17 @@ class LevelOptimizer {
   // or `max_sweeps` were run. Returns the final energy.
   double Optimize(Eigen::MatrixX3d* sphere, int max_sweeps, double tolerance) {
     double energy = Energy(*sphere);
+    // Active set: a vertex is visited again only if it or a neighbor moved
+    // in the previous sweep (else its one-ring energy is unchanged and the
+    // line search already failed there).
+    std::vector<char> active(decrease_.size(), 1);
     for (int sweep = 0; sweep < max_sweeps; ++sweep) {
       std::fill(decrease_.begin(), decrease_.end(), 0.0);
       for (const std::vector<int>& cls : color_classes_) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, cls.size(), 64),
                           [&](const tbb::blocked_range<size_t>& r) {
                             for (size_t i = r.begin(); i != r.end(); ++i) {
-                              MoveVertex(cls[i], sphere);
+                              if (active[cls[i]]) MoveVertex(cls[i], sphere);
                             }
                           });
       }
@@ -171,6 +175,17 @@ class LevelOptimizer {
       for (double d : decrease_) decrease += d;  // fixed order
       energy -= decrease;
       if (decrease < tolerance * energy) break;
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, active.size(), 1024),
+                        [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t v = r.begin(); v != r.end(); ++v) {
+                            bool moved = decrease_[v] > 0.0;
+                            for (int k = offset_[v];
+                                 k < offset_[v + 1] && !moved; ++k) {
+                              moved = decrease_[incidences_[k].a] > 0.0;
+                            }
+                            active[v] = moved;
+                          }
+                        });
     }
     return energy;
   }
@@ -485,13 +500,21 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
     LevelOptimizer optimizer(mesh.vertices, options.lambda);
     optimizer.Prepare(level, sphere);
     // Continuation in lambda: a large lambda makes eq. (12) so stiff that
-    // descent from the Tutte embedding stalls. Coarse levels use
-    // min(lambda, 1); the finest level multiplies it by `lambda_growth` per
-    // round up to the requested value.
-    const double coarse_lambda = std::min(1.0, options.lambda);
-    optimizer.set_lambda(coarse_lambda);
-    result.energy = optimizer.Optimize(&sphere, options.base_sweeps,
-                                       options.relative_tolerance);
+    // descent from the Tutte embedding stalls. Rounds of `sweeps` with lambda
+    // growing by `lambda_growth` from `from` up to `to`.
+    auto optimize_rising = [&](double from, double to, int sweeps) {
+      for (double lambda = from;;
+           lambda = std::min(options.lambda_growth * lambda, to)) {
+        optimizer.set_lambda(lambda);
+        result.energy =
+            optimizer.Optimize(&sphere, sweeps, options.relative_tolerance);
+        if (lambda >= to) break;
+      }
+    };
+    const double start_lambda = std::min(1.0, options.lambda);
+    const double coarse_lambda =
+        std::min(options.lambda, options.coarse_lambda);
+    optimize_rising(start_lambda, coarse_lambda, options.base_sweeps);
     result.levels = 1;
     int alive = result.base_vertices;
     size_t next = hierarchy.collapses.size();
@@ -509,13 +532,10 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
         ++alive;
       }
       optimizer.Prepare(level, sphere);
-      for (double lambda = coarse_lambda;;
-           lambda = std::min(options.lambda_growth * lambda, options.lambda)) {
-        optimizer.set_lambda(lambda);
-        result.energy = optimizer.Optimize(
-            &sphere, next == 0 ? options.finest_sweeps : options.level_sweeps,
-            options.relative_tolerance);
-        if (next > 0 || lambda >= options.lambda) break;
+      if (next > 0) {
+        optimize_rising(coarse_lambda, coarse_lambda, options.level_sweeps);
+      } else {
+        optimize_rising(coarse_lambda, options.lambda, options.finest_sweeps);
       }
       ++result.levels;
     }

@@ -54,11 +54,14 @@ struct SphericalParameterizationOptions {
   // `relative_tolerance` of E.
   int base_sweeps = 300;
   int level_sweeps = 30;
-  int finest_sweeps = 60;
+  int finest_sweeps = 20;
   double relative_tolerance = 1e-4;
-  // Continuation for lambda > 1: coarse levels are optimized with lambda = 1;
-  // the finest level runs rounds of `finest_sweeps` with lambda multiplied by
-  // this factor each round until it reaches `lambda`.
+  // Continuation for lambda > 1 (a stiff energy stalls descent from a poor
+  // start): the base mesh starts at lambda = 1 and rises to
+  // min(lambda, coarse_lambda), used on every level but the finest, which
+  // rises on to `lambda`. Each rise multiplies lambda by `lambda_growth` per
+  // round of sweeps.
+  double coarse_lambda = 1.0;
   double lambda_growth = 2.0;
   // Called with a stage name and the finished fraction in [0, 1].
   std::function<void(const std::string& stage, double fraction)> progress;
