@@ -8,9 +8,10 @@
 #ifndef SDCB_CORE_DELAUNAY_CONFIGURATIONS_H_
 #define SDCB_CORE_DELAUNAY_CONFIGURATIONS_H_
 
-#include <Eigen/Core>
 #include <array>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "core/status.h"
 

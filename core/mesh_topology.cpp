@@ -101,8 +101,8 @@ StatusOr<MeshTopologyReport> AnalyzeMeshTopology(const TriangleMesh& mesh) {
     for (int k = 0; k < 3; ++k) {
       const int from = mesh.faces(f, k), to = mesh.faces(f, (k + 1) % 3);
       if (from == to) continue;
-      half_edges.push_back(
-          {std::min(from, to), std::max(from, to), from, to, f, 3 * f + k});
+      half_edges.push_back({std::min(from, to), std::max(from, to), from, to,
+                            f, 3 * f + k});
     }
   }
   std::sort(half_edges.begin(), half_edges.end(),
@@ -174,8 +174,7 @@ StatusOr<MeshTopologyReport> AnalyzeMeshTopology(const TriangleMesh& mesh) {
   std::vector<int> vertices_per_root(nv, 0), faces_per_root(nv, 0),
       loops_per_root(nv, 0);
   std::vector<char> is_root(nv, 0);
-  for (int f = 0; f < nf; ++f)
-    ++faces_per_root[vertex_sets.Find(mesh.faces(f, 0))];
+  for (int f = 0; f < nf; ++f) ++faces_per_root[vertex_sets.Find(mesh.faces(f, 0))];
   for (int v = 0; v < nv; ++v) {
     if (!referenced[v]) {
       ++r.unreferenced_vertices;
@@ -196,8 +195,7 @@ StatusOr<MeshTopologyReport> AnalyzeMeshTopology(const TriangleMesh& mesh) {
   int genus_twice = 0;
   for (int v = 0; v < nv; ++v) {
     if (!is_root[v]) continue;
-    const int chi =
-        vertices_per_root[v] - edges_per_root[v] + faces_per_root[v];
+    const int chi = vertices_per_root[v] - edges_per_root[v] + faces_per_root[v];
     r.euler_characteristic += chi;
     genus_twice += 2 - chi - loops_per_root[v];
   }
@@ -221,8 +219,7 @@ std::string DescribeTopologyProblem(const MeshTopologyReport& r) {
   if (r.boundary_edges > 0) {
     return "mesh is an open surface with " + n(r.boundary_edges) +
            " boundary edges in " + n(r.boundary_loops) +
-           (r.boundary_loops == 1 ? " boundary loop" : " boundary loops") +
-           need;
+           (r.boundary_loops == 1 ? " boundary loop" : " boundary loops") + need;
   }
   if (r.non_manifold_vertices > 0) {
     return "mesh has " + n(r.non_manifold_vertices) +

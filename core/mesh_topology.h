@@ -11,20 +11,18 @@
 namespace sdcb {
 
 struct MeshTopologyReport {
-  int vertices = 0;               // all vertices in the file
-  int faces = 0;                  // triangles (after triangulating polygons)
-  int edges = 0;                  // distinct undirected edges
-  int boundary_edges = 0;         // edges with exactly one incident triangle
-  int boundary_loops = 0;         // closed chains of boundary edges
-  int non_manifold_edges = 0;     // edges with three or more incident triangles
+  int vertices = 0;  // all vertices in the file
+  int faces = 0;     // triangles (after triangulating polygons)
+  int edges = 0;     // distinct undirected edges
+  int boundary_edges = 0;       // edges with exactly one incident triangle
+  int boundary_loops = 0;       // closed chains of boundary edges
+  int non_manifold_edges = 0;   // edges with three or more incident triangles
   int non_manifold_vertices = 0;  // vertices whose triangles form several fans
-  int inconsistently_oriented_edges =
-      0;                          // interior edges used twice the same way
+  int inconsistently_oriented_edges = 0;  // interior edges used twice the same way
   int unreferenced_vertices = 0;  // vertices no triangle uses
-  int duplicate_vertices =
-      0;  // vertices at exactly the position of an earlier one
-  int degenerate_faces = 0;  // zero-area triangles (exact collinearity test)
-  int components = 0;        // connected components of the triangles
+  int duplicate_vertices = 0;  // vertices at exactly the position of an earlier one
+  int degenerate_faces = 0;    // zero-area triangles (exact collinearity test)
+  int components = 0;          // connected components of the triangles
   // V - E + F over the referenced vertices.
   int euler_characteristic = 0;
   // Total genus sum_c (2 - chi_c - b_c) / 2; meaningful for manifold meshes.

@@ -20,8 +20,7 @@ int SignOf(CGAL::Orientation o) {
 int Orient3dSign(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                  const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
   // CGAL::orientation(p, q, r, s) is the sign of det[q-p, r-p, s-p].
-  return SignOf(
-      CGAL::orientation(ToPoint(a), ToPoint(b), ToPoint(c), ToPoint(d)));
+  return SignOf(CGAL::orientation(ToPoint(a), ToPoint(b), ToPoint(c), ToPoint(d)));
 }
 
 int Det3Sign(const Eigen::Vector3d& a, const Eigen::Vector3d& b,

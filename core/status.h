@@ -91,16 +91,15 @@ class [[nodiscard]] StatusOr {
 #define SDCB_STATUS_CONCAT_(a, b) SDCB_STATUS_CONCAT_INNER_(a, b)
 
 // Returns from the current function if `expr` yields a non-ok Status.
-#define SDCB_RETURN_IF_ERROR(expr)               \
-  do {                                           \
-    const ::sdcb::Status sdcb_status_ = (expr);  \
+#define SDCB_RETURN_IF_ERROR(expr)          \
+  do {                                      \
+    const ::sdcb::Status sdcb_status_ = (expr); \
     if (!sdcb_status_.ok()) return sdcb_status_; \
   } while (0)
 
 // `lhs` = value of the StatusOr `expr`, or return its Status.
-#define SDCB_ASSIGN_OR_RETURN(lhs, expr)                                    \
-  SDCB_ASSIGN_OR_RETURN_IMPL_(SDCB_STATUS_CONCAT_(sdcb_or_, __LINE__), lhs, \
-                              expr)
+#define SDCB_ASSIGN_OR_RETURN(lhs, expr) \
+  SDCB_ASSIGN_OR_RETURN_IMPL_(SDCB_STATUS_CONCAT_(sdcb_or_, __LINE__), lhs, expr)
 #define SDCB_ASSIGN_OR_RETURN_IMPL_(tmp, lhs, expr) \
   auto tmp = (expr);                                \
   if (!tmp.ok()) return tmp.status();               \
