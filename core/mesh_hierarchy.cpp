@@ -188,14 +188,21 @@ StatusOr<MeshHierarchy> BuildMeshHierarchy(
   Collapser collapser(mesh, options);
   std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>>
       queue;
-  auto push_edges = [&](int a) {
+  // Queues the edges of `a`, except those to vertices in `skip` with a
+  // smaller index (they are queued from the other end).
+  auto push_edges = [&](int a, const std::vector<int>& skip) {
     for (int b : collapser.Neighbors(a)) {
+      if (b < a && std::find(skip.begin(), skip.end(), b) != skip.end()) continue;
       const int lo = std::min(a, b), hi = std::max(a, b);
       queue.emplace(collapser.Length(lo, hi), lo, hi, collapser.stamp(lo),
                     collapser.stamp(hi));
     }
   };
-  for (int a = 0; a < mesh.num_vertices(); ++a) push_edges(a);
+  for (int a = 0; a < mesh.num_vertices(); ++a) {
+    for (int b : collapser.Neighbors(a)) {
+      if (a < b) queue.emplace(collapser.Length(a, b), a, b, 0, 0);
+    }
+  }
 
   std::vector<HalfEdgeCollapse> collapses;
   HalfEdgeCollapse record;
@@ -214,7 +221,7 @@ StatusOr<MeshHierarchy> BuildMeshHierarchy(
     // are queued again.
     std::vector<int> changed = record.link;
     for (int w : changed) collapser.Touch(w);
-    for (int w : changed) push_edges(w);
+    for (int w : changed) push_edges(w, changed);
     collapses.push_back(record);
   }
   return collapser.Release(std::move(collapses));

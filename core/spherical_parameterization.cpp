@@ -401,7 +401,7 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
   }
   // A few descent steps of the new vertex alone, so that vertices split
   // next to it later in the same level find a fat one-ring.
-  constexpr int kRelaxSteps = 8;
+  constexpr int kRelaxSteps = 3;
   std::vector<MeshTriangleShape> shapes(k);
   for (size_t i = 0; i < k; ++i) {
     shapes[i] = ComputeMeshTriangleShape(
