@@ -2,7 +2,8 @@
 // parameterization (Sec. 4.3) for meshes of CGAL's data set.
 // Usage: spherical_parameterization_bench [MESH.off ...] [--lambda L ...]
 //   [--threads T] [--level-sweeps N] [--finest-sweeps N] [--tolerance R]
-//   [--lambda-growth G] [--coarse-lambda L] [--verbose]
+//   [--lambda-growth G] [--coarse-lambda L] [--rising-levels N]
+//   [--level-growth G] [--base-vertices N] [--verbose]
 // Default: bunny00.off at lambda = 0.2, 1 and 10 (the paper's Bunny).
 #include <chrono>
 #include <cstdio>
@@ -25,6 +26,9 @@ int main(int argc, char** argv) {
   double tolerance = defaults.relative_tolerance,
          lambda_growth = defaults.lambda_growth;
   double coarse_lambda = defaults.coarse_lambda;
+  int rising_levels = defaults.rising_levels;
+  double level_growth = defaults.level_growth;
+  int base_vertices = defaults.base_vertices;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--lambda" && i + 1 < argc) {
@@ -35,6 +39,12 @@ int main(int argc, char** argv) {
       finest_sweeps = std::atoi(argv[++i]);
     } else if (a == "--tolerance" && i + 1 < argc) {
       tolerance = std::atof(argv[++i]);
+    } else if (a == "--level-growth" && i + 1 < argc) {
+      level_growth = std::atof(argv[++i]);
+    } else if (a == "--base-vertices" && i + 1 < argc) {
+      base_vertices = std::atoi(argv[++i]);
+    } else if (a == "--rising-levels" && i + 1 < argc) {
+      rising_levels = std::atoi(argv[++i]);
     } else if (a == "--coarse-lambda" && i + 1 < argc) {
       coarse_lambda = std::atof(argv[++i]);
     } else if (a == "--lambda-growth" && i + 1 < argc) {
@@ -70,6 +80,9 @@ int main(int argc, char** argv) {
       options.relative_tolerance = tolerance;
       options.lambda_growth = lambda_growth;
       options.coarse_lambda = coarse_lambda;
+      options.rising_levels = rising_levels;
+      options.level_growth = level_growth;
+      options.base_vertices = base_vertices;
       const auto start = std::chrono::steady_clock::now();
       if (verbose) {
         options.progress = [start](const std::string& stage, double fraction) {

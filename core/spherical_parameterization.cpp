@@ -532,11 +532,13 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
         ++alive;
       }
       optimizer.Prepare(level, sphere);
-      if (next > 0) {
-        optimize_rising(coarse_lambda, coarse_lambda, options.level_sweeps);
-      } else {
-        optimize_rising(coarse_lambda, options.lambda, options.finest_sweeps);
-      }
+      // Levels within `rising_levels` of the finest raise lambda to its
+      // final value.
+      const bool rising = static_cast<double>(mesh.num_vertices()) <=
+                          alive * std::pow(options.level_growth, options.rising_levels - 1);
+      const double from = optimizer.lambda();
+      const double to = rising ? options.lambda : coarse_lambda;
+      optimize_rising(from, to, next > 0 ? options.level_sweeps : options.finest_sweeps);
       ++result.levels;
     }
     result.sphere = std::move(sphere);

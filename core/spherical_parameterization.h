@@ -63,6 +63,8 @@ struct SphericalParameterizationOptions {
   // round of sweeps.
   double coarse_lambda = 1.0;
   double lambda_growth = 2.0;
+  // How many of the finest levels raise lambda (1: the finest only).
+  int rising_levels = 1;
   // Called with a stage name and the finished fraction in [0, 1].
   std::function<void(const std::string& stage, double fraction)> progress;
 };
