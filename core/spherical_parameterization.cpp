@@ -534,11 +534,13 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
       optimizer.Prepare(level, sphere);
       // Levels within `rising_levels` of the finest raise lambda to its
       // final value.
-      const bool rising = static_cast<double>(mesh.num_vertices()) <=
-                          alive * std::pow(options.level_growth, options.rising_levels - 1);
+      const bool rising =
+          static_cast<double>(mesh.num_vertices()) <=
+          alive * std::pow(options.level_growth, options.rising_levels - 1);
       const double from = optimizer.lambda();
       const double to = rising ? options.lambda : coarse_lambda;
-      optimize_rising(from, to, next > 0 ? options.level_sweeps : options.finest_sweeps);
+      optimize_rising(from, to,
+                      next > 0 ? options.level_sweeps : options.finest_sweeps);
       ++result.levels;
     }
     result.sphere = std::move(sphere);

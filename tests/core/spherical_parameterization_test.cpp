@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <cstdio>
 #include <string>
 
 #include "core/parameterization_distortion.h"
@@ -73,9 +74,9 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"cow.off", 10}, Case{"fandisk.off", 1},
                       Case{"bunny00.off", 1}),
     [](const ::testing::TestParamInfo<Case>& info) {
-      std::string name =
-          std::string(info.param.mesh) + "_lambda_" +
-          std::to_string(static_cast<int>(info.param.lambda * 10));
+      char lambda[32];
+      std::snprintf(lambda, sizeof(lambda), "%g", info.param.lambda);
+      std::string name = std::string(info.param.mesh) + "_lambda_" + lambda;
       for (char& c : name) {
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
       }
