@@ -18,6 +18,7 @@ class Collapser {
         face_alive_(mesh.num_faces(), true),
         vertex_alive_(mesh.num_vertices(), true),
         vertex_faces_(mesh.num_vertices()),
+        stamp_(mesh.num_vertices(), 0),
         alive_vertices_(mesh.num_vertices()),
         cos_max_turn_(std::cos(options.max_normal_turn_degrees * M_PI / 180.0)),
         min_quality_(options.min_triangle_quality) {
@@ -95,6 +96,8 @@ class Collapser {
     return true;
   }
 
+  int stamp(int x) const { return stamp_[x]; }
+  void Touch(int x) { ++stamp_[x]; }
   bool vertex_alive(int x) const { return vertex_alive_[x]; }
   double Length(int a, int b) const {
     return (positions_.row(a) - positions_.row(b)).norm();
@@ -165,13 +168,15 @@ class Collapser {
   std::vector<bool> face_alive_;
   std::vector<bool> vertex_alive_;
   std::vector<std::vector<int>> vertex_faces_;
+  std::vector<int> stamp_;
   int alive_vertices_;
   double cos_max_turn_;
   double min_quality_;
 };
 
-// A candidate edge: its length and its end points (a < b).
-using QueueEntry = std::tuple<double, int, int>;
+// A candidate edge: its length, its end points (a < b) and their stamps
+// when it was queued (stale entries are skipped).
+using QueueEntry = std::tuple<double, int, int, int, int>;
 
 }  // namespace
 
@@ -181,34 +186,42 @@ StatusOr<MeshHierarchy> BuildMeshHierarchy(
     return InvalidArgumentError("base_vertices must be at least 4");
   }
   Collapser collapser(mesh, options);
-  // Edge lengths never change (kept vertices stay at their input
-  // positions), so queued keys stay valid; whether a collapse is allowed is
-  // decided when the edge is popped. Duplicates and edges of removed
-  // vertices are skipped then.
   std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>>
       queue;
+  // Queues the edges of `a`, except those to vertices in `skip` with a
+  // smaller index (they are queued from the other end).
+  auto push_edges = [&](int a, const std::vector<int>& skip) {
+    for (int b : collapser.Neighbors(a)) {
+      if (b < a && std::find(skip.begin(), skip.end(), b) != skip.end()) continue;
+      const int lo = std::min(a, b), hi = std::max(a, b);
+      queue.emplace(collapser.Length(lo, hi), lo, hi, collapser.stamp(lo),
+                    collapser.stamp(hi));
+    }
+  };
   for (int a = 0; a < mesh.num_vertices(); ++a) {
     for (int b : collapser.Neighbors(a)) {
-      if (a < b) queue.emplace(collapser.Length(a, b), a, b);
+      if (a < b) queue.emplace(collapser.Length(a, b), a, b, 0, 0);
     }
   }
+
   std::vector<HalfEdgeCollapse> collapses;
   HalfEdgeCollapse record;
   while (!queue.empty() && collapser.alive_vertices() > options.base_vertices) {
-    const auto [length, a, b] = queue.top();
+    const auto [length, a, b, stamp_a, stamp_b] = queue.top();
     queue.pop();
-    if (!collapser.vertex_alive(a) || !collapser.vertex_alive(b)) continue;
+    if (!collapser.vertex_alive(a) || !collapser.vertex_alive(b) ||
+        stamp_a != collapser.stamp(a) || stamp_b != collapser.stamp(b)) {
+      continue;
+    }
     if (!collapser.TryCollapse(a, b, &record) &&
         !collapser.TryCollapse(b, a, &record)) {
       continue;
     }
-    // The kept vertex has new edges (to the removed vertex's link) and
-    // changed faces: queue its edges (again).
-    for (int w : record.link) {
-      if (w == record.kept) continue;
-      const int lo = std::min(w, record.kept), hi = std::max(w, record.kept);
-      queue.emplace(collapser.Length(lo, hi), lo, hi);
-    }
+    // Every vertex whose neighborhood changed gets a new stamp and its edges
+    // are queued again.
+    std::vector<int> changed = record.link;
+    for (int w : changed) collapser.Touch(w);
+    for (int w : changed) push_edges(w, changed);
     collapses.push_back(record);
   }
   return collapser.Release(std::move(collapses));
