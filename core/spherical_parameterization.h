@@ -21,8 +21,10 @@
 //    triangle and are updated in parallel: the result does not depend on
 //    the number of threads.
 // 4. Undo collapses level by level (vertex splits). A new vertex is placed
-//    inside the kernel of its one-ring on the sphere (checked exactly),
-//    then step 3 runs on the level.
+//    inside the kernel of its one-ring on the sphere (checked exactly, the
+//    fattest of a few candidates), relaxed by a few descent steps, then
+//    step 3 runs on the level.
+// 5. For lambda > 1, lambda rises gradually (continuation, see the options).
 // A final exact check verifies every triangle's orientation and that the
 // triangles cover the sphere once (total spherical area 4*pi).
 #ifndef SDCB_CORE_SPHERICAL_PARAMETERIZATION_H_
@@ -58,13 +60,13 @@ struct SphericalParameterizationOptions {
   double relative_tolerance = 1e-4;
   // Continuation for lambda > 1 (a stiff energy stalls descent from a poor
   // start): the base mesh starts at lambda = 1 and rises to
-  // min(lambda, coarse_lambda), used on every level but the finest, which
-  // rises on to `lambda`. Each rise multiplies lambda by `lambda_growth` per
-  // round of sweeps.
+  // min(lambda, coarse_lambda), used on the following levels except the
+  // last `rising_levels` ones, which rise on to `lambda`. A rise multiplies
+  // lambda by `lambda_growth` per round of sweeps (`level_sweeps`, or
+  // `finest_sweeps` on the finest level).
   double coarse_lambda = 1.0;
   double lambda_growth = 2.0;
-  // How many of the finest levels raise lambda (1: the finest only).
-  int rising_levels = 1;
+  int rising_levels = 1;  // 1: only the finest level
   // Called with a stage name and the finished fraction in [0, 1].
   std::function<void(const std::string& stage, double fraction)> progress;
 };
