@@ -2,6 +2,7 @@
 // parameterization (Sec. 4.3) for meshes of CGAL's data set.
 // Usage: spherical_parameterization_bench [MESH.off ...] [--lambda L ...]
 //   [--threads T] [--level-sweeps N] [--finest-sweeps N] [--tolerance R]
+//   [--finest-tolerance R]
 //   [--lambda-growth G] [--coarse-lambda L] [--rising-levels N]
 //   [--level-growth G] [--base-vertices N] [--verbose]
 // Default: bunny00.off at lambda = 0.2, 1 and 10 (the paper's Bunny).
@@ -23,7 +24,8 @@ int main(int argc, char** argv) {
   const sdcb::SphericalParameterizationOptions defaults;
   int level_sweeps = defaults.level_sweeps,
       finest_sweeps = defaults.finest_sweeps;
-  double tolerance = defaults.relative_tolerance,
+  double tolerance = defaults.level_tolerance,
+         finest_tolerance = defaults.finest_tolerance,
          lambda_growth = defaults.lambda_growth;
   double coarse_lambda = defaults.coarse_lambda;
   int rising_levels = defaults.rising_levels;
@@ -37,6 +39,8 @@ int main(int argc, char** argv) {
       level_sweeps = std::atoi(argv[++i]);
     } else if (a == "--finest-sweeps" && i + 1 < argc) {
       finest_sweeps = std::atoi(argv[++i]);
+    } else if (a == "--finest-tolerance" && i + 1 < argc) {
+      finest_tolerance = std::atof(argv[++i]);
     } else if (a == "--tolerance" && i + 1 < argc) {
       tolerance = std::atof(argv[++i]);
     } else if (a == "--level-growth" && i + 1 < argc) {
@@ -77,7 +81,8 @@ int main(int argc, char** argv) {
       options.threads = threads;
       options.level_sweeps = level_sweeps;
       options.finest_sweeps = finest_sweeps;
-      options.relative_tolerance = tolerance;
+      options.level_tolerance = tolerance;
+      options.finest_tolerance = finest_tolerance;
       options.lambda_growth = lambda_growth;
       options.coarse_lambda = coarse_lambda;
       options.rising_levels = rising_levels;

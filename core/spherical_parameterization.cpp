@@ -502,19 +502,20 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
     // Continuation in lambda: a large lambda makes eq. (12) so stiff that
     // descent from the Tutte embedding stalls. Rounds of `sweeps` with lambda
     // growing by `lambda_growth` from `from` up to `to`.
-    auto optimize_rising = [&](double from, double to, int sweeps) {
+    auto optimize_rising = [&](double from, double to, int sweeps,
+                               double tolerance) {
       for (double lambda = from;;
            lambda = std::min(options.lambda_growth * lambda, to)) {
         optimizer.set_lambda(lambda);
-        result.energy =
-            optimizer.Optimize(&sphere, sweeps, options.relative_tolerance);
+        result.energy = optimizer.Optimize(&sphere, sweeps, tolerance);
         if (lambda >= to) break;
       }
     };
     const double start_lambda = std::min(1.0, options.lambda);
     const double coarse_lambda =
         std::min(options.lambda, options.coarse_lambda);
-    optimize_rising(start_lambda, coarse_lambda, options.base_sweeps);
+    optimize_rising(start_lambda, coarse_lambda, options.base_sweeps,
+                    options.level_tolerance);
     result.levels = 1;
     int alive = result.base_vertices;
     size_t next = hierarchy.collapses.size();
@@ -539,8 +540,13 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
           alive * std::pow(options.level_growth, options.rising_levels - 1);
       const double from = optimizer.lambda();
       const double to = rising ? options.lambda : coarse_lambda;
-      optimize_rising(from, to,
-                      next > 0 ? options.level_sweeps : options.finest_sweeps);
+      if (next > 0) {
+        optimize_rising(from, to, options.level_sweeps,
+                        options.level_tolerance);
+      } else {
+        optimize_rising(from, to, options.finest_sweeps,
+                        options.finest_tolerance);
+      }
       ++result.levels;
     }
     result.sphere = std::move(sphere);

@@ -51,13 +51,15 @@ struct SphericalParameterizationOptions {
   int base_vertices = 200;
   // Each level has about this many times the vertices of the one before.
   double level_growth = 2.0;
-  // Optimization sweeps (every vertex once) on the base mesh and on every
-  // finer level; a level stops early when a sweep lowers E by less than
-  // `relative_tolerance` of E.
+  // Optimization sweeps (every vertex once) on the base mesh, on every finer
+  // level and on the finest (input) level; a level stops early when a sweep
+  // lowers E by less than the tolerance times E. Coarse levels are cheap and
+  // decide where area goes, so they are converged further.
   int base_sweeps = 300;
-  int level_sweeps = 30;
+  int level_sweeps = 100;
   int finest_sweeps = 20;
-  double relative_tolerance = 1e-4;
+  double level_tolerance = 1e-5;
+  double finest_tolerance = 1e-4;
   // Continuation for lambda > 1 (a stiff energy stalls descent from a poor
   // start): the base mesh starts at lambda = 1 and rises to
   // min(lambda, coarse_lambda), used on the following levels except the
