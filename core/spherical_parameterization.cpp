@@ -541,8 +541,11 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
       const double from = optimizer.lambda();
       const double to = rising ? options.lambda : coarse_lambda;
       if (next > 0) {
-        optimize_rising(from, to, options.level_sweeps,
-                        options.level_tolerance);
+        const bool small =
+            alive <= options.small_level_fraction * mesh.num_vertices();
+        optimize_rising(
+            from, to, options.level_sweeps,
+            small ? options.level_tolerance : options.finest_tolerance);
       } else {
         optimize_rising(from, to, options.finest_sweeps,
                         options.finest_tolerance);
