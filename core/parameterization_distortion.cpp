@@ -62,16 +62,6 @@ double SphericalTriangleArea(const Eigen::Vector3d& s0,
                           1.0 + s0.dot(s1) + s1.dot(s2) + s2.dot(s0));
 }
 
-double AngleDistortionFormula(double cot_weighted_edges, double sphere_area) {
-  if (!(sphere_area > 0.0)) return kInf;
-  return cot_weighted_edges / (2.0 * sphere_area);  // eq. (10)
-}
-
-double AreaDistortionFormula(double mesh_area, double sphere_area) {
-  if (!(sphere_area > 0.0) || !(mesh_area > 0.0)) return kInf;
-  return sphere_area / mesh_area + mesh_area / sphere_area;  // eq. (11)
-}
-
 double AngleDistortion(const MeshTriangleShape& shape,
                        const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
                        const Eigen::Vector3d& s2) {
