@@ -49,6 +49,13 @@ MeshTriangleShape ComputeMeshTriangleShape(const Eigen::Vector3d& m0,
 // corner 0 (a rotation, orientation kept).
 MeshTriangleShape RotateShape(const MeshTriangleShape& shape, int first);
 
+// det[s0 s1 s2] as s0 . ((s1 - s0) x (s2 - s0)): the same value, but with a
+// rounding error relative to the triangle's size instead of about 1e-16
+// absolute, so it keeps its sign and digits for triangles with edges of
+// 1e-9 (Det3 does not). A value, not a decision: decisions use Det3Sign.
+double SmallTriangleDet3(const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
+                         const Eigen::Vector3d& s2);
+
 // Signed area of the spherical triangle (s0, s1, s2) (unit vectors): its
 // solid angle, in (-2*pi, 2*pi), positive when det[s0 s1 s2] > 0.
 double SphericalTriangleArea(const Eigen::Vector3d& s0,
