@@ -9,6 +9,7 @@
 namespace sdcb::cli {
 
 int RunCheck(const std::vector<std::string>& args);
+int RunParam(const std::vector<std::string>& args);
 
 }  // namespace sdcb::cli
 

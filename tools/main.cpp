@@ -18,6 +18,11 @@ Turns closed genus-0 triangle meshes into one smooth spherical DCB-spline.
 commands:
   check MESH [--json FILE]   Report the mesh's topology; exit 1 unless it is a
                              closed, manifold, single-component genus-0 mesh.
+  param MESH -o SPHERE_MESH [--lambda L] [--json FILE] [--colors angle|area]
+                             Map the mesh onto the unit sphere without folds
+                             (same vertices and faces; .obj/.off/.ply);
+                             lambda (default 1) trades angle for area
+                             distortion; --colors angle|area needs .ply.
 
 Meshes: .obj .off .ply .stl (ascii or binary). '--json -' writes to stdout.
 Exit codes: 0 success, 1 bad input (the reason is printed), 2 bad usage.
@@ -45,6 +50,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (command == "check") return RunCheck(args);
+    if (command == "param") return RunParam(args);
     std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;
   } catch (const UsageError& e) {
