@@ -4,7 +4,7 @@
 //   [--threads T] [--level-sweeps N] [--finest-sweeps N] [--tolerance R]
 //   [--finest-tolerance R]
 //   [--lambda-growth G] [--coarse-lambda L] [--rising-levels N]
-//   [--level-growth G] [--base-vertices N] [--verbose]
+//   [--level-growth G] [--base-vertices N] [--base-sweeps N] [--verbose]
 // Default: bunny00.off at lambda = 0.2, 1 and 10 (the paper's Bunny).
 #include <chrono>
 #include <cstdio>
@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   int rising_levels = defaults.rising_levels;
   double level_growth = defaults.level_growth;
   int base_vertices = defaults.base_vertices;
+  int base_sweeps = defaults.base_sweeps;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--lambda" && i + 1 < argc) {
@@ -43,6 +44,8 @@ int main(int argc, char** argv) {
       finest_tolerance = std::atof(argv[++i]);
     } else if (a == "--tolerance" && i + 1 < argc) {
       tolerance = std::atof(argv[++i]);
+    } else if (a == "--base-sweeps" && i + 1 < argc) {
+      base_sweeps = std::atoi(argv[++i]);
     } else if (a == "--level-growth" && i + 1 < argc) {
       level_growth = std::atof(argv[++i]);
     } else if (a == "--base-vertices" && i + 1 < argc) {
@@ -88,6 +91,7 @@ int main(int argc, char** argv) {
       options.rising_levels = rising_levels;
       options.level_growth = level_growth;
       options.base_vertices = base_vertices;
+      options.base_sweeps = base_sweeps;
       const auto start = std::chrono::steady_clock::now();
       if (verbose) {
         options.progress = [start](const std::string& stage, double fraction) {

@@ -192,7 +192,8 @@ StatusOr<MeshHierarchy> BuildMeshHierarchy(
   // smaller index (they are queued from the other end).
   auto push_edges = [&](int a, const std::vector<int>& skip) {
     for (int b : collapser.Neighbors(a)) {
-      if (b < a && std::find(skip.begin(), skip.end(), b) != skip.end()) continue;
+      if (b < a && std::find(skip.begin(), skip.end(), b) != skip.end())
+        continue;
       const int lo = std::min(a, b), hi = std::max(a, b);
       queue.emplace(collapser.Length(lo, hi), lo, hi, collapser.stamp(lo),
                     collapser.stamp(hi));

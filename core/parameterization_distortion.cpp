@@ -53,23 +53,20 @@ MeshTriangleShape RotateShape(const MeshTriangleShape& shape, int first) {
   return rotated;
 }
 
+double SmallTriangleDet3(const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
+                         const Eigen::Vector3d& s2) {
+  // det[s0 s1 s2] = det[s0, s1 - s0, s2 - s0]; the differences of nearby
+  // points are (almost) exact, s1 x s2 would cancel.
+  return s0.dot((s1 - s0).cross(s2 - s0));
+}
+
 double SphericalTriangleArea(const Eigen::Vector3d& s0,
                              const Eigen::Vector3d& s1,
                              const Eigen::Vector3d& s2) {
   // Van Oosterom and Strackee: tan(area / 2) = det / (1 + s0.s1 + s1.s2 +
   // s2.s0).
-  return 2.0 * std::atan2(Det3(s0, s1, s2),
+  return 2.0 * std::atan2(SmallTriangleDet3(s0, s1, s2),
                           1.0 + s0.dot(s1) + s1.dot(s2) + s2.dot(s0));
-}
-
-double AngleDistortionFormula(double cot_weighted_edges, double sphere_area) {
-  if (!(sphere_area > 0.0)) return kInf;
-  return cot_weighted_edges / (2.0 * sphere_area);  // eq. (10)
-}
-
-double AreaDistortionFormula(double mesh_area, double sphere_area) {
-  if (!(sphere_area > 0.0) || !(mesh_area > 0.0)) return kInf;
-  return sphere_area / mesh_area + mesh_area / sphere_area;  // eq. (11)
 }
 
 double AngleDistortion(const MeshTriangleShape& shape,
@@ -87,7 +84,7 @@ double AreaDistortion(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
 double TriangleEnergy(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
                       const Eigen::Vector3d& s1, const Eigen::Vector3d& s2,
                       double lambda, Eigen::Vector3d* grad_s0) {
-  const double det = Det3(s0, s1, s2);
+  const double det = SmallTriangleDet3(s0, s1, s2);
   const double denominator = 1.0 + s0.dot(s1) + s1.dot(s2) + s2.dot(s0);
   const double a = 2.0 * std::atan2(det, denominator);  // SphericalTriangleArea
   const double am = shape.area;

@@ -21,6 +21,7 @@
 #define SDCB_CORE_PARAMETERIZATION_DISTORTION_H_
 
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 #include "core/status.h"
@@ -48,6 +49,13 @@ MeshTriangleShape ComputeMeshTriangleShape(const Eigen::Vector3d& m0,
 // corner 0 (a rotation, orientation kept).
 MeshTriangleShape RotateShape(const MeshTriangleShape& shape, int first);
 
+// det[s0 s1 s2] as s0 . ((s1 - s0) x (s2 - s0)): the same value, but with a
+// rounding error relative to the triangle's size instead of about 1e-16
+// absolute, so it keeps its sign and digits for triangles with edges of
+// 1e-9 (Det3 does not). A value, not a decision: decisions use Det3Sign.
+double SmallTriangleDet3(const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
+                         const Eigen::Vector3d& s2);
+
 // Signed area of the spherical triangle (s0, s1, s2) (unit vectors): its
 // solid angle, in (-2*pi, 2*pi), positive when det[s0 s1 s2] > 0.
 double SphericalTriangleArea(const Eigen::Vector3d& s0,
@@ -55,11 +63,20 @@ double SphericalTriangleArea(const Eigen::Vector3d& s0,
                              const Eigen::Vector3d& s2);
 
 // Eq. (10) from its parts: sum_i cot_i |e_i|^2 and area(T_S2). Infinite
-// for area <= 0.
-double AngleDistortionFormula(double cot_weighted_edges, double sphere_area);
+// for area <= 0. (Inline: the optimizer's inner loop calls it.)
+inline double AngleDistortionFormula(double cot_weighted_edges,
+                                     double sphere_area) {
+  if (!(sphere_area > 0.0)) return std::numeric_limits<double>::infinity();
+  return cot_weighted_edges / (2.0 * sphere_area);
+}
 
 // Eq. (11) from the two areas. Infinite when either is <= 0.
-double AreaDistortionFormula(double mesh_area, double sphere_area);
+inline double AreaDistortionFormula(double mesh_area, double sphere_area) {
+  if (!(sphere_area > 0.0) || !(mesh_area > 0.0)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return sphere_area / mesh_area + mesh_area / sphere_area;
+}
 
 // Eq. (10): E_angle = (sum_i cot_i |e_i|^2) / (2 area(T_S2)) with e_i the
 // chord opposite corner i. Infinite unless T_S2 is positively oriented.

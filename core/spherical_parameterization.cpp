@@ -343,17 +343,20 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
   const size_t k = link.size();
   // Smallest det(q,a,b) / (|q-a| |q-b| |a-b|) over the one-ring (a sine
   // over a length: scale-aware fatness), or -1 if a triangle is not
-  // positively oriented.
+  // positively oriented. Validity is the exact sign; the fatness is a
+  // floating-point value that only ranks valid candidates, clamped at 0
+  // (on tiny triangles its rounding error exceeds it).
   auto score = [&](const Eigen::Vector3d& q) {
     double worst = std::numeric_limits<double>::infinity();
     for (size_t i = 0; i < k; ++i) {
       const Eigen::Vector3d a = Row(*sphere, link[i]);
       const Eigen::Vector3d b = Row(*sphere, link[(i + 1) % k]);
       if (Det3Sign(q, a, b) <= 0) return -1.0;
-      worst = std::min(worst, Det3(q, a, b) / ((q - a).norm() * (q - b).norm() *
-                                               (a - b).norm()));
+      worst = std::min(worst,
+                       SmallTriangleDet3(q, a, b) /
+                           ((q - a).norm() * (q - b).norm() * (a - b).norm()));
     }
-    return worst;
+    return std::max(worst, 0.0);
   };
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (int w : link) centroid += Row(*sphere, w);
@@ -373,7 +376,7 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
     }
   };
   for (const Eigen::Vector3d& q : candidates) consider(q);
-  if (best_score <= 0.0) {
+  if (best_score < 0.0) {
     // Near the kept vertex u, inside the wedge between its edges to the
     // first and last link vertices: valid for a small enough offset,
     // because the fan around u was valid.
@@ -392,10 +395,10 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
                                        side, Eigen::Vector3d(-side)}) {
         if (d.norm() > 1e-9) consider((u + eps * d.normalized()).normalized());
       }
-      if (best_score > 0.0) --extra_halvings;
+      if (best_score >= 0.0) --extra_halvings;
     }
   }
-  if (best_score <= 0.0) {
+  if (best_score < 0.0) {
     return InternalError(
         "a vertex split found no valid position on the sphere");
   }
@@ -425,7 +428,7 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
   step *= 0.25 / k;
   for (int i = 0; i < kRelaxSteps; ++i) {
     GreatCircleStep(&best, &step, energy,
-                    [&](const Eigen::Vector3d& q) { return score(q) > 0.0; });
+                    [&](const Eigen::Vector3d& q) { return score(q) >= 0.0; });
   }
   sphere->row(collapse.removed) = best.transpose();
   return Status::Ok();
@@ -541,8 +544,11 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
       const double from = optimizer.lambda();
       const double to = rising ? options.lambda : coarse_lambda;
       if (next > 0) {
-        optimize_rising(from, to, options.level_sweeps,
-                        options.level_tolerance);
+        const bool small =
+            alive <= options.small_level_fraction * mesh.num_vertices();
+        optimize_rising(
+            from, to, options.level_sweeps,
+            small ? options.level_tolerance : options.finest_tolerance);
       } else {
         optimize_rising(from, to, options.finest_sweeps,
                         options.finest_tolerance);

@@ -53,13 +53,16 @@ struct SphericalParameterizationOptions {
   double level_growth = 2.0;
   // Optimization sweeps (every vertex once) on the base mesh, on every finer
   // level and on the finest (input) level; a level stops early when a sweep
-  // lowers E by less than the tolerance times E. Coarse levels are cheap and
-  // decide where area goes, so they are converged further.
+  // lowers E by less than the tolerance times E. Small levels (at most
+  // `small_level_fraction` of the input's vertices) are cheap and decide
+  // where area goes, so they use the tighter `level_tolerance`; larger ones
+  // use `finest_tolerance`.
   int base_sweeps = 300;
   int level_sweeps = 100;
   int finest_sweeps = 20;
   double level_tolerance = 1e-5;
   double finest_tolerance = 1e-4;
+  double small_level_fraction = 0.1;
   // Continuation for lambda > 1 (a stiff energy stalls descent from a poor
   // start): the base mesh starts at lambda = 1 and rises to
   // min(lambda, coarse_lambda), used on the following levels except the

@@ -57,22 +57,24 @@ TEST_P(BijectionTest, NoFlippedTriangles) {
 }
 
 // CGAL's closed genus-0 meshes up to ~6.5K vertices at the three lambdas
-// of the issue; the larger ones (bunny00, fandisk_large) at lambda = 1 (the
-// bench covers the rest; docs/PARAMETERIZATION.md lists the numbers).
+// of the issue; fandisk and bunny00 at lambda = 1 (the bench covers the
+// rest; docs/PARAMETERIZATION.md lists the numbers).
 INSTANTIATE_TEST_SUITE_P(
     CgalMeshes, BijectionTest,
-    ::testing::Values(Case{"sphere966.off", 0.2}, Case{"sphere966.off", 1},
-                      Case{"sphere966.off", 10}, Case{"spool.off", 0.2},
-                      Case{"spool.off", 1}, Case{"spool.off", 10},
-                      Case{"oblong.off", 0.2}, Case{"oblong.off", 1},
-                      Case{"oblong.off", 10}, Case{"cube-meshed.off", 0.2},
-                      Case{"cube-meshed.off", 1}, Case{"cube-meshed.off", 10},
-                      Case{"ellipe0.003.off", 0.2}, Case{"ellipe0.003.off", 1},
-                      Case{"ellipe0.003.off", 10}, Case{"blobby.off", 0.2},
-                      Case{"blobby.off", 1}, Case{"blobby.off", 10},
-                      Case{"cow.off", 0.2}, Case{"cow.off", 1},
-                      Case{"cow.off", 10}, Case{"fandisk.off", 1},
-                      Case{"bunny00.off", 1}),
+    ::testing::Values(
+        Case{"sphere966.off", 0.2}, Case{"sphere966.off", 1},
+        Case{"sphere966.off", 10}, Case{"spool.off", 0.2}, Case{"spool.off", 1},
+        Case{"spool.off", 10}, Case{"oblong.off", 0.2}, Case{"oblong.off", 1},
+        Case{"oblong.off", 10}, Case{"cube-meshed.off", 0.2},
+        Case{"cube-meshed.off", 1}, Case{"cube-meshed.off", 10},
+        Case{"ellipe0.003.off", 0.2}, Case{"ellipe0.003.off", 1},
+        Case{"ellipe0.003.off", 10}, Case{"blobby.off", 0.2},
+        Case{"blobby.off", 1}, Case{"blobby.off", 10}, Case{"cow.off", 0.2},
+        Case{"cow.off", 1}, Case{"cow.off", 10}, Case{"fandisk.off", 1},
+        // Long thin limbs: regions of the coarse map shrink to
+        // ~1e-9 (regression: float determinants lost their
+        // sign there and vertex splits found no position).
+        Case{"cactus.off", 1}, Case{"dino.off", 1}, Case{"bunny00.off", 1}),
     [](const ::testing::TestParamInfo<Case>& info) {
       char lambda[32];
       std::snprintf(lambda, sizeof(lambda), "%g", info.param.lambda);

@@ -19,8 +19,10 @@ struct RunResult {
 };
 
 RunResult RunSdcb(const std::string& args) {
+  // One file per test: ctest runs the tests in parallel processes.
   const std::string err_path =
-      std::string(SDCB_TEST_TMP) + "/param_cli_stderr.txt";
+      std::string(SDCB_TEST_TMP) + "/param_cli_stderr_" +
+      ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".txt";
   const std::string command = std::string(SDCB_BINARY) + " " + args + " 2> " +
                               err_path + " > /dev/null";
   const int status = std::system(command.c_str());
