@@ -45,7 +45,7 @@ std::string ConvergencePlotSvg(const FitStatistics& statistics,
                                const std::string& title) {
   const auto& rounds = statistics.rounds;
   constexpr double kWidth = 640, kHeight = 400;
-  constexpr double kLeft = 70, kRight = 20, kTop = 40, kBottom = 50;
+  constexpr double kLeft = 70, kRight = 20, kTop = 40, kBottom = 60;
   const double plot_w = kWidth - kLeft - kRight,
                plot_h = kHeight - kTop - kBottom;
   double lo = statistics.options.rmse_percent > 0
@@ -86,12 +86,16 @@ std::string ConvergencePlotSvg(const FitStatistics& statistics,
   for (size_t i = 0; i < rounds.size(); ++i) {
     svg << "<text x=\"" << x(static_cast<double>(i)) << "\" y=\""
         << kTop + plot_h + 18 << "\" text-anchor=\"middle\">" << rounds[i].round
-        << "</text>\n";
+        << "</text>\n"
+        << "<text x=\"" << x(static_cast<double>(i)) << "\" y=\""
+        << kTop + plot_h + 32
+        << "\" text-anchor=\"middle\" font-size=\"10\" fill=\"#555\">"
+        << rounds[i].control_points << "</text>\n";
   }
   svg << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << plot_w
       << "\" height=\"" << plot_h << "\" fill=\"none\" stroke=\"black\"/>\n"
       << "<text x=\"" << kLeft + plot_w / 2 << "\" y=\"" << kHeight - 10
-      << "\" text-anchor=\"middle\">round</text>\n"
+      << "\" text-anchor=\"middle\">round (control points below)</text>\n"
       << "<text transform=\"translate(16," << kTop + plot_h / 2
       << ") rotate(-90)\" text-anchor=\"middle\">error (% of largest side, "
          "log)</text>\n";

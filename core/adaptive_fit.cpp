@@ -132,17 +132,22 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
                               : options.knots_per_round;
     // Knot placement with the existing knots fixed.
     report("knot placement", base);
+    RoundDetails details;
     stage = Stopwatch();
     SDCB_ASSIGN_OR_RETURN(KnotPlacement placement,
                           PlaceKnots(density, knots, new_knots, cvt));
-    stats.timings.knot_placement += stage.Seconds();
+    details.timings.knot_placement = stage.Seconds();
+    details.cvt_initial_energy = placement.initial_energy;
+    details.cvt_final_energy = placement.final_energy;
+    details.cvt_iterations = placement.iterations;
+    details.min_knot_separation = placement.min_separation;
     // Configurations and basis.
     report("configurations", base + 0.25 * rounds_fraction);
     stage = Stopwatch();
     SDCB_ASSIGN_OR_RETURN(
         DelaunayConfigurations configurations,
         ComputeDelaunayConfigurations(placement.knots, options.degree));
-    stats.timings.configurations += stage.Seconds();
+    details.timings.configurations = stage.Seconds();
     if (round > 0 && static_cast<int>(configurations.sets.size()) >
                          options.max_control_points) {
       break;  // the previous round's model is the result
@@ -152,7 +157,7 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
     SDCB_ASSIGN_OR_RETURN(DcbBasis basis,
                           DcbBasis::Create(placement.knots, configurations));
     const DesignMatrix design = BuildDesignMatrix(basis, u);
-    stats.timings.basis += stage.Seconds();
+    details.timings.basis = stage.Seconds();
     // Least squares.
     report("solve", base + 0.7 * rounds_fraction);
     stage = Stopwatch();
@@ -165,7 +170,7 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
         Eigen::MatrixX3d control_points,
         SolveRegularizedLeastSquares(design, samples, prior, ls));
     const Eigen::MatrixX3d fitted = design * control_points;
-    stats.timings.solve += stage.Seconds();
+    details.timings.solve = stage.Seconds();
 
     // Errors in percent of the largest side (normalized frame: side 1).
     const Eigen::VectorXd errors = 100.0 * (fitted - samples).rowwise().norm();
@@ -176,7 +181,13 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
     rs.rmse_percent = std::sqrt(errors.squaredNorm() / errors.size());
     rs.max_error_percent = errors.maxCoeff();
     rs.seconds = round_clock.Seconds();
+    details.timings.total = rs.seconds;
     stats.rounds.push_back(rs);
+    stats.timings.knot_placement += details.timings.knot_placement;
+    stats.timings.configurations += details.timings.configurations;
+    stats.timings.basis += details.timings.basis;
+    stats.timings.solve += details.timings.solve;
+    result.round_details.push_back(details);
 
     knots = placement.knots;
     model.knots = placement.knots;

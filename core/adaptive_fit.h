@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "core/spherical_spline.h"
 #include "core/spline_model.h"
@@ -38,6 +39,15 @@ struct FitOptions {
   std::function<void(const std::string& stage, double fraction)> progress;
 };
 
+// What one round did, beyond the model's RoundStatistics.
+struct RoundDetails {
+  StageTimings timings;  // this round's seconds per stage (no parameterization)
+  double cvt_initial_energy = 0;  // CVT energy of the round's knot placement
+  double cvt_final_energy = 0;
+  int cvt_iterations = 0;
+  double min_knot_separation = 0;  // radians
+};
+
 struct FitResult {
   // The model. Its statistics carry no wall-clock times (all seconds are 0)
   // so that the same input and options give the same model bytes.
@@ -46,6 +56,8 @@ struct FitResult {
   FitStatistics statistics;
   // Per input vertex: |x_i - F(u_i)| in percent of the largest side.
   Eigen::VectorXd errors_percent;
+  // One entry per round of `statistics.rounds`.
+  std::vector<RoundDetails> round_details;
   // True when rmse <= options.rmse_percent was reached.
   bool reached_target = false;
 };

@@ -64,6 +64,21 @@ int RunFit(const std::vector<std::string>& argv) {
     report["reached_target"] = fit->reached_target;
     const nlohmann::json s = FitStatisticsToJson(stats);
     for (const auto& [key, value] : s.items()) report[key] = value;
+    nlohmann::ordered_json details = nlohmann::ordered_json::array();
+    for (size_t i = 0; i < fit->round_details.size(); ++i) {
+      const RoundDetails& d = fit->round_details[i];
+      details.push_back(
+          {{"round", stats.rounds[i].round},
+           {"knot_placement", d.timings.knot_placement},
+           {"configurations", d.timings.configurations},
+           {"basis", d.timings.basis},
+           {"solve", d.timings.solve},
+           {"cvt_initial_energy", d.cvt_initial_energy},
+           {"cvt_final_energy", d.cvt_final_energy},
+           {"cvt_iterations", d.cvt_iterations},
+           {"min_knot_separation_radians", d.min_knot_separation}});
+    }
+    report["round_details"] = details;
     written = WriteTextOutput(args.Get("json"), report.dump(2) + "\n");
     if (!written.ok()) return ReportError(written);
   }

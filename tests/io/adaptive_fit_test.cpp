@@ -79,6 +79,31 @@ TEST(AdaptiveFitTest, SameInputSameBytesForAnyThreadCount) {
   EXPECT_EQ(bytes[0], bytes[1]);
 }
 
+TEST(AdaptiveFitTest, WriteReadEvaluateIsBitIdentical) {
+  const TriangleMesh mesh = Load("blobby.off");
+  FitOptions options;
+  options.max_rounds = 2;
+  auto fit = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  const std::string path = testing::FreshTestDir() + "/blobby.sdcb";
+  ASSERT_TRUE(WriteSdcbFile(fit->model, path).ok());
+  auto read = ReadSdcbFile(path);
+  ASSERT_TRUE(read.ok()) << read.status().message();
+  auto before = SurfaceFromModel(fit->model);
+  auto after = SurfaceFromModel(*read);
+  ASSERT_TRUE(before.ok() && after.ok());
+  const Eigen::MatrixX3d& u = fit->model.parameters;
+  const Eigen::MatrixX3d a = before->EvaluateMany(u),
+                         b = after->EvaluateMany(u);
+  EXPECT_TRUE((a.array() == b.array()).all());
+  const auto ja = before->EvaluateDifferentialMany(u.topRows(200));
+  const auto jb = after->EvaluateDifferentialMany(u.topRows(200));
+  for (size_t i = 0; i < ja.size(); ++i) {
+    EXPECT_EQ(ja[i].normal, jb[i].normal);
+    EXPECT_EQ(ja[i].mean_curvature, jb[i].mean_curvature);
+  }
+}
+
 TEST(AdaptiveFitTest, RefusesHigherGenusAndBadOptions) {
   auto fit = FitSphericalSpline(Load("elephant.off"));
   ASSERT_FALSE(fit.ok());
