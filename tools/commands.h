@@ -10,6 +10,10 @@ namespace sdcb::cli {
 
 int RunCheck(const std::vector<std::string>& args);
 int RunParam(const std::vector<std::string>& args);
+int RunFit(const std::vector<std::string>& args);
+int RunInfo(const std::vector<std::string>& args);
+int RunDump(const std::vector<std::string>& args);
+int RunEval(const std::vector<std::string>& args);
 
 }  // namespace sdcb::cli
 

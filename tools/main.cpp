@@ -23,6 +23,22 @@ commands:
                              (same vertices and faces; .obj/.off/.ply);
                              lambda (default 1) trades angle for area
                              distortion; --colors angle|area needs .ply.
+  fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
+      [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
+      [--json FILE] [--plot FILE.svg] [--quiet]
+                             Fit one smooth spherical DCB-spline (defaults:
+                             degree 4, rmse 0.05 %, 100 knots per round, 30
+                             rounds); --plot draws the error per round.
+  info MODEL.sdcb [--json FILE]
+                             Summary of a model.
+  dump MODEL.sdcb -o MODEL.json
+                             Everything in a model, as JSON.
+  eval MODEL.sdcb -i POINTS.txt -o VALUES.txt [--derivatives]
+                             Evaluate the surface at directions (x y z per
+                             line, normalized onto the sphere); writes x y z
+                             in the input's coordinates (+ unit normal).
+
+PCT values are percent of the largest side of the input's bounding box.
 
 Meshes: .obj .off .ply .stl (ascii or binary). '--json -' writes to stdout.
 Exit codes: 0 success, 1 bad input (the reason is printed), 2 bad usage.
@@ -51,6 +67,10 @@ int main(int argc, char** argv) {
   try {
     if (command == "check") return RunCheck(args);
     if (command == "param") return RunParam(args);
+    if (command == "fit") return RunFit(args);
+    if (command == "info") return RunInfo(args);
+    if (command == "dump") return RunDump(args);
+    if (command == "eval") return RunEval(args);
     std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;
   } catch (const UsageError& e) {

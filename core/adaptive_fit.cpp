@@ -1,0 +1,224 @@
+#include "core/adaptive_fit.h"
+
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "core/curvature.h"
+#include "core/dcb_basis.h"
+#include "core/delaunay_configurations.h"
+#include "core/design_matrix.h"
+#include "core/least_squares.h"
+#include "core/mesh_topology.h"
+#include "core/point_kd_tree.h"
+#include "core/spherical_cvt.h"
+#include "core/spherical_parameterization.h"
+
+namespace sdcb {
+namespace {
+
+class Stopwatch {
+ public:
+  Stopwatch() : start_(std::chrono::steady_clock::now()) {}
+  double Seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                         start_)
+        .count();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_;
+};
+
+Status CheckOptions(const FitOptions& o) {
+  if (o.degree < 2 || o.degree > kMaxSplineDegree) {
+    return InvalidArgumentError("degree must be 2..5");
+  }
+  if (!(o.rmse_percent > 0) || !std::isfinite(o.rmse_percent)) {
+    return InvalidArgumentError(
+        "the RMSE target must be a positive percentage");
+  }
+  if (o.knots_per_round < 1 || o.initial_knots < 0 || o.max_rounds < 1 ||
+      o.max_control_points < 1) {
+    return InvalidArgumentError(
+        "knots per round, rounds and control points must be positive");
+  }
+  if (!(o.alpha > 0) || !(o.regularization > 0) || !(o.lambda > 0)) {
+    return InvalidArgumentError("alpha, lambda and regularization must be > 0");
+  }
+  return Status::Ok();
+}
+
+// For every basis function, the sample nearest to the normalized mean of its
+// knots: the prior of basis functions that no sample sees.
+Eigen::MatrixX3d NearestSamplePrior(const DcbBasis& basis,
+                                    const PointKdTree& tree,
+                                    const Eigen::MatrixX3d& samples) {
+  Eigen::MatrixX3d prior(basis.size(), 3);
+  for (int i = 0; i < basis.size(); ++i) {
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();
+    for (int k : basis.configuration_set(i).knots) {
+      center += basis.knots().row(k).transpose();
+    }
+    const PointKdTree::Neighbor n = tree.Nearest(center.normalized());
+    prior.row(i) = samples.row(n.index >= 0 ? n.index : 0);
+  }
+  return prior;
+}
+
+}  // namespace
+
+StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
+                                       const FitOptions& options) {
+  SDCB_RETURN_IF_ERROR(CheckOptions(options));
+  SDCB_RETURN_IF_ERROR(RequireClosedGenusZero(mesh));
+  std::unique_ptr<tbb::global_control> thread_limit;
+  if (options.threads > 0) {
+    thread_limit = std::make_unique<tbb::global_control>(
+        tbb::global_control::max_allowed_parallelism, options.threads);
+  }
+  const Stopwatch total;
+  auto report = [&](const std::string& stage, double fraction) {
+    if (options.progress) options.progress(stage, std::min(1.0, fraction));
+  };
+
+  FitResult result;
+  SplineModel& model = result.model;
+  model.degree = options.degree;
+  SDCB_ASSIGN_OR_RETURN(model.transform, ComputeNormalizingTransform(mesh));
+  const Eigen::MatrixX3d samples = model.transform.ToNormalized(mesh.vertices);
+  model.source.num_vertices = mesh.num_vertices();
+  model.source.num_faces = mesh.num_faces();
+  model.source.hash = HashTriangleMesh(mesh);
+  FitStatistics& stats = model.statistics;
+  stats.options = {options.degree, options.rmse_percent,
+                   options.knots_per_round, options.max_rounds, options.lambda};
+
+  // 1. Spherical parameterization (Sec. 4.3).
+  report("parameterization", 0.0);
+  Stopwatch stage;
+  SphericalParameterizationOptions param_options;
+  param_options.lambda = options.lambda;
+  param_options.threads = options.threads;
+  param_options.progress = [&](const std::string&, double f) {
+    report("parameterization", 0.3 * f);
+  };
+  SDCB_ASSIGN_OR_RETURN(const SphericalParameterization param,
+                        ParameterizeOnSphere(mesh, param_options));
+  const Eigen::MatrixX3d& u = param.sphere;
+  stats.timings.parameterization = stage.Seconds();
+  const PointKdTree parameter_tree(u);
+
+  // 2. Round-0 density: curvedness^alpha (Sec. 4.4).
+  stage = Stopwatch();
+  SDCB_ASSIGN_OR_RETURN(Eigen::VectorXd curvedness, Curvedness(mesh));
+  if (!(curvedness.maxCoeff() > 0)) curvedness.setOnes();  // flat: uniform
+  SphericalDensity density{u, mesh.faces, Eigen::VectorXd()};
+  SDCB_ASSIGN_OR_RETURN(density.values,
+                        DensityFromValues(curvedness, options.alpha));
+  stats.timings.knot_placement += stage.Seconds();
+
+  Eigen::MatrixX3d knots(0, 3);
+  CvtOptions cvt;
+  const double rounds_fraction = 0.7 / options.max_rounds;
+  for (int round = 0; round < options.max_rounds; ++round) {
+    const Stopwatch round_clock;
+    const double base = 0.3 + rounds_fraction * round;
+    const int new_knots = round == 0 && options.initial_knots > 0
+                              ? options.initial_knots
+                              : options.knots_per_round;
+    // Knot placement with the existing knots fixed.
+    report("knot placement", base);
+    RoundDetails details;
+    stage = Stopwatch();
+    SDCB_ASSIGN_OR_RETURN(KnotPlacement placement,
+                          PlaceKnots(density, knots, new_knots, cvt));
+    details.timings.knot_placement = stage.Seconds();
+    details.cvt_initial_energy = placement.initial_energy;
+    details.cvt_final_energy = placement.final_energy;
+    details.cvt_iterations = placement.iterations;
+    details.min_knot_separation = placement.min_separation;
+    // Configurations and basis.
+    report("configurations", base + 0.25 * rounds_fraction);
+    stage = Stopwatch();
+    SDCB_ASSIGN_OR_RETURN(
+        DelaunayConfigurations configurations,
+        ComputeDelaunayConfigurations(placement.knots, options.degree));
+    details.timings.configurations = stage.Seconds();
+    if (round > 0 && static_cast<int>(configurations.sets.size()) >
+                         options.max_control_points) {
+      break;  // the previous round's model is the result
+    }
+    report("basis", base + 0.4 * rounds_fraction);
+    stage = Stopwatch();
+    SDCB_ASSIGN_OR_RETURN(DcbBasis basis,
+                          DcbBasis::Create(placement.knots, configurations));
+    const DesignMatrix design = BuildDesignMatrix(basis, u);
+    details.timings.basis = stage.Seconds();
+    // Least squares.
+    report("solve", base + 0.7 * rounds_fraction);
+    stage = Stopwatch();
+    const Eigen::MatrixX3d fallback =
+        NearestSamplePrior(basis, parameter_tree, samples);
+    const Eigen::MatrixX3d prior = GrevillePrior(design, samples, fallback);
+    LeastSquaresOptions ls;
+    ls.regularization = options.regularization;
+    SDCB_ASSIGN_OR_RETURN(
+        Eigen::MatrixX3d control_points,
+        SolveRegularizedLeastSquares(design, samples, prior, ls));
+    const Eigen::MatrixX3d fitted = design * control_points;
+    details.timings.solve = stage.Seconds();
+
+    // Errors in percent of the largest side (normalized frame: side 1).
+    const Eigen::VectorXd errors = 100.0 * (fitted - samples).rowwise().norm();
+    RoundStatistics rs;
+    rs.round = round;
+    rs.knots = static_cast<int>(placement.knots.rows());
+    rs.control_points = basis.size();
+    rs.rmse_percent = std::sqrt(errors.squaredNorm() / errors.size());
+    rs.max_error_percent = errors.maxCoeff();
+    rs.seconds = round_clock.Seconds();
+    details.timings.total = rs.seconds;
+    stats.rounds.push_back(rs);
+    stats.timings.knot_placement += details.timings.knot_placement;
+    stats.timings.configurations += details.timings.configurations;
+    stats.timings.basis += details.timings.basis;
+    stats.timings.solve += details.timings.solve;
+    result.round_details.push_back(details);
+
+    knots = placement.knots;
+    model.knots = placement.knots;
+    model.configurations = std::move(configurations);
+    model.control_points = std::move(control_points);
+    result.errors_percent = errors;
+    stats.final_result = rs;
+    if (rs.rmse_percent <= options.rmse_percent) {
+      result.reached_target = true;
+      break;
+    }
+    // Next round's density: the error, normalized, to the power alpha.
+    if (errors.maxCoeff() > 0) {
+      SDCB_ASSIGN_OR_RETURN(density.values,
+                            DensityFromValues(errors, options.alpha));
+    }
+  }
+  if (options.store_parameters) model.parameters = u;
+  stats.timings.total = total.Seconds();
+  result.statistics = stats;
+  stats.timings = StageTimings();
+  for (RoundStatistics& r : stats.rounds) r.seconds = 0;
+  stats.final_result.seconds = 0;
+  report("done", 1.0);
+  return result;
+}
+
+StatusOr<SphericalSpline> SurfaceFromModel(const SplineModel& model) {
+  SDCB_ASSIGN_OR_RETURN(DcbBasis basis,
+                        DcbBasis::Create(model.knots, model.configurations));
+  return SphericalSpline::Create(std::move(basis), model.control_points);
+}
+
+}  // namespace sdcb

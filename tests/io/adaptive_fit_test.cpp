@@ -1,0 +1,118 @@
+// The fitting driver on CGAL's meshes (in the io binary because it reads
+// them): reaches the targets, errors are honest, output deterministic.
+#include "core/adaptive_fit.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "io/mesh_reader.h"
+#include "io/sdcb_file.h"
+#include "testing/temp_dir.h"
+
+namespace sdcb {
+namespace {
+
+TriangleMesh Load(const std::string& name) {
+  auto mesh = ReadMesh(testing::MeshPath(name));
+  EXPECT_TRUE(mesh.ok()) << mesh.status().message();
+  return std::move(mesh).value();
+}
+
+// Errors recomputed independently: evaluate the model's surface at the
+// stored parameters, map back to input coordinates, compare with the mesh.
+void ExpectHonestErrors(const TriangleMesh& mesh, const FitResult& fit) {
+  const SplineModel& m = fit.model;
+  ASSERT_EQ(m.parameters.rows(), mesh.num_vertices());
+  auto surface = SurfaceFromModel(m);
+  ASSERT_TRUE(surface.ok()) << surface.status().message();
+  const Eigen::MatrixX3d f =
+      m.transform.ToInput(surface->EvaluateMany(m.parameters));
+  const Eigen::RowVector3d lo = mesh.vertices.colwise().minCoeff();
+  const Eigen::RowVector3d hi = mesh.vertices.colwise().maxCoeff();
+  const double side = (hi - lo).maxCoeff();
+  const Eigen::VectorXd e = 100.0 * (f - mesh.vertices).rowwise().norm() / side;
+  const double rmse = std::sqrt(e.squaredNorm() / e.size());
+  const RoundStatistics& final_round = m.statistics.final_result;
+  EXPECT_NEAR(rmse, final_round.rmse_percent, 1e-6 * final_round.rmse_percent);
+  EXPECT_NEAR(e.maxCoeff(), final_round.max_error_percent,
+              1e-6 * final_round.max_error_percent);
+}
+
+TEST(AdaptiveFitTest, CowAndBlobbyReachPointOnePercentAtDegreesThreeToFive) {
+  for (const char* name : {"blobby.off", "cow.off"}) {
+    const TriangleMesh mesh = Load(name);
+    for (int degree : {3, 4, 5}) {
+      SCOPED_TRACE(std::string(name) + " degree " + std::to_string(degree));
+      FitOptions options;
+      options.degree = degree;
+      options.rmse_percent = 0.1;
+      options.max_rounds = 12;
+      auto fit = FitSphericalSpline(mesh, options);
+      ASSERT_TRUE(fit.ok()) << fit.status().message();
+      EXPECT_TRUE(fit->reached_target);
+      EXPECT_LE(fit->model.statistics.final_result.rmse_percent, 0.1);
+      // RMSE falls from round to round (Algorithm 2 only adds knots).
+      const auto& rounds = fit->statistics.rounds;
+      for (size_t r = 1; r < rounds.size(); ++r) {
+        EXPECT_LT(rounds[r].rmse_percent, rounds[r - 1].rmse_percent);
+      }
+      ExpectHonestErrors(mesh, *fit);
+    }
+  }
+}
+
+TEST(AdaptiveFitTest, SameInputSameBytesForAnyThreadCount) {
+  const TriangleMesh mesh = Load("blobby.off");
+  FitOptions options;
+  options.rmse_percent = 0.02;
+  options.max_rounds = 2;
+  std::string bytes[2];
+  for (int threads : {1, 2}) {
+    options.threads = threads;
+    auto fit = FitSphericalSpline(mesh, options);
+    ASSERT_TRUE(fit.ok()) << fit.status().message();
+    auto serialized = SerializeSdcb(fit->model);
+    ASSERT_TRUE(serialized.ok()) << serialized.status().message();
+    bytes[threads - 1] = *serialized;
+  }
+  EXPECT_EQ(bytes[0], bytes[1]);
+}
+
+TEST(AdaptiveFitTest, WriteReadEvaluateIsBitIdentical) {
+  const TriangleMesh mesh = Load("blobby.off");
+  FitOptions options;
+  options.max_rounds = 2;
+  auto fit = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  const std::string path = testing::FreshTestDir() + "/blobby.sdcb";
+  ASSERT_TRUE(WriteSdcbFile(fit->model, path).ok());
+  auto read = ReadSdcbFile(path);
+  ASSERT_TRUE(read.ok()) << read.status().message();
+  auto before = SurfaceFromModel(fit->model);
+  auto after = SurfaceFromModel(*read);
+  ASSERT_TRUE(before.ok() && after.ok());
+  const Eigen::MatrixX3d& u = fit->model.parameters;
+  const Eigen::MatrixX3d a = before->EvaluateMany(u),
+                         b = after->EvaluateMany(u);
+  EXPECT_TRUE((a.array() == b.array()).all());
+  const auto ja = before->EvaluateDifferentialMany(u.topRows(200));
+  const auto jb = after->EvaluateDifferentialMany(u.topRows(200));
+  for (size_t i = 0; i < ja.size(); ++i) {
+    EXPECT_EQ(ja[i].normal, jb[i].normal);
+    EXPECT_EQ(ja[i].mean_curvature, jb[i].mean_curvature);
+  }
+}
+
+TEST(AdaptiveFitTest, RefusesHigherGenusAndBadOptions) {
+  auto fit = FitSphericalSpline(Load("elephant.off"));
+  ASSERT_FALSE(fit.ok());
+  EXPECT_NE(fit.status().message().find("genus 3"), std::string::npos);
+  FitOptions bad;
+  bad.degree = 9;
+  EXPECT_EQ(FitSphericalSpline(Load("blobby.off"), bad).status().code(),
+            StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace sdcb

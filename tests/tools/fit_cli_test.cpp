@@ -1,0 +1,199 @@
+// `sdcb fit / info / dump / eval` as pipelines use them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "io/mesh_reader.h"
+#include "testing/run_sdcb.h"
+#include "tests/core/brute_force_configurations.h"
+
+namespace sdcb {
+namespace {
+
+using testing::FreshTestDir;
+using testing::MeshPath;
+using testing::ReadBytes;
+using testing::RunResult;
+using testing::RunSdcb;
+using testing::WriteBytes;
+
+namespace fs = std::filesystem;
+
+// Fits blobby once per test binary run into `dir`; returns the model path.
+std::string FitBlobby(const std::string& dir,
+                      const std::string& extra_rounds = "1") {
+  const std::string model = dir + "/blobby.sdcb";
+  const RunResult r =
+      RunSdcb({"fit", MeshPath("blobby.off"), "-o", model, "--rmse", "0.1",
+               "--max-rounds", extra_rounds, "--json", dir + "/report.json",
+               "--plot", dir + "/plot.svg", "--quiet"},
+              dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return model;
+}
+
+TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
+  const std::string dir = FreshTestDir();
+  FitBlobby(dir, "3");
+  const auto j = nlohmann::json::parse(ReadBytes(dir + "/report.json"));
+  ASSERT_TRUE(j.contains("rounds") && j.contains("final") &&
+              j.contains("timings"));
+  for (const auto& round : j["rounds"]) {
+    for (const char* key : {"round", "knots", "control_points", "rmse_percent",
+                            "max_error_percent", "seconds"}) {
+      EXPECT_TRUE(round.contains(key)) << key;
+    }
+  }
+  for (const char* key : {"parameterization", "knot_placement",
+                          "configurations", "basis", "solve", "total"}) {
+    EXPECT_TRUE(j["timings"].contains(key)) << key;
+  }
+  EXPECT_EQ(j["final"], j["rounds"].back());
+  const std::string svg = ReadBytes(dir + "/plot.svg");
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  EXPECT_NE(svg.find("polyline"), std::string::npos);
+}
+
+TEST(FitCliTest, EvalAtTheStoredParametersReproducesTheReportedErrors) {
+  const std::string dir = FreshTestDir();
+  const std::string model = FitBlobby(dir, "2");
+  ASSERT_EQ(RunSdcb({"dump", model, "-o", dir + "/dump.json"}, dir).exit_code,
+            0);
+  const auto dump = nlohmann::json::parse(ReadBytes(dir + "/dump.json"));
+  std::ostringstream points;
+  points.precision(17);
+  for (const auto& p : dump["parameters"]) {
+    points << p[0].get<double>() << " " << p[1].get<double>() << " "
+           << p[2].get<double>() << "\n";
+  }
+  WriteBytes(dir + "/points.txt", points.str());
+  const RunResult r = RunSdcb(
+      {"eval", model, "-i", dir + "/points.txt", "-o", dir + "/values.txt"},
+      dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Independent error computation from the input mesh.
+  auto mesh = ReadMesh(MeshPath("blobby.off"));
+  ASSERT_TRUE(mesh.ok());
+  std::istringstream values(ReadBytes(dir + "/values.txt"));
+  const Eigen::RowVector3d lo = mesh->vertices.colwise().minCoeff();
+  const Eigen::RowVector3d hi = mesh->vertices.colwise().maxCoeff();
+  const double side = (hi - lo).maxCoeff();
+  double sum = 0, max = 0;
+  for (int v = 0; v < mesh->num_vertices(); ++v) {
+    Eigen::RowVector3d f;
+    ASSERT_TRUE(values >> f[0] >> f[1] >> f[2]);
+    const double e = 100 * (f - mesh->vertices.row(v)).norm() / side;
+    sum += e * e;
+    max = std::max(max, e);
+  }
+  const auto report = nlohmann::json::parse(ReadBytes(dir + "/report.json"));
+  const double rmse = std::sqrt(sum / mesh->num_vertices());
+  EXPECT_NEAR(rmse, report["final"]["rmse_percent"].get<double>(), 1e-7);
+  EXPECT_NEAR(max, report["final"]["max_error_percent"].get<double>(), 1e-7);
+}
+
+TEST(FitCliTest, DumpedConfigurationsAreConfirmedByBruteForce) {
+  const std::string dir = FreshTestDir();
+  const std::string model = FitBlobby(dir, "1");  // one round: 100 knots
+  ASSERT_EQ(RunSdcb({"dump", model, "-o", dir + "/dump.json"}, dir).exit_code,
+            0);
+  const auto dump = nlohmann::json::parse(ReadBytes(dir + "/dump.json"));
+  const int degree = dump["degree"];
+  Eigen::MatrixX3d knots(dump["knots"].size(), 3);
+  for (size_t i = 0; i < dump["knots"].size(); ++i) {
+    for (int k = 0; k < 3; ++k) knots(i, k) = dump["knots"][i][k];
+  }
+  const DelaunayConfigurations oracle =
+      testing::BruteForceConfigurations(knots, degree);
+  ASSERT_EQ(dump["basis"].size(), oracle.sets.size());
+  for (size_t i = 0; i < oracle.sets.size(); ++i) {
+    EXPECT_EQ(dump["basis"][i]["knots"].get<std::vector<int>>(),
+              oracle.sets[i].knots);
+    std::vector<std::array<int, 3>> boundaries;
+    for (const auto& b : dump["basis"][i]["configurations"]) {
+      boundaries.push_back({b[0].get<int>(), b[1].get<int>(), b[2].get<int>()});
+    }
+    EXPECT_EQ(boundaries, oracle.sets[i].boundaries);
+  }
+}
+
+TEST(FitCliTest, TwoRunsGiveByteIdenticalModels) {
+  const std::string a = FreshTestDir() + "/a";
+  const std::string b = a + "_b";
+  fs::create_directories(a);
+  fs::create_directories(b);
+  EXPECT_EQ(ReadBytes(FitBlobby(a, "2")), ReadBytes(FitBlobby(b, "2")));
+}
+
+TEST(FitCliTest, InfoReadsTheModel) {
+  const std::string dir = FreshTestDir();
+  const std::string model = FitBlobby(dir, "1");
+  const RunResult r = RunSdcb({"info", model, "--json", "-"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["degree"], 4);
+  EXPECT_EQ(j["knots"], 100);
+  EXPECT_EQ(j["source"]["vertices"], 2027);
+}
+
+TEST(FitCliTest, BadInputIsExitOneWithoutPartialOutput) {
+  const std::string dir = FreshTestDir();
+  // Genus 3.
+  RunResult r =
+      RunSdcb({"fit", MeshPath("elephant.off"), "-o", dir + "/e.sdcb"}, dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("genus 3"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/e.sdcb"));
+  // Unwritable output.
+  r = RunSdcb({"fit", MeshPath("blobby.off"), "-o", dir + "/missing/x.sdcb",
+               "--max-rounds", "1", "--quiet"},
+              dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("x.sdcb"), std::string::npos) << r.err;
+  // Corrupt and truncated models to info / eval / dump.
+  const std::string model = FitBlobby(dir, "1");
+  const std::string bytes = ReadBytes(model);
+  std::string corrupt = bytes;
+  corrupt[corrupt.size() / 2] ^= 0x5a;
+  WriteBytes(dir + "/corrupt.sdcb", corrupt);
+  WriteBytes(dir + "/truncated.sdcb", bytes.substr(0, bytes.size() / 3));
+  WriteBytes(dir + "/points.txt", "0 0 1\n1 0 0\n");
+  for (const char* name : {"corrupt.sdcb", "truncated.sdcb"}) {
+    SCOPED_TRACE(name);
+    const std::string path = dir + "/" + name;
+    for (const auto& args : std::vector<std::vector<std::string>>{
+             {"info", path},
+             {"eval", path, "-i", dir + "/points.txt", "-o", dir + "/v.txt"},
+             {"dump", path, "-o", dir + "/d.json"}}) {
+      r = RunSdcb(args, dir);
+      EXPECT_EQ(r.exit_code, 1) << args[0];
+      EXPECT_FALSE(r.crashed);
+      EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
+      EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+    }
+    EXPECT_FALSE(fs::exists(dir + "/v.txt"));
+    EXPECT_FALSE(fs::exists(dir + "/d.json"));
+  }
+  // Bad points file.
+  WriteBytes(dir + "/bad_points.txt", "0 0 1\n0 0 0\n");
+  r = RunSdcb(
+      {"eval", model, "-i", dir + "/bad_points.txt", "-o", dir + "/v.txt"},
+      dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("line 2"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/v.txt"));
+  // Usage.
+  EXPECT_EQ(RunSdcb({"fit", MeshPath("blobby.off")}, dir).exit_code, 2);
+  EXPECT_EQ(RunSdcb({"fit", MeshPath("blobby.off"), "-o", dir + "/y.sdcb",
+                     "--degree", "9"},
+                    dir)
+                .exit_code,
+            2);
+}
+
+}  // namespace
+}  // namespace sdcb

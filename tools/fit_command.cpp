@@ -1,0 +1,113 @@
+// sdcb fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
+//          [--max-rounds R] [--max-control-points M] [--lambda L]
+//          [--threads T] [--json FILE] [--plot FILE.svg] [--quiet]
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "converters/convergence_plot.h"
+#include "core/adaptive_fit.h"
+#include "core/mesh_topology.h"
+#include "io/fit_statistics_json.h"
+#include "io/mesh_reader.h"
+#include "io/sdcb_file.h"
+#include "tools/cli.h"
+#include "tools/commands.h"
+#include "tools/progress.h"
+
+namespace sdcb::cli {
+
+int RunFit(const std::vector<std::string>& argv) {
+  const Args args(argv,
+                  {"output", "degree", "rmse", "knots-per-round", "max-rounds",
+                   "max-control-points", "lambda", "threads", "json", "plot"},
+                  {"quiet"});
+  args.RequirePositionals(
+      1, "MESH (usage: sdcb fit MESH -o MODEL.sdcb [options])");
+  const std::string& path = args.positionals()[0];
+  const std::string output = args.Get("output");
+  if (output.empty()) throw UsageError{"missing -o MODEL.sdcb"};
+  FitOptions options;
+  options.degree = args.GetInt("degree", options.degree, 2, 5);
+  options.rmse_percent =
+      args.GetDouble("rmse", options.rmse_percent, 1e-6, 100);
+  options.knots_per_round =
+      args.GetInt("knots-per-round", options.knots_per_round, 1, 100000);
+  options.max_rounds = args.GetInt("max-rounds", options.max_rounds, 1, 1000);
+  options.max_control_points = args.GetInt(
+      "max-control-points", options.max_control_points, 10, 10000000);
+  options.lambda = args.GetDouble("lambda", options.lambda, 1e-3, 1e3);
+  options.threads = args.GetInt("threads", 0, 0, 1024);
+
+  StatusOr<TriangleMesh> mesh = ReadMesh(path);
+  if (!mesh.ok()) return ReportError(mesh.status());
+  const Status intake = RequireClosedGenusZero(*mesh);
+  if (!intake.ok()) return ReportError(intake.WithPrefix(path));
+
+  ProgressBar progress("sdcb fit", args.Has("quiet"));
+  options.progress = progress.Callback();
+  StatusOr<FitResult> fit = FitSphericalSpline(*mesh, options);
+  progress.Finish();
+  if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));
+  fit->model.source.file_name = std::filesystem::path(path).filename().string();
+
+  Status written = WriteSdcbFile(fit->model, output);
+  if (!written.ok()) return ReportError(written);
+  const FitStatistics& stats = fit->statistics;
+  if (args.Has("json")) {
+    nlohmann::ordered_json report;
+    report["input"] = path;
+    report["output"] = output;
+    report["vertices"] = mesh->num_vertices();
+    report["faces"] = mesh->num_faces();
+    report["reached_target"] = fit->reached_target;
+    const nlohmann::json s = FitStatisticsToJson(stats);
+    for (const auto& [key, value] : s.items()) report[key] = value;
+    nlohmann::ordered_json details = nlohmann::ordered_json::array();
+    for (size_t i = 0; i < fit->round_details.size(); ++i) {
+      const RoundDetails& d = fit->round_details[i];
+      details.push_back(
+          {{"round", stats.rounds[i].round},
+           {"knot_placement", d.timings.knot_placement},
+           {"configurations", d.timings.configurations},
+           {"basis", d.timings.basis},
+           {"solve", d.timings.solve},
+           {"cvt_initial_energy", d.cvt_initial_energy},
+           {"cvt_final_energy", d.cvt_final_energy},
+           {"cvt_iterations", d.cvt_iterations},
+           {"min_knot_separation_radians", d.min_knot_separation}});
+    }
+    report["round_details"] = details;
+    written = WriteTextOutput(args.Get("json"), report.dump(2) + "\n");
+    if (!written.ok()) return ReportError(written);
+  }
+  if (args.Has("plot")) {
+    written =
+        WriteConvergencePlot(stats,
+                             std::filesystem::path(path).filename().string() +
+                                 ", degree " + std::to_string(options.degree),
+                             args.Get("plot"));
+    if (!written.ok()) return ReportError(written);
+  }
+  const RoundStatistics& f = stats.final_result;
+  if (!args.Has("quiet") && args.Get("json") != "-") {
+    std::printf("%s -> %s: degree %d, %d knots, %d control points, %d rounds\n",
+                path.c_str(), output.c_str(), options.degree, f.knots,
+                f.control_points, static_cast<int>(stats.rounds.size()));
+    std::printf(
+        "  rmse %.4f%%  max error %.4f%%  (target rmse %.4f%%)  %.2f s\n",
+        f.rmse_percent, f.max_error_percent, options.rmse_percent,
+        stats.timings.total);
+  }
+  if (!fit->reached_target) {
+    std::fprintf(
+        stderr,
+        "sdcb: %s: warning: rmse %.4f%% did not reach the target %.4f%% "
+        "within the round or control-point limits\n",
+        path.c_str(), f.rmse_percent, options.rmse_percent);
+  }
+  return kExitOk;
+}
+
+}  // namespace sdcb::cli

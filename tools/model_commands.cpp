@@ -1,0 +1,165 @@
+// Commands that read a .sdcb model: info, dump, eval.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/adaptive_fit.h"
+#include "io/fit_statistics_json.h"
+#include "io/model_json.h"
+#include "io/sdcb_file.h"
+#include "tools/cli.h"
+#include "tools/commands.h"
+
+namespace sdcb::cli {
+
+// sdcb info MODEL.sdcb [--json FILE]
+int RunInfo(const std::vector<std::string>& argv) {
+  const Args args(argv, {"json"}, {"quiet"});
+  args.RequirePositionals(1,
+                          "MODEL (usage: sdcb info MODEL.sdcb [--json FILE])");
+  const std::string& path = args.positionals()[0];
+  StatusOr<SplineModel> model = ReadSdcbFile(path);
+  if (!model.ok()) return ReportError(model.status());
+  const SplineModel& m = *model;
+  size_t configurations = 0;
+  for (const auto& set : m.configurations.sets)
+    configurations += set.boundaries.size();
+  const RoundStatistics& f = m.statistics.final_result;
+  if (args.Has("json")) {
+    nlohmann::ordered_json j;
+    j["file"] = path;
+    j["format_version"] = kSdcbFormatVersion;
+    j["degree"] = m.degree;
+    j["knots"] = m.knots.rows();
+    j["control_points"] = m.control_points.rows();
+    j["configurations"] = configurations;
+    j["rmse_percent"] = f.rmse_percent;
+    j["max_error_percent"] = f.max_error_percent;
+    j["rounds"] = m.statistics.rounds.size();
+    j["source"] = {{"file_name", m.source.file_name},
+                   {"vertices", m.source.num_vertices},
+                   {"faces", m.source.num_faces},
+                   {"hash", m.source.hash}};
+    j["has_parameters"] = m.parameters.rows() > 0;
+    const Status s = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
+    if (!s.ok()) return ReportError(s);
+  }
+  if (!args.Has("quiet") && args.Get("json") != "-") {
+    std::printf("%s\n", path.c_str());
+    std::printf("  %-22s %d\n", "degree", m.degree);
+    std::printf("  %-22s %lld\n", "knots",
+                static_cast<long long>(m.knots.rows()));
+    std::printf("  %-22s %lld\n", "control points",
+                static_cast<long long>(m.control_points.rows()));
+    std::printf("  %-22s %zu\n", "configurations", configurations);
+    std::printf("  %-22s %.5f%%\n", "rmse", f.rmse_percent);
+    std::printf("  %-22s %.5f%%\n", "max error", f.max_error_percent);
+    std::printf("  %-22s %zu\n", "rounds", m.statistics.rounds.size());
+    std::printf("  %-22s %s (%lld vertices, %lld faces)\n", "source",
+                m.source.file_name.c_str(),
+                static_cast<long long>(m.source.num_vertices),
+                static_cast<long long>(m.source.num_faces));
+    std::printf("  %-22s %s\n", "parameters stored",
+                m.parameters.rows() ? "yes" : "no");
+  }
+  return kExitOk;
+}
+
+// sdcb dump MODEL.sdcb -o MODEL.json
+int RunDump(const std::vector<std::string>& argv) {
+  const Args args(argv, {"output"}, {});
+  args.RequirePositionals(1,
+                          "MODEL (usage: sdcb dump MODEL.sdcb -o MODEL.json)");
+  const std::string output = args.Get("output");
+  if (output.empty()) throw UsageError{"missing -o MODEL.json"};
+  StatusOr<SplineModel> model = ReadSdcbFile(args.positionals()[0]);
+  if (!model.ok()) return ReportError(model.status());
+  const Status s = WriteTextOutput(output, ModelToJson(*model));
+  return s.ok() ? kExitOk : ReportError(s);
+}
+
+// sdcb eval MODEL.sdcb -i POINTS.txt -o VALUES.txt [--derivatives]
+int RunEval(const std::vector<std::string>& argv) {
+  const Args args(argv, {"input", "output"}, {"derivatives"});
+  args.RequirePositionals(
+      1, "MODEL (usage: sdcb eval MODEL.sdcb -i POINTS.txt -o VALUES.txt)");
+  const std::string input = args.Get("input"), output = args.Get("output");
+  if (input.empty()) throw UsageError{"missing -i POINTS.txt"};
+  if (output.empty()) throw UsageError{"missing -o VALUES.txt"};
+  StatusOr<SplineModel> model = ReadSdcbFile(args.positionals()[0]);
+  if (!model.ok()) return ReportError(model.status());
+
+  // Points: three numbers per non-empty line (a '#' starts a comment).
+  std::ifstream in(input);
+  if (!in) return ReportError(IoError(input + ": cannot open the points file"));
+  std::vector<Eigen::Vector3d> points;
+  std::string line;
+  for (long long number = 1; std::getline(in, line); ++number) {
+    const size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    std::istringstream s(line);
+    std::string token;
+    std::vector<double> values;
+    while (s >> token) {
+      char* end = nullptr;
+      const double v = std::strtod(token.c_str(), &end);
+      if (*end != '\0' || !std::isfinite(v)) {
+        return ReportError(
+            InvalidInputError(input + ": line " + std::to_string(number) +
+                              ": '" + token + "' is not a finite number"));
+      }
+      values.push_back(v);
+    }
+    if (values.empty()) continue;
+    const Eigen::Vector3d p(values.size() == 3 ? values[0] : 0,
+                            values.size() == 3 ? values[1] : 0,
+                            values.size() == 3 ? values[2] : 0);
+    if (values.size() != 3 || !(p.norm() > 0)) {
+      return ReportError(InvalidInputError(input + ": line " +
+                                           std::to_string(number) +
+                                           " must hold three numbers, not all "
+                                           "zero (a direction on the sphere)"));
+    }
+    points.push_back(p.normalized());
+  }
+  StatusOr<SphericalSpline> surface = SurfaceFromModel(*model);
+  if (!surface.ok()) {
+    return ReportError(surface.status().WithPrefix(args.positionals()[0]));
+  }
+  Eigen::MatrixX3d directions(points.size(), 3);
+  for (size_t i = 0; i < points.size(); ++i) directions.row(i) = points[i];
+  const bool derivatives = args.Has("derivatives");
+  Eigen::MatrixX3d positions, normals;
+  if (derivatives) {
+    const std::vector<SurfacePoint> jets =
+        surface->EvaluateDifferentialMany(directions, JetOrder::kGradient);
+    positions.resize(jets.size(), 3);
+    normals.resize(jets.size(), 3);
+    for (size_t i = 0; i < jets.size(); ++i) {
+      positions.row(i) = jets[i].position;
+      normals.row(i) = jets[i].normal;
+    }
+  } else {
+    positions = surface->EvaluateMany(directions);
+  }
+  positions = model->transform.ToInput(positions);
+  std::string text;
+  char buffer[160];
+  for (Eigen::Index i = 0; i < positions.rows(); ++i) {
+    std::snprintf(buffer, sizeof buffer, "%.17g %.17g %.17g", positions(i, 0),
+                  positions(i, 1), positions(i, 2));
+    text += buffer;
+    if (derivatives) {
+      std::snprintf(buffer, sizeof buffer, " %.17g %.17g %.17g", normals(i, 0),
+                    normals(i, 1), normals(i, 2));
+      text += buffer;
+    }
+    text += '\n';
+  }
+  const Status s = WriteTextOutput(output, text);
+  return s.ok() ? kExitOk : ReportError(s);
+}
+
+}  // namespace sdcb::cli

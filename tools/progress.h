@@ -1,0 +1,36 @@
+// A progress bar on stderr for long commands: stage name, bar, percentage
+// and ETA, redrawn in place. Shown only when stderr is a terminal and the
+// user did not pass --quiet; otherwise every call is a no-op.
+#ifndef SDCB_TOOLS_PROGRESS_H_
+#define SDCB_TOOLS_PROGRESS_H_
+
+#include <chrono>
+#include <functional>
+#include <string>
+
+namespace sdcb::cli {
+
+class ProgressBar {
+ public:
+  // `command` prefixes the line ("sdcb fit").
+  ProgressBar(std::string command, bool quiet);
+  ~ProgressBar();  // finishes the line if anything was drawn
+
+  bool enabled() const { return enabled_; }
+  // Draws stage and fraction (0..1); rate-limited to ~10 redraws a second.
+  void Update(const std::string& stage, double fraction);
+  // Ends the line (before printing anything else to stderr).
+  void Finish();
+  // A callback for library options structs.
+  std::function<void(const std::string&, double)> Callback();
+
+ private:
+  std::string command_;
+  bool enabled_ = false;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point start_, last_draw_;
+};
+
+}  // namespace sdcb::cli
+
+#endif  // SDCB_TOOLS_PROGRESS_H_
