@@ -8,19 +8,14 @@
 #include <cmath>
 #include <random>
 
+#include "tests/core/random_sphere_points.h"
+
 namespace sdcb {
 namespace testing {
 
 // n knots uniformly distributed on S^2 (normalized Gaussian vectors).
 inline Eigen::MatrixX3d UniformKnots(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> normal;
-  Eigen::MatrixX3d knots(n, 3);
-  for (int i = 0; i < n; ++i) {
-    knots.row(i) =
-        Eigen::RowVector3d(normal(rng), normal(rng), normal(rng)).normalized();
-  }
-  return knots;
+  return RandomUnitVectors(n, seed);
 }
 
 // A point uniformly distributed in the cap of angular radius `radius_deg`
