@@ -30,17 +30,17 @@ int main(int argc, char** argv) {
               mesh->num_vertices(), options.degree, options.rmse_percent);
   std::printf(
       "round  knots  ctrl_pts   rmse%%     max%%  | seconds: knots  configs  "
-      "basis   solve   round | cvt energy (iters)\n");
+      "basis   solve   round | cvt energy (iters) | reused basis\n");
   for (size_t i = 0; i < s.rounds.size(); ++i) {
     const auto& r = s.rounds[i];
     const auto& d = fit->round_details[i];
     std::printf(
         "%5d %6d %9d  %.5f  %.5f |        %6.3f  %6.3f  %6.3f  %6.3f  %6.3f | "
-        "%.4g -> %.4g (%d)\n",
+        "%.4g -> %.4g (%d) | %d\n",
         r.round, r.knots, r.control_points, r.rmse_percent, r.max_error_percent,
         d.timings.knot_placement, d.timings.configurations, d.timings.basis,
         d.timings.solve, d.timings.total, d.cvt_initial_energy,
-        d.cvt_final_energy, d.cvt_iterations);
+        d.cvt_final_energy, d.cvt_iterations, d.reused_basis_functions);
   }
   const auto& t = s.timings;
   std::printf(

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -69,6 +70,16 @@ Eigen::MatrixX3d NearestSamplePrior(const DcbBasis& basis,
   return prior;
 }
 
+// Identifies a basis function across rounds: its knot indices, then its
+// boundary triples (knot indices are stable: fixed knots keep their rows).
+std::vector<int> BasisKey(const ConfigurationSet& set) {
+  std::vector<int> key = set.knots;
+  key.push_back(-1);
+  for (const auto& b : set.boundaries)
+    key.insert(key.end(), b.begin(), b.end());
+  return key;
+}
+
 }  // namespace
 
 StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
@@ -123,6 +134,8 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
 
   Eigen::MatrixX3d knots(0, 3);
   CvtOptions cvt;
+  DesignMatrix previous_raw;                      // last round's raw B values
+  std::map<std::vector<int>, int> previous_keys;  // BasisKey -> its column
   const double rounds_fraction = 0.7 / options.max_rounds;
   for (int round = 0; round < options.max_rounds; ++round) {
     const Stopwatch round_clock;
@@ -156,7 +169,22 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
     stage = Stopwatch();
     SDCB_ASSIGN_OR_RETURN(DcbBasis basis,
                           DcbBasis::Create(placement.knots, configurations));
-    const DesignMatrix design = BuildDesignMatrix(basis, u);
+    // Basis functions unchanged since the last round (same knots, same
+    // boundary triples) keep their values: only new ones are evaluated.
+    std::vector<int> previous_columns(basis.size(), -1);
+    std::map<std::vector<int>, int> columns_by_key;
+    for (int i = 0; i < basis.size(); ++i) {
+      const std::vector<int> key = BasisKey(configurations.sets[i]);
+      auto it = previous_keys.find(key);
+      if (it != previous_keys.end()) {
+        previous_columns[i] = it->second;
+        ++details.reused_basis_functions;
+      }
+      columns_by_key.emplace(key, i);
+    }
+    DesignMatrix raw = BuildRawDesignMatrix(
+        basis, u, round > 0 ? &previous_raw : nullptr, &previous_columns);
+    const DesignMatrix design = NormalizeRows(raw);
     details.timings.basis = stage.Seconds();
     // Least squares.
     report("solve", base + 0.7 * rounds_fraction);
@@ -189,6 +217,8 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
     stats.timings.solve += details.timings.solve;
     result.round_details.push_back(details);
 
+    previous_raw = std::move(raw);
+    previous_keys = std::move(columns_by_key);
     knots = placement.knots;
     model.knots = placement.knots;
     model.configurations = std::move(configurations);

@@ -46,6 +46,9 @@ struct RoundDetails {
   double cvt_final_energy = 0;
   int cvt_iterations = 0;
   double min_knot_separation = 0;  // radians
+  // Basis functions identical to one of the previous round, whose values
+  // were reused rather than evaluated.
+  int reused_basis_functions = 0;
 };
 
 struct FitResult {

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <vector>
 
 #include "core/dcb_basis.h"
 
@@ -26,6 +27,23 @@ struct DesignMatrixOptions {
 DesignMatrix BuildDesignMatrix(const DcbBasis& basis,
                                const Eigen::MatrixX3d& points,
                                const DesignMatrixOptions& options = {});
+
+// The raw (eq. 4) design matrix, reusing a previous round's values: when
+// basis function i is identical to column previous_columns[i] (>= 0) of
+// `previous` — same knot coordinates, same boundary triples, so the same
+// function — its values are copied from `previous` (computed at the same
+// `points`) instead of evaluated. The result is bit-identical to
+// BuildDesignMatrix(basis, points, {.normalized = false}). `previous` may be
+// null (nothing reused); else previous_columns has basis.size() entries.
+DesignMatrix BuildRawDesignMatrix(
+    const DcbBasis& basis, const Eigen::MatrixX3d& points,
+    const DesignMatrix* previous = nullptr,
+    const std::vector<int>* previous_columns = nullptr);
+
+// Divides every row by its sum (eq. 5: Bbar = B / I), summing in column
+// order: NormalizeRows(raw) is bit-identical to the normalized
+// BuildDesignMatrix on the same basis and points.
+DesignMatrix NormalizeRows(const DesignMatrix& raw);
 
 }  // namespace sdcb
 

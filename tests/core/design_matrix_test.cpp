@@ -107,3 +107,49 @@ TEST(DesignMatrix, LeastSquaresErrorFallsWithTheKnotSpacing) {
 
 }  // namespace
 }  // namespace sdcb
+
+namespace sdcb {
+namespace {
+
+// Values reused from a previous knot set (the fitting rounds) are exactly
+// the values a fresh evaluation gives.
+TEST(DesignMatrix, ReusedColumnsAreBitIdenticalToAFreshBuild) {
+  const Eigen::MatrixX3d all = testing::RandomUnitVectors(90, 31);
+  const Eigen::MatrixX3d first = all.topRows(70);
+  const Eigen::MatrixX3d points = testing::RandomUnitVectors(4000, 32);
+  const int degree = 3;
+  auto configs_a = ComputeDelaunayConfigurations(first, degree);
+  auto configs_b = ComputeDelaunayConfigurations(all, degree);
+  ASSERT_TRUE(configs_a.ok() && configs_b.ok());
+  auto basis_a = DcbBasis::Create(first, *configs_a);
+  auto basis_b = DcbBasis::Create(all, *configs_b);
+  ASSERT_TRUE(basis_a.ok() && basis_b.ok());
+  const DesignMatrix raw_a = BuildRawDesignMatrix(*basis_a, points);
+  // Column of the identical function in round a, by brute-force comparison.
+  std::vector<int> previous(basis_b->size(), -1);
+  int reused = 0;
+  for (int i = 0; i < basis_b->size(); ++i) {
+    for (int j = 0; j < basis_a->size(); ++j) {
+      if (configs_b->sets[i].knots == configs_a->sets[j].knots &&
+          configs_b->sets[i].boundaries == configs_a->sets[j].boundaries) {
+        previous[i] = j;
+        ++reused;
+      }
+    }
+  }
+  EXPECT_GT(reused, basis_b->size() / 10);  // some functions are reused
+  const DesignMatrix with_reuse =
+      BuildRawDesignMatrix(*basis_b, points, &raw_a, &previous);
+  const DesignMatrix fresh = BuildDesignMatrix(*basis_b, points, {false});
+  ASSERT_EQ(with_reuse.nonZeros(), fresh.nonZeros());
+  EXPECT_TRUE(
+      (Eigen::MatrixXd(with_reuse).array() == Eigen::MatrixXd(fresh).array())
+          .all());
+  const DesignMatrix normalized = BuildDesignMatrix(*basis_b, points);
+  EXPECT_TRUE((Eigen::MatrixXd(NormalizeRows(with_reuse)).array() ==
+               Eigen::MatrixXd(normalized).array())
+                  .all());
+}
+
+}  // namespace
+}  // namespace sdcb
