@@ -113,9 +113,21 @@ StatusOr<DcbBasis> DcbBasis::Create(
     basis.caps_[i] = best;
   });
   for (int i = 0; i < m; ++i) {
-    if (!statuses[i].ok()) {
-      return statuses[i].WithPrefix("configuration set " + std::to_string(i));
+    if (statuses[i].ok()) continue;
+    std::string where = "configuration set " + std::to_string(i) + " (knots";
+    for (int q : basis.sets_[i].knots) where += " " + std::to_string(q);
+    where += ")";
+    if (statuses[i].code() == StatusCode::kInvalidInput) {
+      // Only a boundary triple on a great circle (a hemisphere for a cap)
+      // lets a set reach a closed hemisphere. The perturbed knots' basis
+      // function |det X_B| M tends to 0 * infinity there; that limit is not
+      // evaluated, so such inputs are refused rather than given a hole.
+      return InvalidInputError(
+          where + ": degenerate knots not supported: " +
+          statuses[i].message() +
+          "; a boundary triple lies on a great circle (docs/BASIS.md)");
     }
+    return statuses[i].WithPrefix(where);
   }
   basis.splines_.reserve(m);
   for (auto& s : splines) basis.splines_.push_back(std::move(*s));

@@ -47,8 +47,13 @@ class DcbBasis {
   // `knots`: #knots by 3 unit vectors; `configurations`: their degree-k
   // configuration sets (ComputeDelaunayConfigurations). Fails with
   // kInvalidArgument if a set has the wrong size, an index is out of range,
-  // or a boundary triple is not in its set, and with kInvalidInput for
-  // degenerate knots (a subset on one great circle).
+  // or a boundary triple is not in its set. Degenerate knots (co-circular,
+  // on great circles) are supported as the limit of the configurations'
+  // symbolic perturbation (docs/BASIS.md), except when a set's knots are not
+  // in an open hemisphere (possible only if a boundary triple lies on a
+  // great circle, e.g. with antipodal knots): kInvalidInput naming the set.
+  // A set whose boundary triples all lie on great circles gets weight 0
+  // (B = 0: |det X_B| -> 0 while M stays bounded).
   static StatusOr<DcbBasis> Create(const Eigen::MatrixX3d& knots,
                                    const DelaunayConfigurations& configurations,
                                    const DcbBasisOptions& options = {});

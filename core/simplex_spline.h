@@ -64,9 +64,13 @@ class SimplexSpline {
 
   // `knots`: (k + 3) by 3 unit vectors, 3 <= k + 3 <= kMaxKnots. Fails with
   // kInvalidArgument for a bad size or knots that are not unit vectors
-  // (within 1e-6), and with
-  // kInvalidInput if some subset of >= 4 knots has no linearly independent
-  // triple (all on one great circle).
+  // (within 1e-6), and with kInvalidInput if the knots do not span R^3 (all
+  // on one great circle) or do not lie in an open hemisphere (antipodal
+  // knots, or the origin in their hull): M is then not a bounded function.
+  // Degenerate subsets are allowed: three knots on a great circle (det = 0)
+  // or larger subsets on one great circle are zero nodes of the recursion
+  // (their coefficient vanishes on their support), so M is the limit of the
+  // simplex splines of nearby generic knots (with lower smoothness).
   static StatusOr<SimplexSpline> Create(
       const Eigen::MatrixX3d& knots, const SimplexSplineOptions& options = {});
 
@@ -84,7 +88,8 @@ class SimplexSpline {
  private:
   struct Node {
     std::uint32_t mask = 0;
-    // Leaf (3 knots): local knot indices, ascending, and the triangle data.
+    // Leaf (3 knots, or a zero node: a subset on one great circle, with
+  // orientation 0): local knot indices, ascending, and the triangle data.
     // Internal: the children S \ {w_j} (node indices) and W's matrix.
     int child[3] = {-1, -1, -1};
     int local[3] = {-1, -1, -1};
