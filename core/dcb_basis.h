@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "core/delaunay_configurations.h"
@@ -64,7 +65,14 @@ class DcbBasis {
   const ConfigurationSet& configuration_set(int i) const { return sets_[i]; }
   // sum over the configurations of set i of |det(X_B)| (eq. 4).
   double weight(int i) const { return weights_[i]; }
-  const SimplexSpline& simplex_spline(int i) const { return splines_[i]; }
+  // M(p | X~) of set i; only for sets whose knots lie in an open hemisphere
+  // (always, unless a boundary triple lies on a great circle).
+  bool has_simplex_spline(int i) const { return splines_[i].has_value(); }
+  const SimplexSpline& simplex_spline(int i) const { return *splines_[i]; }
+  // Number of limit terms (a . p) M(p | X~ \ x_j) of set i (see Create).
+  int num_limit_terms(int i) const {
+    return limit_start_[i + 1] - limit_start_[i];
+  }
   // A cap containing the support of basis function i.
   const SphericalCap& support_cap(int i) const { return caps_[i]; }
 
@@ -98,7 +106,21 @@ class DcbBasis {
                         std::vector<BasisValue>* out) const;
 
  private:
+  // A term (cofactor . p) M(p | X~ \ x_j) of the limit of |det X_B| M for
+  // a boundary triple X_B on a great circle (see BuildBasisFunction).
+  struct LimitTerm {
+    Eigen::Vector3d cofactor;
+    SimplexSpline spline;
+  };
+
   DcbBasis() = default;
+  static Status BuildBasisFunction(const Eigen::MatrixX3d& knots,
+                                   const ConfigurationSet& set,
+                                   const SimplexSplineOptions& options,
+                                   std::optional<SimplexSpline>* spline,
+                                   double* weight,
+                                   std::vector<LimitTerm>* limit_terms,
+                                   SphericalCap* support);
   int CellOf(const Eigen::Vector3d& p) const;
   // Calls visit(i), ascending, for each basis i whose support cap holds p.
   template <typename Visit>
@@ -114,8 +136,14 @@ class DcbBasis {
   int degree_ = 0;
   Eigen::MatrixX3d knots_;
   std::vector<ConfigurationSet> sets_;
-  std::vector<SimplexSpline> splines_;
+  // splines_[i] is empty iff set i is not in an open hemisphere; weights_[i]
+  // is then 0 and the limit terms carry the function.
+  std::vector<std::optional<SimplexSpline>> splines_;
   std::vector<double> weights_;
+  // CSR: the limit terms of set i are limit_terms_[limit_start_[i] ..
+  // limit_start_[i + 1]).
+  std::vector<int> limit_start_;
+  std::vector<LimitTerm> limit_terms_;
   std::vector<SphericalCap> caps_;
   // Support grid: rows_ x 2 rows_ latitude-longitude cells, CSR lists of
   // basis indices (ascending) whose cap meets each cell.

@@ -50,20 +50,6 @@ int FilteredSign(double v, double bound, const Eigen::Vector3d& p,
   return ExactPerturbedSign(p, a, b);
 }
 
-// Three unit knots with |det| at or below this are treated as lying on one
-// great circle (a zero node): the rounding of det is ~1e-16, so 1 / |det|
-// and the barycentric matrix of such a triple are not representable
-// (1 / 0 = inf, and inf * 0 = NaN in the recursion), and the triangle is a
-// sliver narrower than 1e-14 rad whose contribution is below the rounding of
-// M anyway. Knots meant to be exactly on a great circle (a meridian computed
-// with cos/sin) typically have |det| ~ 1e-17.
-constexpr double kFlatDet = 1e-14;
-
-bool Spans(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-           const Eigen::Vector3d& c) {
-  return std::abs(Det3(a, b, c)) > kFlatDet;
-}
-
 std::uint32_t Mix(std::uint32_t x) {
   x ^= x >> 16;
   x *= 0x7feb352dU;
@@ -74,6 +60,11 @@ std::uint32_t Mix(std::uint32_t x) {
 }
 
 }  // namespace
+
+bool SpansR3(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+             const Eigen::Vector3d& c) {
+  return std::abs(Det3(a, b, c)) > kFlatDeterminant;
+}
 
 int PerturbedDetSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                      const Eigen::Vector3d& b) {
@@ -109,7 +100,7 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
   for (int a = 0; a < m && !spans; ++a)
     for (int b = a + 1; b < m && !spans; ++b)
       for (int c = b + 1; c < m && !spans; ++c) {
-        spans = Spans(knots.row(a).transpose(), knots.row(b).transpose(),
+        spans = SpansR3(knots.row(a).transpose(), knots.row(b).transpose(),
                       knots.row(c).transpose());
       }
   if (!spans) {
@@ -149,11 +140,11 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       node.pair[0] = PairIndex(b, c, m);
       node.pair[1] = PairIndex(a, c, m);
       node.pair[2] = PairIndex(a, b, m);
-      // det = 0 (three knots on a great circle, or within kFlatDet of
+      // det = 0 (three knots on a great circle, or within kFlatDeterminant of
       // one): a zero leaf, for the reason given below for larger flat
       // subsets.
       node.orientation =
-          Spans(t(a), t(b), t(c)) ? Det3Sign(t(a), t(b), t(c)) : 0;
+          SpansR3(t(a), t(b), t(c)) ? Det3Sign(t(a), t(b), t(c)) : 0;
       if (node.orientation != 0) {
         node.inv_abs_det = 1.0 / std::abs(Det3(t(a), t(b), t(c)));
       }
@@ -165,10 +156,10 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
         for (int y = x + 1; y < ms; ++y)
           for (int z = y + 1; z < ms; ++z) {
             const std::array<int, 3> w = {members[x], members[y], members[z]};
-            if (Spans(t(w[0]), t(w[1]), t(w[2]))) spanning.push_back(w);
+            if (SpansR3(t(w[0]), t(w[1]), t(w[2]))) spanning.push_back(w);
           }
       if (spanning.empty()) {
-        // S lies on a plane P through the origin (up to kFlatDet): M(p | S) is a measure on
+        // S lies on a plane P through the origin (up to kFlatDeterminant): M(p | S) is a measure on
         // P, and its coefficient in the parent vanishes on P (the parent's
         // W spans R^3, and its two members in S span P, so b_j = det(.., p,
         // ..) / det(W) is 0 there). The product is 0: a zero leaf, like a

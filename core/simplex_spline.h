@@ -38,6 +38,19 @@ struct ScalarJet {
 // How many derivatives to compute: 0 value, 1 + gradient, 2 + Hessian.
 enum class JetOrder { kValue = 0, kGradient = 1, kHessian = 2 };
 
+// Three unit knots with |det| at or below this count as lying on one great
+// circle (a zero node of the recursion). The rounding of det is ~1e-16, so
+// 1 / |det| and the barycentric matrix of such a triple are not
+// representable (1 / 0 = inf, inf * 0 = NaN), and the triangle is a sliver
+// narrower than ~1e-14 rad whose contribution is below the rounding of M.
+// Knots meant to be exactly on a great circle but computed with cos / sin
+// (a meridian) typically have |det| ~ 1e-17.
+inline constexpr double kFlatDeterminant = 1e-14;
+
+// Whether |det(a, b, c)| > kFlatDeterminant (a, b, c unit vectors).
+bool SpansR3(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+             const Eigen::Vector3d& c);
+
 // Sign of det(p, a, b) under the half-open perturbation described above:
 // +1 or -1, or 0 only in degenerate cases (a, b dependent).
 int PerturbedDetSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
