@@ -258,7 +258,36 @@ StatusOr<DcbBasis> DcbBasis::Create(
   for (const auto& cell : cells) {
     basis.cell_items_.insert(basis.cell_items_.end(), cell.begin(), cell.end());
   }
+  SDCB_RETURN_IF_ERROR(basis.CheckCoverage(options.coverage_samples));
   return basis;
+}
+
+Status DcbBasis::CheckCoverage(int samples) const {
+  if (samples <= 0) return Status();
+  // Fibonacci spiral: quasi-uniform, deterministic.
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  Eigen::MatrixX3d points(samples, 3);
+  for (int i = 0; i < samples; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / samples;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    points.row(i) << r * std::cos(golden * i), r * std::sin(golden * i), z;
+  }
+  std::vector<char> covered(samples, 0);
+  ParallelForEachPoint(points, [&](Eigen::Index r) {
+    covered[r] = Normalization(points.row(r).transpose()) > 0.0;
+  });
+  for (int i = 0; i < samples; ++i) {
+    if (covered[i]) continue;
+    const Eigen::RowVector3d p = points.row(i);
+    return InvalidInputError(
+        "the degree-" + std::to_string(degree_) + " basis of these " +
+        std::to_string(knots_.rows()) +
+        " knots leaves a hole: I = sum B_i = 0 near (" + std::to_string(p.x()) +
+        ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) +
+        "), outside every basis support (too few or too unevenly spread "
+        "knots for this degree)");
+  }
+  return Status();
 }
 
 int DcbBasis::CellOf(const Eigen::Vector3d& p) const {

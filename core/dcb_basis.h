@@ -41,6 +41,12 @@ struct DcbBasisOptions {
   // Latitude rows of the support grid (longitude columns: twice as many);
   // 0 chooses from the number of knots.
   int grid_rows = 0;
+  // Create checks I(p) > 0 (eq. 5) at this many quasi-uniform points (a
+  // Fibonacci spiral) and fails if some I is 0: small knot sets can leave
+  // parts of the sphere outside every basis support even in general
+  // position (docs/BASIS.md). A sampled check: a hole smaller than the
+  // sample spacing (~3.5 / sqrt(samples) rad) can be missed. 0 disables.
+  int coverage_samples = 2048;
 };
 
 class DcbBasis {
@@ -48,7 +54,9 @@ class DcbBasis {
   // `knots`: #knots by 3 unit vectors; `configurations`: their degree-k
   // configuration sets (ComputeDelaunayConfigurations). Fails with
   // kInvalidArgument if a set has the wrong size, an index is out of range,
-  // or a boundary triple is not in its set. Degenerate knots (co-circular,
+  // or a boundary triple is not in its set, and with kInvalidInput if the
+  // coverage check (DcbBasisOptions::coverage_samples) finds I = 0.
+  // Degenerate knots (co-circular,
   // on great circles) are supported as the limit of the configurations'
   // symbolic perturbation (docs/BASIS.md), except when a set's knots are not
   // in an open hemisphere (possible only if a boundary triple lies on a
@@ -122,6 +130,8 @@ class DcbBasis {
                                    std::vector<LimitTerm>* limit_terms,
                                    SphericalCap* support);
   int CellOf(const Eigen::Vector3d& p) const;
+  // kInvalidInput if I = 0 at one of `samples` quasi-uniform points.
+  Status CheckCoverage(int samples) const;
   // Calls visit(i), ascending, for each basis i whose support cap holds p.
   template <typename Visit>
   void ForEachCandidate(const Eigen::Vector3d& p, Visit visit) const {
