@@ -116,9 +116,9 @@ Status DcbBasis::BuildBasisFunction(const Eigen::MatrixX3d& knots,
             std::to_string(b[0]) + " " + std::to_string(b[1]) + " " +
             std::to_string(b[2]) +
             ") lies on a great circle, the set's knots are not in an open "
-            "hemisphere, and without knot " + std::to_string(b[j]) +
-            " they are still not (" + m.status().message() +
-            "; docs/BASIS.md)");
+            "hemisphere, and without knot " +
+            std::to_string(b[j]) + " they are still not (" +
+            m.status().message() + "; docs/BASIS.md)");
       }
       limit_terms->push_back({cofactor[j], std::move(m).value()});
     }
@@ -344,8 +344,8 @@ ScalarJet DcbBasis::Evaluate(int i, const Eigen::Vector3d& p,
     if (order == JetOrder::kValue) continue;
     jet.gradient += a * m.value + ap * m.gradient;
     if (order == JetOrder::kHessian) {
-      jet.hessian += a * m.gradient.transpose() +
-                     m.gradient * a.transpose() + ap * m.hessian;
+      jet.hessian += a * m.gradient.transpose() + m.gradient * a.transpose() +
+                     ap * m.hessian;
     }
   }
   return jet;

@@ -101,7 +101,7 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
     for (int b = a + 1; b < m && !spans; ++b)
       for (int c = b + 1; c < m && !spans; ++c) {
         spans = SpansR3(knots.row(a).transpose(), knots.row(b).transpose(),
-                      knots.row(c).transpose());
+                        knots.row(c).transpose());
       }
   if (!spans) {
     return InvalidInputError(
@@ -159,9 +159,10 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
             if (SpansR3(t(w[0]), t(w[1]), t(w[2]))) spanning.push_back(w);
           }
       if (spanning.empty()) {
-        // S lies on a plane P through the origin (up to kFlatDeterminant): M(p | S) is a measure on
-        // P, and its coefficient in the parent vanishes on P (the parent's
-        // W spans R^3, and its two members in S span P, so b_j = det(.., p,
+        // S lies on a plane P through the origin (up to kFlatDeterminant): M(p
+        // | S) is a measure on P, and its coefficient in the parent vanishes on
+        // P (the parent's W spans R^3, and its two members in S span P, so b_j
+        // = det(.., p,
         // ..) / det(W) is 0 there). The product is 0: a zero leaf, like a
         // three-knot subset with det = 0 (degree 0, eq. 3).
         const int index = static_cast<int>(s.nodes_.size());

@@ -102,7 +102,7 @@ class SimplexSpline {
   struct Node {
     std::uint32_t mask = 0;
     // Leaf (3 knots, or a zero node: a subset on one great circle, with
-  // orientation 0): local knot indices, ascending, and the triangle data.
+    // orientation 0): local knot indices, ascending, and the triangle data.
     // Internal: the children S \ {w_j} (node indices) and W's matrix.
     int child[3] = {-1, -1, -1};
     int local[3] = {-1, -1, -1};

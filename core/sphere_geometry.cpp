@@ -41,6 +41,15 @@ bool InOpenHemisphere(const Eigen::MatrixX3d& points) {
   const int m = static_cast<int>(points.rows());
   auto at = [&](int i) -> Eigen::Vector3d { return points.row(i).transpose(); };
   const Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  // Filter: if the sum n of the points has n . t clearly positive for every
+  // point t (beyond the rounding of the dot products, < 1e-15 |n| |t|),
+  // the open hemisphere around n holds them all.
+  const Eigen::Vector3d n = points.colwise().sum().transpose();
+  bool clearly_inside = true;
+  for (int i = 0; i < m && clearly_inside; ++i) {
+    clearly_inside = n.dot(at(i)) > 1e-12 * n.norm() * at(i).norm();
+  }
+  if (clearly_inside) return true;
   // Segments: the origin is on [a, b] iff b is a negative multiple of a,
   // i.e. a x b = 0 (exactly: every 2 x 2 minor vanishes) and a . b < 0.
   for (int a = 0; a < m; ++a)

@@ -194,9 +194,9 @@ TEST(DegenerateBasisTest, FlatBoundaryIsTheLimitOfTiltedOnes) {
       double previous = 1e300, scale = 0;
       for (double h : {1e-3, 1e-5, 1e-7}) {
         const Eigen::MatrixX3d tilted = make(h);
-        ASSERT_EQ(CapSide(tilted.row(0), tilted.row(1), tilted.row(2),
-                          tilted.row(3)),
-                  1);
+        ASSERT_EQ(
+            CapSide(tilted.row(0), tilted.row(1), tilted.row(2), tilted.row(3)),
+            1);
         auto generic = DcbBasis::Create(tilted, configurations, single);
         ASSERT_TRUE(generic.ok()) << generic.status().message();
         EXPECT_EQ(generic->num_limit_terms(0), 0);

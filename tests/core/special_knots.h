@@ -101,8 +101,7 @@ inline Eigen::MatrixX3d RandomWithClosePair(int n, double separation,
   }
   Eigen::Vector3d axis(normal(rng), normal(rng), normal(rng));
   axis = axis.cross(rows[0]).normalized();  // orthogonal to knot 0
-  rows.push_back(std::cos(separation) * rows[0] +
-                 std::sin(separation) * axis);
+  rows.push_back(std::cos(separation) * rows[0] + std::sin(separation) * axis);
   return FromRows(rows);
 }
 
