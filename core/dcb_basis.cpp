@@ -90,7 +90,8 @@ Status DcbBasis::BuildBasisFunction(const Eigen::MatrixX3d& knots,
     if (set.knots.size() == 3) {
       return InvalidInputError("a degree-0 configuration on a great circle");
     }
-    const int s = PerturbedOrient3dSign(knots, kOriginIndex, b[0], b[1], b[2]);
+    const double s =
+        PerturbedOrient3dSign(knots, kOriginIndex, b[0], b[1], b[2]);
     const Eigen::Vector3d cofactor[3] = {s * tb.cross(tc), s * tc.cross(ta),
                                          s * ta.cross(tb)};
     for (int j = 0; j < 3; ++j) {
@@ -103,12 +104,7 @@ Status DcbBasis::BuildBasisFunction(const Eigen::MatrixX3d& knots,
       const Eigen::MatrixX3d c = Rows(knots, child);
       // A child on one great circle is a measure on a plane where its
       // cofactor vanishes (the plane holds the other two corners): term 0.
-      bool spans = false;
-      for (int x = 0; x < c.rows() && !spans; ++x)
-        for (int y = x + 1; y < c.rows() && !spans; ++y)
-          for (int z = y + 1; z < c.rows() && !spans; ++z)
-            spans = SpansR3(c.row(x), c.row(y), c.row(z));
-      if (!spans) continue;
+      if (!KnotsSpanR3(c)) continue;
       StatusOr<SimplexSpline> m = SimplexSpline::Create(c, options);
       if (!m.ok()) {
         return InvalidInputError(

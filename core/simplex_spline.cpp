@@ -66,6 +66,19 @@ bool SpansR3(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   return std::abs(Det3(a, b, c)) > kFlatDeterminant;
 }
 
+bool KnotsSpanR3(const Eigen::MatrixX3d& knots) {
+  const int m = static_cast<int>(knots.rows());
+  for (int a = 0; a < m; ++a)
+    for (int b = a + 1; b < m; ++b)
+      for (int c = b + 1; c < m; ++c) {
+        if (SpansR3(knots.row(a).transpose(), knots.row(b).transpose(),
+                    knots.row(c).transpose())) {
+          return true;
+        }
+      }
+  return false;
+}
+
 int PerturbedDetSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                      const Eigen::Vector3d& b) {
   const double bound = kSignFilter * p.cwiseAbs().sum() * a.cwiseAbs().sum() *
@@ -96,14 +109,7 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
   // M(p | V) is a bounded function only if V spans R^3 (otherwise it is a
   // measure on a great circle) and lies in an open hemisphere (otherwise
   // its cone is not pointed and the integral defining it diverges).
-  bool spans = false;
-  for (int a = 0; a < m && !spans; ++a)
-    for (int b = a + 1; b < m && !spans; ++b)
-      for (int c = b + 1; c < m && !spans; ++c) {
-        spans = SpansR3(knots.row(a).transpose(), knots.row(b).transpose(),
-                        knots.row(c).transpose());
-      }
-  if (!spans) {
+  if (!KnotsSpanR3(knots)) {
     return InvalidInputError(
         "simplex spline knots: all lie on one great circle");
   }

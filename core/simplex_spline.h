@@ -51,6 +51,10 @@ inline constexpr double kFlatDeterminant = 1e-14;
 bool SpansR3(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
              const Eigen::Vector3d& c);
 
+// Whether some three rows of `knots` (#knots by 3 unit vectors) satisfy
+// SpansR3, i.e. the knots do not all lie on one great circle.
+bool KnotsSpanR3(const Eigen::MatrixX3d& knots);
+
 // Sign of det(p, a, b) under the half-open perturbation described above:
 // +1 or -1, or 0 only in degenerate cases (a, b dependent).
 int PerturbedDetSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
