@@ -104,6 +104,46 @@ TEST(DegenerateBasisTest, PolyhedraGreatCirclesGridsRingsAndClosePairs) {
 // bounded limit: moving the knots by a random eps instead of the symbolic
 // perturbation, max I grows like 1 / eps (great circle + poles, degree 2:
 // 153, 1.5e4, 1.5e6 at eps = 1e-2, 1e-4, 1e-6; docs/BASIS.md).
+// The great circle + poles at degree 1 needs the limit terms (boundary
+// triples of three equator knots around the origin; their sets hold an
+// antipodal pair); their derivatives match central differences of values.
+TEST(DegenerateBasisTest, LimitTermsOnTheGreatCircleAndTheirDerivatives) {
+  const Eigen::MatrixX3d knots = testing::GreatCirclePlusPoles(16);
+  auto configurations = ComputeDelaunayConfigurations(knots, 1);
+  ASSERT_TRUE(configurations.ok());
+  auto basis = DcbBasis::Create(knots, *configurations);
+  ASSERT_TRUE(basis.ok()) << basis.status().message();
+  const Eigen::MatrixX3d points = testing::RandomUnitVectors(400, 31);
+  int with_terms = 0, checked = 0;
+  for (int i = 0; i < basis->size(); ++i) {
+    if (basis->num_limit_terms(i) == 0) continue;
+    ++with_terms;
+    EXPECT_FALSE(basis->has_simplex_spline(i));
+    for (int r = 0; r < points.rows(); ++r) {
+      const Eigen::Vector3d p = points.row(r);
+      const ScalarJet jet = basis->Evaluate(i, p, JetOrder::kGradient);
+      EXPECT_NEAR(jet.value, basis->Value(i, p), 1e-14);
+      if (jet.value == 0.0) continue;
+      // Degree 1: piecewise linear; skip points near a kink.
+      const double h = 1e-6;
+      Eigen::Vector3d fd;
+      bool smooth = true;
+      for (int a = 0; a < 3 && smooth; ++a) {
+        const Eigen::Vector3d e = h * Eigen::Vector3d::Unit(a);
+        const double plus = basis->Value(i, p + e),
+                     minus = basis->Value(i, p - e), mid = basis->Value(i, p);
+        fd[a] = (plus - minus) / (2 * h);
+        smooth = std::abs(plus - 2 * mid + minus) < 1e-12;
+      }
+      if (!smooth) continue;
+      ++checked;
+      EXPECT_LT((fd - jet.gradient).norm(), 1e-6 * (1 + jet.gradient.norm()));
+    }
+  }
+  EXPECT_GT(with_terms, 0);
+  EXPECT_GT(checked, 10);
+}
+
 TEST(DegenerateBasisTest, RefusesSetsWithoutABoundedLimit) {
   const std::string reason = "not in an open hemisphere";
   ExpectRefused(testing::GreatCirclePlusPoles(16), 2, "great circle + poles",
