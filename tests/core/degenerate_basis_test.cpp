@@ -64,6 +64,9 @@ void ExpectValidBasis(const Eigen::MatrixX3d& knots, int degree,
     }
   }
   EXPECT_GT(min_i, 0.0);
+  // Few random knots give large I at high degree whatever their pairs: the
+  // 40 random knots below reach 18.5 at degree 4 with or without the knot
+  // 1e-9 away (measured), the regular sets stay below 5 at degree 4.
   EXPECT_LT(max_i, 25.0);
 }
 
