@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "core/perturbed_predicates.h"
 #include "core/sphere_geometry.h"
 
 namespace sdcb {
@@ -44,7 +45,94 @@ SphericalCap BoundaryCap(const Eigen::MatrixX3d& knots,
 
 int Clamp(int v, int lo, int hi) { return std::max(lo, std::min(hi, v)); }
 
+Eigen::MatrixX3d Rows(const Eigen::MatrixX3d& knots,
+                      const std::vector<int>& indices) {
+  Eigen::MatrixX3d local(indices.size(), 3);
+  for (size_t j = 0; j < indices.size(); ++j) {
+    local.row(j) = knots.row(indices[j]);
+  }
+  return local;
+}
+
 }  // namespace
+
+// One basis function (eq. 4) of the set: its simplex spline and weight, the
+// limit terms of its flat boundary triples, and its support cap.
+Status DcbBasis::BuildBasisFunction(const Eigen::MatrixX3d& knots,
+                                    const ConfigurationSet& set,
+                                    const SimplexSplineOptions& options,
+                                    std::optional<SimplexSpline>* spline,
+                                    double* weight,
+                                    std::vector<LimitTerm>* limit_terms,
+                                    SphericalCap* support) {
+  const Eigen::MatrixX3d local = Rows(knots, set.knots);
+  const bool pointed = InOpenHemisphere(local);
+  *weight = 0.0;
+  SphericalCap best;
+  best.cos_radius = -2.0;
+  for (const auto& b : set.boundaries) {
+    const Eigen::Vector3d ta = Knot(knots, b[0]), tb = Knot(knots, b[1]),
+                          tc = Knot(knots, b[2]);
+    const SphericalCap cap = BoundaryCap(knots, b, set.knots);
+    if (cap.cos_radius > best.cos_radius) best = cap;
+    if (SpansR3(ta, tb, tc)) {
+      // Eq. 4: B = sum_X |det(X_B)| M(p | X~), summed in the sets' order.
+      *weight += std::abs(Det3(ta, tb, tc));
+      continue;
+    }
+    // X_B on a great circle: its cap is a hemisphere, decided by the
+    // configurations' perturbation. For the perturbed knots, eq. 3 with
+    // W = X_B gives |det X_B| M(p | X~) = s sum_j det(X_B, x_j -> p)
+    // M(p | X~ \ x_j), s the perturbed sign of det(X_B); its limit keeps
+    // the cofactors and the children's simplex splines. If X~ lies in an
+    // open hemisphere, M(p | X~) stays bounded and the limit is 0.
+    if (pointed) continue;
+    if (set.knots.size() == 3) {
+      return InvalidInputError("a degree-0 configuration on a great circle");
+    }
+    const double s =
+        PerturbedOrient3dSign(knots, kOriginIndex, b[0], b[1], b[2]);
+    const Eigen::Vector3d cofactor[3] = {s * tb.cross(tc), s * tc.cross(ta),
+                                         s * ta.cross(tb)};
+    for (int j = 0; j < 3; ++j) {
+      // Two antipodal corners left: the cofactor is 0 and so is the term.
+      if (cofactor[j].isZero(0.0)) continue;
+      std::vector<int> child;
+      for (int q : set.knots) {
+        if (q != b[j]) child.push_back(q);
+      }
+      const Eigen::MatrixX3d c = Rows(knots, child);
+      // A child on one great circle is a measure on a plane where its
+      // cofactor vanishes (the plane holds the other two corners): term 0.
+      if (!KnotsSpanR3(c)) continue;
+      StatusOr<SimplexSpline> m = SimplexSpline::Create(c, options);
+      if (!m.ok()) {
+        return InvalidInputError(
+            "degenerate knots not supported: boundary triple (" +
+            std::to_string(b[0]) + " " + std::to_string(b[1]) + " " +
+            std::to_string(b[2]) +
+            ") lies on a great circle, the set's knots are not in an open "
+            "hemisphere, and without knot " +
+            std::to_string(b[j]) + " they are still not (" +
+            m.status().message() + "; docs/BASIS.md)");
+      }
+      limit_terms->push_back({cofactor[j], std::move(m).value()});
+    }
+  }
+  if (pointed) {
+    StatusOr<SimplexSpline> m = SimplexSpline::Create(local, options);
+    if (!m.ok()) return m.status();
+    *spline = std::move(m).value();
+  } else if (*weight != 0.0) {
+    // Unreachable: a boundary off every great circle bounds a cap smaller
+    // than a hemisphere, which holds the set.
+    return InternalError("a set outside an open hemisphere has a proper cap");
+  }
+  // A cap larger than a hemisphere is not convex: fall back to the sphere.
+  if (best.cos_radius < 0.0) best.cos_radius = -2.0;
+  *support = best;
+  return Status();
+}
 
 StatusOr<DcbBasis> DcbBasis::Create(
     const Eigen::MatrixX3d& knots, const DelaunayConfigurations& configurations,
@@ -87,38 +175,28 @@ StatusOr<DcbBasis> DcbBasis::Create(
   basis.weights_.assign(m, 0.0);
   basis.caps_.resize(m);
   std::vector<std::optional<SimplexSpline>> splines(m);
+  std::vector<std::vector<LimitTerm>> limit_terms(m);
   std::vector<Status> statuses(m);
   tbb::parallel_for(0, m, [&](int i) {
-    const ConfigurationSet& set = basis.sets_[i];
-    Eigen::MatrixX3d local(k + 3, 3);
-    for (int j = 0; j < k + 3; ++j) local.row(j) = knots.row(set.knots[j]);
-    StatusOr<SimplexSpline> spline =
-        SimplexSpline::Create(local, options.spline);
-    if (!spline.ok()) {
-      statuses[i] = spline.status();
-      return;
-    }
-    splines[i] = std::move(spline).value();
-    // Eq. 4: B = sum_X |det(X_B)| M(p | X~), summed in the sets' order.
-    double weight = 0.0;
-    SphericalCap best;
-    best.cos_radius = -2.0;
-    for (const auto& b : set.boundaries) {
-      weight += std::abs(
-          Det3(Knot(knots, b[0]), Knot(knots, b[1]), Knot(knots, b[2])));
-      const SphericalCap cap = BoundaryCap(knots, b, set.knots);
-      if (cap.cos_radius > best.cos_radius) best = cap;
-    }
-    basis.weights_[i] = weight;
-    basis.caps_[i] = best;
+    statuses[i] = BuildBasisFunction(knots, basis.sets_[i], options.spline,
+                                     &splines[i], &basis.weights_[i],
+                                     &limit_terms[i], &basis.caps_[i]);
   });
   for (int i = 0; i < m; ++i) {
-    if (!statuses[i].ok()) {
-      return statuses[i].WithPrefix("configuration set " + std::to_string(i));
+    if (statuses[i].ok()) continue;
+    std::string where = "configuration set " + std::to_string(i) + " (knots";
+    for (int q : basis.sets_[i].knots) where += " " + std::to_string(q);
+    return statuses[i].WithPrefix(where + ")");
+  }
+  basis.splines_ = std::move(splines);
+  basis.limit_start_.assign(m + 1, 0);
+  for (int i = 0; i < m; ++i) {
+    basis.limit_start_[i + 1] =
+        basis.limit_start_[i] + static_cast<int>(limit_terms[i].size());
+    for (LimitTerm& t : limit_terms[i]) {
+      basis.limit_terms_.push_back(std::move(t));
     }
   }
-  basis.splines_.reserve(m);
-  for (auto& s : splines) basis.splines_.push_back(std::move(*s));
 
   // Support grid over latitude / longitude.
   basis.rows_ = options.grid_rows > 0
@@ -176,7 +254,36 @@ StatusOr<DcbBasis> DcbBasis::Create(
   for (const auto& cell : cells) {
     basis.cell_items_.insert(basis.cell_items_.end(), cell.begin(), cell.end());
   }
+  SDCB_RETURN_IF_ERROR(basis.CheckCoverage(options.coverage_samples));
   return basis;
+}
+
+Status DcbBasis::CheckCoverage(int samples) const {
+  if (samples <= 0) return Status();
+  // Fibonacci spiral: quasi-uniform, deterministic.
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  Eigen::MatrixX3d points(samples, 3);
+  for (int i = 0; i < samples; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / samples;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    points.row(i) << r * std::cos(golden * i), r * std::sin(golden * i), z;
+  }
+  std::vector<char> covered(samples, 0);
+  ParallelForEachPoint(points, [&](Eigen::Index r) {
+    covered[r] = Normalization(points.row(r).transpose()) > 0.0;
+  });
+  for (int i = 0; i < samples; ++i) {
+    if (covered[i]) continue;
+    const Eigen::RowVector3d p = points.row(i);
+    return InvalidInputError(
+        "the degree-" + std::to_string(degree_) + " basis of these " +
+        std::to_string(knots_.rows()) +
+        " knots leaves a hole: I = sum B_i = 0 near (" + std::to_string(p.x()) +
+        ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) +
+        "), outside every basis support (too few or too unevenly spread "
+        "knots for this degree)");
+  }
+  return Status();
 }
 
 int DcbBasis::CellOf(const Eigen::Vector3d& p) const {
@@ -205,15 +312,38 @@ std::vector<Eigen::Index> DcbBasis::LocalityOrder(
 }
 
 double DcbBasis::Value(int i, const Eigen::Vector3d& p) const {
-  return weights_[i] * splines_[i].Value(p);
+  double value = weights_[i] == 0.0 ? 0.0 : weights_[i] * splines_[i]->Value(p);
+  for (int t = limit_start_[i]; t < limit_start_[i + 1]; ++t) {
+    const LimitTerm& term = limit_terms_[t];
+    value += term.cofactor.dot(p) * term.spline.Value(p);
+  }
+  return value;
 }
 
 ScalarJet DcbBasis::Evaluate(int i, const Eigen::Vector3d& p,
                              JetOrder order) const {
-  ScalarJet jet = splines_[i].Evaluate(p, order);
-  jet.value *= weights_[i];
-  jet.gradient *= weights_[i];
-  jet.hessian *= weights_[i];
+  ScalarJet jet;
+  if (weights_[i] != 0.0) {
+    jet = splines_[i]->Evaluate(p, order);
+    jet.value *= weights_[i];
+    jet.gradient *= weights_[i];
+    jet.hessian *= weights_[i];
+  }
+  for (int t = limit_start_[i]; t < limit_start_[i + 1]; ++t) {
+    // (a . p) M: gradient a M + (a . p) grad M, Hessian a grad M^T +
+    // grad M a^T + (a . p) hess M.
+    const LimitTerm& term = limit_terms_[t];
+    const ScalarJet m = term.spline.Evaluate(p, order);
+    const Eigen::Vector3d& a = term.cofactor;
+    const double ap = a.dot(p);
+    jet.value += ap * m.value;
+    if (order == JetOrder::kValue) continue;
+    jet.gradient += a * m.value + ap * m.gradient;
+    if (order == JetOrder::kHessian) {
+      jet.hessian += a * m.gradient.transpose() + m.gradient * a.transpose() +
+                     ap * m.hessian;
+    }
+  }
   return jet;
 }
 

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "core/delaunay_configurations.h"
@@ -40,6 +41,12 @@ struct DcbBasisOptions {
   // Latitude rows of the support grid (longitude columns: twice as many);
   // 0 chooses from the number of knots.
   int grid_rows = 0;
+  // Create checks I(p) > 0 (eq. 5) at this many quasi-uniform points (a
+  // Fibonacci spiral) and fails if some I is 0: small knot sets can leave
+  // parts of the sphere outside every basis support even in general
+  // position (docs/BASIS.md). A sampled check: a hole smaller than the
+  // sample spacing (~3.5 / sqrt(samples) rad) can be missed. 0 disables.
+  int coverage_samples = 2048;
 };
 
 class DcbBasis {
@@ -47,8 +54,15 @@ class DcbBasis {
   // `knots`: #knots by 3 unit vectors; `configurations`: their degree-k
   // configuration sets (ComputeDelaunayConfigurations). Fails with
   // kInvalidArgument if a set has the wrong size, an index is out of range,
-  // or a boundary triple is not in its set, and with kInvalidInput for
-  // degenerate knots (a subset on one great circle).
+  // or a boundary triple is not in its set, and with kInvalidInput if the
+  // coverage check (DcbBasisOptions::coverage_samples) finds I = 0.
+  // Degenerate knots (co-circular,
+  // on great circles) are supported as the limit of the configurations'
+  // symbolic perturbation (docs/BASIS.md), except when a set's knots are not
+  // in an open hemisphere (possible only if a boundary triple lies on a
+  // great circle, e.g. with antipodal knots): kInvalidInput naming the set.
+  // A set whose boundary triples all lie on great circles gets weight 0
+  // (B = 0: |det X_B| -> 0 while M stays bounded).
   static StatusOr<DcbBasis> Create(const Eigen::MatrixX3d& knots,
                                    const DelaunayConfigurations& configurations,
                                    const DcbBasisOptions& options = {});
@@ -59,7 +73,14 @@ class DcbBasis {
   const ConfigurationSet& configuration_set(int i) const { return sets_[i]; }
   // sum over the configurations of set i of |det(X_B)| (eq. 4).
   double weight(int i) const { return weights_[i]; }
-  const SimplexSpline& simplex_spline(int i) const { return splines_[i]; }
+  // M(p | X~) of set i; only for sets whose knots lie in an open hemisphere
+  // (always, unless a boundary triple lies on a great circle).
+  bool has_simplex_spline(int i) const { return splines_[i].has_value(); }
+  const SimplexSpline& simplex_spline(int i) const { return *splines_[i]; }
+  // Number of limit terms (a . p) M(p | X~ \ x_j) of set i (see Create).
+  int num_limit_terms(int i) const {
+    return limit_start_[i + 1] - limit_start_[i];
+  }
   // A cap containing the support of basis function i.
   const SphericalCap& support_cap(int i) const { return caps_[i]; }
 
@@ -93,8 +114,24 @@ class DcbBasis {
                         std::vector<BasisValue>* out) const;
 
  private:
+  // A term (cofactor . p) M(p | X~ \ x_j) of the limit of |det X_B| M for
+  // a boundary triple X_B on a great circle (see BuildBasisFunction).
+  struct LimitTerm {
+    Eigen::Vector3d cofactor;
+    SimplexSpline spline;
+  };
+
   DcbBasis() = default;
+  static Status BuildBasisFunction(const Eigen::MatrixX3d& knots,
+                                   const ConfigurationSet& set,
+                                   const SimplexSplineOptions& options,
+                                   std::optional<SimplexSpline>* spline,
+                                   double* weight,
+                                   std::vector<LimitTerm>* limit_terms,
+                                   SphericalCap* support);
   int CellOf(const Eigen::Vector3d& p) const;
+  // kInvalidInput if I = 0 at one of `samples` quasi-uniform points.
+  Status CheckCoverage(int samples) const;
   // Calls visit(i), ascending, for each basis i whose support cap holds p.
   template <typename Visit>
   void ForEachCandidate(const Eigen::Vector3d& p, Visit visit) const {
@@ -109,8 +146,14 @@ class DcbBasis {
   int degree_ = 0;
   Eigen::MatrixX3d knots_;
   std::vector<ConfigurationSet> sets_;
-  std::vector<SimplexSpline> splines_;
+  // splines_[i] is empty iff set i is not in an open hemisphere; weights_[i]
+  // is then 0 and the limit terms carry the function.
+  std::vector<std::optional<SimplexSpline>> splines_;
   std::vector<double> weights_;
+  // CSR: the limit terms of set i are limit_terms_[limit_start_[i] ..
+  // limit_start_[i + 1]).
+  std::vector<int> limit_start_;
+  std::vector<LimitTerm> limit_terms_;
   std::vector<SphericalCap> caps_;
   // Support grid: rows_ x 2 rows_ latitude-longitude cells, CSR lists of
   // basis indices (ascending) whose cap meets each cell.

@@ -61,6 +61,24 @@ std::uint32_t Mix(std::uint32_t x) {
 
 }  // namespace
 
+bool SpansR3(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+             const Eigen::Vector3d& c) {
+  return std::abs(Det3(a, b, c)) > kFlatDeterminant;
+}
+
+bool KnotsSpanR3(const Eigen::MatrixX3d& knots) {
+  const int m = static_cast<int>(knots.rows());
+  for (int a = 0; a < m; ++a)
+    for (int b = a + 1; b < m; ++b)
+      for (int c = b + 1; c < m; ++c) {
+        if (SpansR3(knots.row(a).transpose(), knots.row(b).transpose(),
+                    knots.row(c).transpose())) {
+          return true;
+        }
+      }
+  return false;
+}
+
 int PerturbedDetSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                      const Eigen::Vector3d& b) {
   const double bound = kSignFilter * p.cwiseAbs().sum() * a.cwiseAbs().sum() *
@@ -88,6 +106,18 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       ((knots.rowwise().norm().array() - 1.0).abs() > 1e-6).any()) {
     return InvalidArgumentError("simplex spline knots must be unit vectors");
   }
+  // M(p | V) is a bounded function only if V spans R^3 (otherwise it is a
+  // measure on a great circle) and lies in an open hemisphere (otherwise
+  // its cone is not pointed and the integral defining it diverges).
+  if (!KnotsSpanR3(knots)) {
+    return InvalidInputError(
+        "simplex spline knots: all lie on one great circle");
+  }
+  if (!InOpenHemisphere(knots)) {
+    return InvalidInputError(
+        "simplex spline knots: not in an open hemisphere (antipodal knots, "
+        "or the origin in their convex hull)");
+  }
   SimplexSpline s;
   s.knots_ = knots;
   auto t = [&](int i) -> Eigen::Vector3d { return knots.row(i).transpose(); };
@@ -100,7 +130,6 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
   // Depth-first construction, children first; `index_of` memoizes subsets.
   std::map<std::uint32_t, int> index_of;
   std::map<std::array<int, 3>, int> matrix_of;
-  Status failure;
   std::function<int(std::uint32_t)> build = [&](std::uint32_t mask) -> int {
     auto it = index_of.find(mask);
     if (it != index_of.end()) return it->second;
@@ -117,7 +146,11 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       node.pair[0] = PairIndex(b, c, m);
       node.pair[1] = PairIndex(a, c, m);
       node.pair[2] = PairIndex(a, b, m);
-      node.orientation = Det3Sign(t(a), t(b), t(c));
+      // det = 0 (three knots on a great circle, or within kFlatDeterminant of
+      // one): a zero leaf, for the reason given below for larger flat
+      // subsets.
+      node.orientation =
+          SpansR3(t(a), t(b), t(c)) ? Det3Sign(t(a), t(b), t(c)) : 0;
       if (node.orientation != 0) {
         node.inv_abs_det = 1.0 / std::abs(Det3(t(a), t(b), t(c)));
       }
@@ -129,12 +162,19 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
         for (int y = x + 1; y < ms; ++y)
           for (int z = y + 1; z < ms; ++z) {
             const std::array<int, 3> w = {members[x], members[y], members[z]};
-            if (Det3Sign(t(w[0]), t(w[1]), t(w[2])) != 0) spanning.push_back(w);
+            if (SpansR3(t(w[0]), t(w[1]), t(w[2]))) spanning.push_back(w);
           }
       if (spanning.empty()) {
-        failure = InvalidInputError(
-            "simplex spline knots: a subset lies on one great circle");
-        return -1;
+        // S lies on a plane P through the origin (up to kFlatDeterminant): M(p
+        // | S) is a measure on P, and its coefficient in the parent vanishes on
+        // P (the parent's W spans R^3, and its two members in S span P, so b_j
+        // = det(.., p,
+        // ..) / det(W) is 0 there). The product is 0: a zero leaf, like a
+        // three-knot subset with det = 0 (degree 0, eq. 3).
+        const int index = static_cast<int>(s.nodes_.size());
+        s.nodes_.push_back(node);  // orientation 0: value 0
+        index_of[mask] = index;
+        return index;
       }
       // Default: the triple of largest |det|, whose barycentric coordinates
       // stay small over the hull of S (the recursion then cancels little).
@@ -171,7 +211,6 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       for (int j = 0; j < 3; ++j) {
         node.local[j] = w[j];
         node.child[j] = build(mask & ~(1u << w[j]));
-        if (node.child[j] < 0) return -1;
       }
     }
     const int index = static_cast<int>(s.nodes_.size());
@@ -180,7 +219,6 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
     return index;
   };
   build((1u << m) - 1);
-  if (!failure.ok()) return failure;
   // Leaves first (stable; still children before parents), so an evaluation
   // can stop once all degree-0 values are known to vanish.
   std::vector<int> new_index(s.nodes_.size());

@@ -38,6 +38,23 @@ struct ScalarJet {
 // How many derivatives to compute: 0 value, 1 + gradient, 2 + Hessian.
 enum class JetOrder { kValue = 0, kGradient = 1, kHessian = 2 };
 
+// Three unit knots with |det| at or below this count as lying on one great
+// circle (a zero node of the recursion). The rounding of det is ~1e-16, so
+// 1 / |det| and the barycentric matrix of such a triple are not
+// representable (1 / 0 = inf, inf * 0 = NaN), and the triangle is a sliver
+// narrower than ~1e-14 rad whose contribution is below the rounding of M.
+// Knots meant to be exactly on a great circle but computed with cos / sin
+// (a meridian) typically have |det| ~ 1e-17.
+inline constexpr double kFlatDeterminant = 1e-14;
+
+// Whether |det(a, b, c)| > kFlatDeterminant (a, b, c unit vectors).
+bool SpansR3(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+             const Eigen::Vector3d& c);
+
+// Whether some three rows of `knots` (#knots by 3 unit vectors) satisfy
+// SpansR3, i.e. the knots do not all lie on one great circle.
+bool KnotsSpanR3(const Eigen::MatrixX3d& knots);
+
 // Sign of det(p, a, b) under the half-open perturbation described above:
 // +1 or -1, or 0 only in degenerate cases (a, b dependent).
 int PerturbedDetSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
@@ -64,9 +81,13 @@ class SimplexSpline {
 
   // `knots`: (k + 3) by 3 unit vectors, 3 <= k + 3 <= kMaxKnots. Fails with
   // kInvalidArgument for a bad size or knots that are not unit vectors
-  // (within 1e-6), and with
-  // kInvalidInput if some subset of >= 4 knots has no linearly independent
-  // triple (all on one great circle).
+  // (within 1e-6), and with kInvalidInput if the knots do not span R^3 (all
+  // on one great circle) or do not lie in an open hemisphere (antipodal
+  // knots, or the origin in their hull): M is then not a bounded function.
+  // Degenerate subsets are allowed: three knots on a great circle (det = 0)
+  // or larger subsets on one great circle are zero nodes of the recursion
+  // (their coefficient vanishes on their support), so M is the limit of the
+  // simplex splines of nearby generic knots (with lower smoothness).
   static StatusOr<SimplexSpline> Create(
       const Eigen::MatrixX3d& knots, const SimplexSplineOptions& options = {});
 
@@ -84,7 +105,8 @@ class SimplexSpline {
  private:
   struct Node {
     std::uint32_t mask = 0;
-    // Leaf (3 knots): local knot indices, ascending, and the triangle data.
+    // Leaf (3 knots, or a zero node: a subset on one great circle, with
+    // orientation 0): local knot indices, ascending, and the triangle data.
     // Internal: the children S \ {w_j} (node indices) and W's matrix.
     int child[3] = {-1, -1, -1};
     int local[3] = {-1, -1, -1};

@@ -32,6 +32,15 @@ int Det3Sign(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 int CapSide(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
             const Eigen::Vector3d& c, const Eigen::Vector3d& q);
 
+// Whether some plane through the origin has every row of `points` (#P by 3,
+// nonzero vectors, pairwise distinct, #P small: the test is O(#P^4)) strictly
+// on one side, i.e. the points lie in an open hemisphere. Equivalently the
+// origin is not in their convex hull (Caratheodory: not in the closed
+// segment, triangle or tetrahedron of any 2, 3 or 4 of them), which is how it
+// is decided, with exact signs. The simplex spline M(p | V) is a bounded
+// function only for such V (its cone must be pointed).
+bool InOpenHemisphere(const Eigen::MatrixX3d& points);
+
 }  // namespace sdcb
 
 #endif  // SDCB_CORE_SPHERE_GEOMETRY_H_
