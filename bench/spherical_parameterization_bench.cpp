@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   double level_growth = defaults.level_growth;
   int base_vertices = defaults.base_vertices;
   int base_sweeps = defaults.base_sweeps;
+  int global_iterations = defaults.global_iterations;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--lambda" && i + 1 < argc) {
@@ -44,6 +45,8 @@ int main(int argc, char** argv) {
       finest_tolerance = std::atof(argv[++i]);
     } else if (a == "--tolerance" && i + 1 < argc) {
       tolerance = std::atof(argv[++i]);
+    } else if (a == "--global-iterations" && i + 1 < argc) {
+      global_iterations = std::atoi(argv[++i]);
     } else if (a == "--base-sweeps" && i + 1 < argc) {
       base_sweeps = std::atoi(argv[++i]);
     } else if (a == "--level-growth" && i + 1 < argc) {
@@ -69,9 +72,9 @@ int main(int argc, char** argv) {
   if (meshes.empty())
     meshes.push_back(std::string(SDCB_MESH_DIR) + "/bunny00.off");
   if (lambdas.empty()) lambdas = {0.2, 1.0, 10.0};
-  std::printf("%-22s %7s %8s %8s %8s %9s %9s %7s %8s\n", "mesh", "lambda",
+  std::printf("%-22s %7s %8s %8s %8s %9s %9s %7s %8s %12s\n", "mesh", "lambda",
               "faces", "seconds", "angleAvg", "angleMax", "areaAvg", "areaMax",
-              "flipped");
+              "flipped", "energy");
   for (const std::string& path : meshes) {
     auto mesh = sdcb::ReadMesh(path);
     if (!mesh.ok()) {
@@ -92,6 +95,7 @@ int main(int argc, char** argv) {
       options.level_growth = level_growth;
       options.base_vertices = base_vertices;
       options.base_sweeps = base_sweeps;
+      options.global_iterations = global_iterations;
       const auto start = std::chrono::steady_clock::now();
       if (verbose) {
         options.progress = [start](const std::string& stage, double fraction) {
@@ -113,11 +117,11 @@ int main(int argc, char** argv) {
         continue;
       }
       auto d = sdcb::MeasureParameterizationDistortion(*mesh, param->sphere);
-      std::printf("%-22s %7.2f %8d %8.3f %8.3f %9.3f %9.3f %7.3g %8d\n",
+      std::printf("%-22s %7.2f %8d %8.3f %8.3f %9.3f %9.3f %7.3g %8d %12.6g\n",
                   name.c_str(), lambda, mesh->num_faces(), seconds,
                   d->angle_distortion_avg, d->angle_distortion_max,
                   d->area_distortion_avg, d->area_distortion_max,
-                  d->flipped_triangles);
+                  d->flipped_triangles, param->energy);
       std::fflush(stdout);
     }
   }

@@ -1,6 +1,7 @@
 #include "core/spherical_parameterization.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
 #include <Eigen/Geometry>
@@ -146,10 +147,17 @@ class LevelOptimizer {
 
   // Eq. (12) over the level's faces (each face once, summed in order).
   double Energy(const Eigen::MatrixX3d& sphere) const {
+    const int nv = static_cast<int>(offset_.size()) - 1;
+    std::vector<double> local(nv, 0.0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256),
+                      [&](const tbb::blocked_range<int>& r) {
+                        for (int v = r.begin(); v != r.end(); ++v) {
+                          local[v] =
+                              LocalEnergy(v, Row(sphere, v), sphere, nullptr);
+                        }
+                      });
     double e = 0.0;
-    for (size_t v = 0; v + 1 < offset_.size(); ++v) {
-      e += LocalEnergy(static_cast<int>(v), Row(sphere, v), sphere, nullptr);
-    }
+    for (double l : local) e += l;  // vertex order: same for any threads
     return e / 3.0;
   }
 
@@ -190,7 +198,147 @@ class LevelOptimizer {
     return energy;
   }
 
+  // Global limited-memory BFGS on all of the level's vertices at once
+  // (`memory` pairs), for the low-frequency part of eq. (12) that per-vertex
+  // moves reach only slowly (area has to flow across the whole sphere). The
+  // iterate is a point of (S^2)^n: a step moves every vertex along its
+  // tangent direction and renormalizes; the curvature pairs are the
+  // differences of positions and of tangent gradients in R^3n. A step is
+  // taken only if every triangle stays positively oriented (exact) and the
+  // energy drops (Armijo). Stops after `iterations` or when an iteration
+  // lowers E by less than `tolerance` times E. Returns the final energy.
+  double OptimizeGlobal(Eigen::MatrixX3d* sphere, int iterations,
+                        double tolerance, int memory = 8) {
+    const int nv = static_cast<int>(decrease_.size());
+    Eigen::MatrixX3d gradient(nv, 3);
+    double energy = EnergyAndGradient(*sphere, &gradient);
+    std::vector<Eigen::MatrixX3d> s_hist, y_hist;
+    std::vector<double> rho_hist;
+    double first_step = 0.0;  // radians of the largest move, first iteration
+    for (const double st : step_) first_step = std::max(first_step, st);
+    for (int it = 0; it < iterations; ++it) {
+      // Two-loop recursion: direction = -H gradient.
+      Eigen::MatrixX3d q = gradient;
+      const int m = static_cast<int>(s_hist.size());
+      std::vector<double> alpha(m);
+      for (int i = m - 1; i >= 0; --i) {
+        alpha[i] = rho_hist[i] * Dot(s_hist[i], q);
+        q -= alpha[i] * y_hist[i];
+      }
+      if (m > 0) {
+        q *= Dot(s_hist[m - 1], y_hist[m - 1]) /
+             Dot(y_hist[m - 1], y_hist[m - 1]);
+      } else {
+        // First iteration: scale so that the largest vertex move is
+        // first_step radians.
+        double largest = 0.0;
+        for (int v = 0; v < nv; ++v)
+          largest = std::max(largest, q.row(v).norm());
+        if (!(largest > 0.0)) break;
+        q *= first_step / largest;
+      }
+      for (int i = 0; i < m; ++i) {
+        const double beta = rho_hist[i] * Dot(y_hist[i], q);
+        q += (alpha[i] - beta) * s_hist[i];
+      }
+      Eigen::MatrixX3d direction = -q;
+      ProjectToTangent(*sphere, &direction);
+      double slope = Dot(direction, gradient);
+      if (!(slope < 0.0)) {  // not a descent direction: restart
+        s_hist.clear();
+        y_hist.clear();
+        rho_hist.clear();
+        continue;
+      }
+      constexpr int kMaxHalvings = 30;
+      constexpr double kArmijo = 1e-4;
+      Eigen::MatrixX3d trial(nv, 3);
+      double t = 1.0, trial_energy = 0.0;
+      bool accepted = false;
+      for (int k = 0; k < kMaxHalvings && !accepted; ++k, t *= 0.5) {
+        for (int v = 0; v < nv; ++v) {
+          trial.row(v) = (sphere->row(v) + t * direction.row(v)).normalized();
+        }
+        if (!AllValid(trial)) continue;
+        trial_energy = Energy(trial);
+        accepted = trial_energy <= energy + kArmijo * t * slope;
+        if (accepted) break;
+      }
+      if (!accepted) break;
+      Eigen::MatrixX3d new_gradient(nv, 3);
+      trial_energy = EnergyAndGradient(trial, &new_gradient);
+      const double decrease = energy - trial_energy;
+      Eigen::MatrixX3d s = trial - *sphere;
+      Eigen::MatrixX3d y = new_gradient - gradient;
+      *sphere = trial;
+      gradient = new_gradient;
+      energy = trial_energy;
+      const double sy = Dot(s, y);
+      if (sy > 1e-12 * std::sqrt(Dot(s, s) * Dot(y, y))) {
+        if (static_cast<int>(s_hist.size()) == memory) {
+          s_hist.erase(s_hist.begin());
+          y_hist.erase(y_hist.begin());
+          rho_hist.erase(rho_hist.begin());
+        }
+        s_hist.push_back(std::move(s));
+        y_hist.push_back(std::move(y));
+        rho_hist.push_back(1.0 / sy);
+      }
+      if (decrease < tolerance * energy) break;
+    }
+    return energy;
+  }
+
  private:
+  // Sum of the entry-wise products, in row order (deterministic).
+  static double Dot(const Eigen::MatrixX3d& a, const Eigen::MatrixX3d& b) {
+    double sum = 0.0;
+    for (int v = 0; v < a.rows(); ++v) sum += a.row(v).dot(b.row(v));
+    return sum;
+  }
+
+  static void ProjectToTangent(const Eigen::MatrixX3d& sphere,
+                               Eigen::MatrixX3d* vectors) {
+    for (int v = 0; v < sphere.rows(); ++v) {
+      const Eigen::RowVector3d p = sphere.row(v);
+      vectors->row(v) -= vectors->row(v).dot(p) * p;
+    }
+  }
+
+  // E (eq. 12) and its gradient, projected onto each vertex's tangent plane
+  // (zero rows for vertices not on the level).
+  double EnergyAndGradient(const Eigen::MatrixX3d& sphere,
+                           Eigen::MatrixX3d* gradient) const {
+    const int nv = static_cast<int>(sphere.rows());
+    std::vector<double> local(nv, 0.0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256),
+                      [&](const tbb::blocked_range<int>& r) {
+                        for (int v = r.begin(); v != r.end(); ++v) {
+                          Eigen::Vector3d g = Eigen::Vector3d::Zero();
+                          const Eigen::Vector3d p = Row(sphere, v);
+                          local[v] = LocalEnergy(v, p, sphere, &g);
+                          gradient->row(v) = (g - g.dot(p) * p).transpose();
+                        }
+                      });
+    double e = 0.0;
+    for (double l : local) e += l;  // fixed order
+    return e / 3.0;
+  }
+
+  // True if every triangle of the level is positively oriented (exact).
+  bool AllValid(const Eigen::MatrixX3d& sphere) const {
+    const int nv = static_cast<int>(sphere.rows());
+    return tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, nv, 256), true,
+        [&](const tbb::blocked_range<int>& r, bool ok) {
+          for (int v = r.begin(); v != r.end() && ok; ++v) {
+            ok = OneRingValid(v, Row(sphere, v), sphere);
+          }
+          return ok;
+        },
+        [](bool a, bool b) { return a && b; });
+  }
+
   Eigen::Vector3d Corner(const LevelState& level, int f, int i) const {
     return Row(mesh_positions_, level.faces(f, i));
   }
@@ -552,6 +700,10 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
       } else {
         optimize_rising(from, to, options.finest_sweeps,
                         options.finest_tolerance);
+        if (options.global_iterations > 0) {
+          result.energy = optimizer.OptimizeGlobal(
+              &sphere, options.global_iterations, options.global_tolerance);
+        }
       }
       ++result.levels;
     }

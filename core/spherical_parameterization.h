@@ -72,6 +72,11 @@ struct SphericalParameterizationOptions {
   double coarse_lambda = 1.0;
   double lambda_growth = 2.0;
   int rising_levels = 1;  // 1: only the finest level
+  // Iterations of global L-BFGS on all vertices of the finest level after
+  // its sweeps (0: none), stopping early when one lowers E by less than
+  // `global_tolerance` times E.
+  int global_iterations = 0;
+  double global_tolerance = 1e-7;
   // Called with a stage name and the finished fraction in [0, 1].
   std::function<void(const std::string& stage, double fraction)> progress;
 };
