@@ -121,6 +121,22 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
                         ParameterizeOnSphere(mesh, param_options));
   const Eigen::MatrixX3d& u = param.sphere;
   stats.timings.parameterization = stage.Seconds();
+  // Least-squares rows: the vertices first, then (optionally) the triangle
+  // centroids of the piecewise-linear surface.
+  const Eigen::Index nv = mesh.num_vertices();
+  const Eigen::Index nf = options.face_samples ? mesh.num_faces() : 0;
+  Eigen::MatrixX3d fit_points(nv + nf, 3), fit_targets(nv + nf, 3);
+  fit_points.topRows(nv) = u;
+  fit_targets.topRows(nv) = samples;
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    Eigen::RowVector3d p = Eigen::RowVector3d::Zero(), x = p;
+    for (int k = 0; k < 3; ++k) {
+      p += u.row(mesh.faces(f, k));
+      x += samples.row(mesh.faces(f, k));
+    }
+    fit_points.row(nv + f) = p.normalized();
+    fit_targets.row(nv + f) = x / 3.0;
+  }
   const PointKdTree parameter_tree(u);
 
   // 2. Round-0 density: curvedness^alpha (Sec. 4.4).
@@ -182,8 +198,9 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
       }
       columns_by_key.emplace(key, i);
     }
-    DesignMatrix raw = BuildRawDesignMatrix(
-        basis, u, round > 0 ? &previous_raw : nullptr, &previous_columns);
+    DesignMatrix raw = BuildRawDesignMatrix(basis, fit_points,
+                                            round > 0 ? &previous_raw : nullptr,
+                                            &previous_columns);
     const DesignMatrix design = NormalizeRows(raw);
     details.timings.basis = stage.Seconds();
     // Least squares.
@@ -191,13 +208,13 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
     stage = Stopwatch();
     const Eigen::MatrixX3d fallback =
         NearestSamplePrior(basis, parameter_tree, samples);
-    const Eigen::MatrixX3d prior = GrevillePrior(design, samples, fallback);
+    const Eigen::MatrixX3d prior = GrevillePrior(design, fit_targets, fallback);
     LeastSquaresOptions ls;
     ls.regularization = options.regularization;
     SDCB_ASSIGN_OR_RETURN(
         Eigen::MatrixX3d control_points,
-        SolveRegularizedLeastSquares(design, samples, prior, ls));
-    const Eigen::MatrixX3d fitted = design * control_points;
+        SolveRegularizedLeastSquares(design, fit_targets, prior, ls));
+    const Eigen::MatrixX3d fitted = design.topRows(nv) * control_points;
     details.timings.solve = stage.Seconds();
 
     // Errors in percent of the largest side (normalized frame: side 1).

@@ -34,6 +34,12 @@ struct FitOptions {
   double regularization = 1e-6;    // core/least_squares.h
   int threads = 0;                 // 0 = all cores; results do not depend on it
   bool store_parameters = true;    // keep the sphere point of every vertex
+  // Fit the mesh's piecewise-linear surface, not only its vertices: the
+  // least squares also samples every triangle's centroid (at the normalized
+  // sum of its corners' sphere points). Without it, basis functions seen by
+  // few vertices make the surface wave between them while the vertex errors
+  // stay small. Errors are still reported at the vertices.
+  bool face_samples = true;
   // Called with a stage name and the finished fraction of the whole fit
   // (estimated), in [0, 1].
   std::function<void(const std::string& stage, double fraction)> progress;

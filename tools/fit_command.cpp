@@ -21,7 +21,8 @@ namespace sdcb::cli {
 int RunFit(const std::vector<std::string>& argv) {
   const Args args(argv,
                   {"output", "degree", "rmse", "knots-per-round", "max-rounds",
-                   "max-control-points", "lambda", "threads", "json", "plot"},
+                   "max-control-points", "lambda", "threads", "json", "plot",
+                   "regularization"},
                   {"quiet"});
   args.RequirePositionals(
       1, "MESH (usage: sdcb fit MESH -o MODEL.sdcb [options])");
@@ -39,6 +40,8 @@ int RunFit(const std::vector<std::string>& argv) {
       "max-control-points", options.max_control_points, 10, 10000000);
   options.lambda = args.GetDouble("lambda", options.lambda, 1e-3, 1e3);
   options.threads = args.GetInt("threads", 0, 0, 1024);
+  options.regularization =
+      args.GetDouble("regularization", options.regularization, 1e-12, 1e3);
 
   StatusOr<TriangleMesh> mesh = ReadMesh(path);
   if (!mesh.ok()) return ReportError(mesh.status());
