@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "core/curvature.h"
@@ -70,6 +71,24 @@ Eigen::MatrixX3d NearestSamplePrior(const DcbBasis& basis,
   return prior;
 }
 
+// The rows of `top` followed by the rows of `bottom` (same column count).
+DesignMatrix StackRows(const DesignMatrix& top, const DesignMatrix& bottom) {
+  DesignMatrix out(top.rows() + bottom.rows(), top.cols());
+  out.resizeNonZeros(top.nonZeros() + bottom.nonZeros());
+  Eigen::Index at = 0, row = 0;
+  for (const DesignMatrix* part : {&top, &bottom}) {
+    for (Eigen::Index r = 0; r < part->rows(); ++r, ++row) {
+      out.outerIndexPtr()[row] = static_cast<int>(at);
+      for (DesignMatrix::InnerIterator it(*part, r); it; ++it, ++at) {
+        out.innerIndexPtr()[at] = static_cast<int>(it.col());
+        out.valuePtr()[at] = it.value();
+      }
+    }
+  }
+  out.outerIndexPtr()[row] = static_cast<int>(at);
+  return out;
+}
+
 // Identifies a basis function across rounds: its knot indices, then its
 // boundary triples (knot indices are stable: fixed knots keep their rows).
 std::vector<int> BasisKey(const ConfigurationSet& set) {
@@ -121,23 +140,62 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
                         ParameterizeOnSphere(mesh, param_options));
   const Eigen::MatrixX3d& u = param.sphere;
   stats.timings.parameterization = stage.Seconds();
-  // Least-squares rows: the vertices first, then (optionally) the triangle
-  // centroids of the piecewise-linear surface.
-  const Eigen::Index nv = mesh.num_vertices();
+  // Optional least-squares rows of the piecewise-linear surface: triangle
+  // centroids (parameter: normalized sum of the corners' sphere points).
   const Eigen::Index nf = options.face_samples ? mesh.num_faces() : 0;
-  Eigen::MatrixX3d fit_points(nv + nf, 3), fit_targets(nv + nf, 3);
-  fit_points.topRows(nv) = u;
-  fit_targets.topRows(nv) = samples;
+  Eigen::MatrixX3d face_points(nf, 3), all_targets(mesh.num_vertices() + nf, 3);
+  all_targets.topRows(mesh.num_vertices()) = samples;
   for (Eigen::Index f = 0; f < nf; ++f) {
     Eigen::RowVector3d p = Eigen::RowVector3d::Zero(), x = p;
     for (int k = 0; k < 3; ++k) {
       p += u.row(mesh.faces(f, k));
       x += samples.row(mesh.faces(f, k));
     }
-    fit_points.row(nv + f) = p.normalized();
-    fit_targets.row(nv + f) = x / 3.0;
+    face_points.row(f) = p.normalized();
+    all_targets.row(mesh.num_vertices() + f) = x / 3.0;
   }
   const PointKdTree parameter_tree(u);
+
+  // Control points for `design` (vertex rows first) and its targets, and the
+  // errors at the vertices in percent of the largest side (normalized frame:
+  // side 1).
+  struct Solution {
+    Eigen::MatrixX3d control_points;
+    Eigen::VectorXd errors;
+    double rmse = 0, max = 0;
+  };
+  auto solve = [&](const DcbBasis& basis, const DesignMatrix& design,
+                   const Eigen::MatrixX3d& targets) -> StatusOr<Solution> {
+    const Eigen::MatrixX3d fallback =
+        NearestSamplePrior(basis, parameter_tree, samples);
+    const Eigen::MatrixX3d prior = GrevillePrior(design, targets, fallback);
+    LeastSquaresOptions ls;
+    ls.regularization = options.regularization;
+    Solution s;
+    SDCB_ASSIGN_OR_RETURN(s.control_points, SolveRegularizedLeastSquares(
+                                                design, targets, prior, ls));
+    const Eigen::MatrixX3d fitted =
+        design.topRows(samples.rows()) * s.control_points;
+    s.errors = 100.0 * (fitted - samples).rowwise().norm();
+    s.rmse = std::sqrt(s.errors.squaredNorm() / s.errors.size());
+    s.max = s.errors.maxCoeff();
+    return s;
+  };
+  // The same fit with the triangle-centroid rows added.
+  // Adds the seconds spent on the centroid rows' basis values and on the
+  // solve to `timings`.
+  auto solve_with_faces = [&](const DcbBasis& basis,
+                              const DesignMatrix& vertex_design,
+                              StageTimings* timings) -> StatusOr<Solution> {
+    Stopwatch clock;
+    const DesignMatrix design = StackRows(
+        vertex_design, NormalizeRows(BuildRawDesignMatrix(basis, face_points)));
+    timings->basis += clock.Seconds();
+    clock = Stopwatch();
+    StatusOr<Solution> s = solve(basis, design, all_targets);
+    timings->solve += clock.Seconds();
+    return s;
+  };
 
   // 2. Round-0 density: curvedness^alpha (Sec. 4.4).
   stage = Stopwatch();
@@ -148,10 +206,24 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
                         DensityFromValues(curvedness, options.alpha));
   stats.timings.knot_placement += stage.Seconds();
 
+  // 3. Rounds. Intermediate rounds fit the vertices only (their solutions
+  // only steer the next knots); a round whose vertex fit reaches the target,
+  // or the last one, is refitted with the centroid rows, and that is the
+  // model returned.
   Eigen::MatrixX3d knots(0, 3);
   CvtOptions cvt;
   DesignMatrix previous_raw;                      // last round's raw B values
   std::map<std::vector<int>, int> previous_keys;  // BasisKey -> its column
+  std::optional<DcbBasis> last_basis;
+  DesignMatrix last_design;
+  bool last_has_faces = true;
+  auto record = [&](const Solution& s, RoundStatistics* rs) {
+    rs->rmse_percent = s.rmse;
+    rs->max_error_percent = s.max;
+    model.control_points = s.control_points;
+    result.errors_percent = s.errors;
+    stats.final_result = *rs;
+  };
   const double rounds_fraction = 0.7 / options.max_rounds;
   for (int round = 0; round < options.max_rounds; ++round) {
     const Stopwatch round_clock;
@@ -179,7 +251,16 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
     details.timings.configurations = stage.Seconds();
     if (round > 0 && static_cast<int>(configurations.sets.size()) >
                          options.max_control_points) {
-      break;  // the previous round's model is the result
+      // The previous round's model is the result.
+      if (!last_has_faces && nf > 0) {
+        RoundDetails& last = result.round_details.back();
+        SDCB_ASSIGN_OR_RETURN(
+            const Solution s,
+            solve_with_faces(*last_basis, last_design, &last.timings));
+        record(s, &stats.rounds.back());
+        last.face_samples = true;
+      }
+      break;
     }
     report("basis", base + 0.4 * rounds_fraction);
     stage = Stopwatch();
@@ -198,40 +279,36 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
       }
       columns_by_key.emplace(key, i);
     }
-    DesignMatrix raw = BuildRawDesignMatrix(basis, fit_points,
-                                            round > 0 ? &previous_raw : nullptr,
-                                            &previous_columns);
-    const DesignMatrix design = NormalizeRows(raw);
+    DesignMatrix raw = BuildRawDesignMatrix(
+        basis, u, round > 0 ? &previous_raw : nullptr, &previous_columns);
+    DesignMatrix design = NormalizeRows(raw);
     details.timings.basis = stage.Seconds();
     // Least squares.
     report("solve", base + 0.7 * rounds_fraction);
     stage = Stopwatch();
-    const Eigen::MatrixX3d fallback =
-        NearestSamplePrior(basis, parameter_tree, samples);
-    const Eigen::MatrixX3d prior = GrevillePrior(design, fit_targets, fallback);
-    LeastSquaresOptions ls;
-    ls.regularization = options.regularization;
-    SDCB_ASSIGN_OR_RETURN(
-        Eigen::MatrixX3d control_points,
-        SolveRegularizedLeastSquares(design, fit_targets, prior, ls));
-    const Eigen::MatrixX3d fitted = design.topRows(nv) * control_points;
+    SDCB_ASSIGN_OR_RETURN(Solution solution, solve(basis, design, samples));
     details.timings.solve = stage.Seconds();
+    const bool last_round = round + 1 == options.max_rounds;
+    if (nf > 0 && (solution.rmse <= options.rmse_percent || last_round)) {
+      SDCB_ASSIGN_OR_RETURN(solution,
+                            solve_with_faces(basis, design, &details.timings));
+      details.face_samples = true;
+    }
 
-    // Errors in percent of the largest side (normalized frame: side 1).
-    const Eigen::VectorXd errors = 100.0 * (fitted - samples).rowwise().norm();
     RoundStatistics rs;
     rs.round = round;
     rs.knots = static_cast<int>(placement.knots.rows());
     rs.control_points = basis.size();
-    rs.rmse_percent = std::sqrt(errors.squaredNorm() / errors.size());
-    rs.max_error_percent = errors.maxCoeff();
     rs.seconds = round_clock.Seconds();
+    record(solution, &rs);
     details.timings.total = rs.seconds;
     stats.rounds.push_back(rs);
+    stats.final_result = rs;
     stats.timings.knot_placement += details.timings.knot_placement;
     stats.timings.configurations += details.timings.configurations;
     stats.timings.basis += details.timings.basis;
     stats.timings.solve += details.timings.solve;
+    last_has_faces = details.face_samples || nf == 0;
     result.round_details.push_back(details);
 
     previous_raw = std::move(raw);
@@ -239,18 +316,17 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
     knots = placement.knots;
     model.knots = placement.knots;
     model.configurations = std::move(configurations);
-    model.control_points = std::move(control_points);
-    result.errors_percent = errors;
-    stats.final_result = rs;
-    if (rs.rmse_percent <= options.rmse_percent) {
+    if (rs.rmse_percent <= options.rmse_percent && last_has_faces) {
       result.reached_target = true;
       break;
     }
     // Next round's density: the error, normalized, to the power alpha.
-    if (errors.maxCoeff() > 0) {
+    if (solution.errors.maxCoeff() > 0) {
       SDCB_ASSIGN_OR_RETURN(density.values,
-                            DensityFromValues(errors, options.alpha));
+                            DensityFromValues(solution.errors, options.alpha));
     }
+    last_basis.emplace(std::move(basis));
+    last_design = std::move(design);
   }
   if (options.store_parameters) model.parameters = u;
   stats.timings.total = total.Seconds();

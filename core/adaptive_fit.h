@@ -38,7 +38,9 @@ struct FitOptions {
   // least squares also samples every triangle's centroid (at the normalized
   // sum of its corners' sphere points). Without it, basis functions seen by
   // few vertices make the surface wave between them while the vertex errors
-  // stay small. Errors are still reported at the vertices.
+  // stay small. Errors are still reported at the vertices. Intermediate
+  // rounds fit the vertices only (they just steer the next knots); the round
+  // that reaches the target (or the last) is refitted with the centroids.
   bool face_samples = true;
   // Called with a stage name and the finished fraction of the whole fit
   // (estimated), in [0, 1].
@@ -55,6 +57,9 @@ struct RoundDetails {
   // Basis functions identical to one of the previous round, whose values
   // were reused rather than evaluated.
   int reused_basis_functions = 0;
+  // Whether this round's solution includes the triangle-centroid rows
+  // (FitOptions::face_samples): the returned round always does.
+  bool face_samples = false;
 };
 
 struct FitResult {

@@ -34,6 +34,10 @@ StatusOr<Eigen::MatrixX3d> SolveRegularizedLeastSquares(
     const DesignMatrix& design, const Eigen::MatrixX3d& samples,
     const Eigen::MatrixX3d& prior, const LeastSquaresOptions& options = {});
 
+// The lower triangle of A^T A (the diagonal first in every column),
+// computed in parallel; deterministic for any thread count.
+Eigen::SparseMatrix<double> NormalMatrixLower(const DesignMatrix& design);
+
 // The prior P of the header comment: for every column, the sample (row of
 // `samples`) where that column's value is largest (lowest row on ties).
 // Columns without any nonzero get `fallback` (one row per column; pass the
