@@ -25,7 +25,7 @@ commands:
                              distortion; --colors angle|area needs .ply.
   fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
       [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
-      [--json FILE] [--plot FILE.svg] [--quiet]
+      [--regularization R] [--json FILE] [--plot FILE.svg] [--quiet]
                              Fit one smooth spherical DCB-spline (defaults:
                              degree 4, rmse 0.05 %, 100 knots per round, 30
                              rounds); --plot draws the error per round.
