@@ -41,6 +41,10 @@ struct Declared {
   // before the header and between the sections); such files are handed to
   // it as a copy without comment and blank lines.
   bool has_comments = false;
+  // The vertex coordinates as parsed here in double precision (x y z per
+  // vertex), for the formats the scan parses (OFF, OBJ, PLY). OpenMesh's
+  // readers keep only float precision; these replace its values.
+  std::vector<double> coordinates;
 };
 
 // ---------------------------------------------------------------------------
@@ -286,12 +290,15 @@ StatusOr<Declared> ScanOff(const std::string& text) {
                             " bytes (truncated file?)");
   }
   int64_t v = 0;
+  d.coordinates.reserve(3 * d.vertices);
   while (v < d.vertices && lines.Next(&line)) {
     if (IsBlankOrComment(line)) continue;
     const auto t = Tokens(line);
     double x;
     for (int k = 0; k < 3; ++k) {
-      if (k >= static_cast<int>(t.size()) || !ParseFinite(t[k], &x)) {
+      const bool ok = k < static_cast<int>(t.size()) && ParseFinite(t[k], &x);
+      if (ok) d.coordinates.push_back(x);
+      if (!ok) {
         return CorruptFileError("line " + Num(lines.number()) + ": vertex " +
                                 Num(v) +
                                 (k < static_cast<int>(t.size())
@@ -352,7 +359,9 @@ StatusOr<Declared> ScanObj(const std::string& text) {
       if (t.empty() || t[0] != "v") continue;
       double x;
       for (int k = 1; k <= 3; ++k) {
-        if (k >= static_cast<int>(t.size()) || !ParseFinite(t[k], &x)) {
+        const bool ok = k < static_cast<int>(t.size()) && ParseFinite(t[k], &x);
+        if (ok) d.coordinates.push_back(x);
+        if (!ok) {
           return CorruptFileError(
               "line " + Num(lines.number()) + ": vertex " + Num(d.vertices) +
               (k < static_cast<int>(t.size())
@@ -563,6 +572,7 @@ StatusOr<Declared> ScanPly(const std::string& text) {
     return CorruptFileError("the PLY file has no vertex element");
   d.vertices = vertex->count;
   d.polygons = face ? face->count : 0;
+  d.coordinates.assign(3 * d.vertices, 0.0);
   int coordinate_slot[3] = {-1, -1, -1};
   for (size_t i = 0; i < vertex->properties.size(); ++i) {
     const auto& name = vertex->properties[i].name;
@@ -638,6 +648,13 @@ StatusOr<Declared> ScanPly(const std::string& text) {
             }
             return CorruptFileError(truncated + e.name + " element " +
                                     Num(item));
+          }
+          if (is_vertex) {
+            for (int axis = 0; axis < 3; ++axis) {
+              if (pi == static_cast<size_t>(coordinate_slot[axis])) {
+                d.coordinates[3 * item + axis] = value;
+              }
+            }
           }
           continue;
         }
@@ -876,9 +893,21 @@ StatusOr<TriangleMesh> ReadMeshUnprefixed(const std::string& path,
   TriangleMesh mesh;
   const int nv = static_cast<int>(importer.points.size());
   mesh.vertices.resize(nv, 3);
+  // The scan's double-precision values replace OpenMesh's floats; they
+  // must agree up to float rounding (a disagreement is a bug, not bad input).
+  const bool exact = declared.coordinates.size() == 3 * static_cast<size_t>(nv);
   for (int v = 0; v < nv; ++v) {
     for (int k = 0; k < 3; ++k) {
-      const double c = importer.points[v][k];
+      double c = importer.points[v][k];
+      if (exact) {
+        const double d = declared.coordinates[3 * v + k];
+        if (std::abs(static_cast<double>(static_cast<float>(d)) - c) >
+            1e-6 * std::abs(d) + 1e-30) {
+          return InternalError("vertex " + Num(v) +
+                               " was parsed differently by sdcb and OpenMesh");
+        }
+        c = d;
+      }
       if (!std::isfinite(c)) {
         return InvalidInputError("vertex " + Num(v) +
                                  " has a non-finite coordinate");

@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -175,6 +177,42 @@ TEST(MeshReaderTest, EveryFormatGivesTheSameOctahedron) {
       EXPECT_EQ(mesh->faces, expected.faces);
     }
     EXPECT_TRUE(RequireClosedGenusZero(*mesh).ok());
+  }
+}
+
+TEST(MeshReaderTest, DoublePrecisionCoordinatesSurvive) {
+  // OpenMesh's readers parse float; the intake keeps the file's doubles.
+  const std::string dir = FreshTestDir();
+  const double x = 0.12345678901234567, y = -1234.5678901234567, z = 1e-9 / 3;
+  char vertex[128];
+  std::snprintf(vertex, sizeof vertex, "%.17g %.17g %.17g", x, y, z);
+  std::string off =
+      "OFF\n4 4 0\n" + std::string(vertex) +
+      "\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  std::string obj =
+      "v " + std::string(vertex) +
+      "\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty double "
+      "x\n"
+      "property double y\nproperty double z\nelement face 4\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  for (double c : {x, y, z, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0})
+    Append(&ply, c);
+  for (auto f :
+       {std::array<int, 3>{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}) {
+    Append<uint8_t>(&ply, 3);
+    for (int i : f) Append<int32_t>(&ply, i);
+  }
+  for (const auto& [name, bytes] : std::map<std::string, std::string>{
+           {"d.off", off}, {"d.obj", obj}, {"d.ply", ply}}) {
+    SCOPED_TRACE(name);
+    WriteBytes(dir + "/" + name, bytes);
+    auto mesh = ReadMesh(dir + "/" + name);
+    ASSERT_TRUE(mesh.ok()) << mesh.status().message();
+    EXPECT_EQ(mesh->vertices(0, 0), x);
+    EXPECT_EQ(mesh->vertices(0, 1), y);
+    EXPECT_EQ(mesh->vertices(0, 2), z);
   }
 }
 
