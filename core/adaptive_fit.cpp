@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <optional>
@@ -48,8 +49,10 @@ Status CheckOptions(const FitOptions& o) {
     return InvalidArgumentError(
         "knots per round, rounds and control points must be positive");
   }
-  if (!(o.alpha > 0) || !(o.regularization > 0) || !(o.lambda > 0)) {
-    return InvalidArgumentError("alpha, lambda and regularization must be > 0");
+  if (!(o.alpha > 0) || !(o.regularization > 0) || !(o.lambda > 0) ||
+      !(o.face_weight > 0)) {
+    return InvalidArgumentError(
+        "alpha, lambda, regularization and face weight must be > 0");
   }
   return Status::Ok();
 }
@@ -152,7 +155,8 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
       x += samples.row(mesh.faces(f, k));
     }
     face_points.row(f) = p.normalized();
-    all_targets.row(mesh.num_vertices() + f) = x / 3.0;
+    all_targets.row(mesh.num_vertices() + f) =
+        std::sqrt(options.face_weight) * x / 3.0;
   }
   const PointKdTree parameter_tree(u);
 
@@ -188,8 +192,10 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
                               const DesignMatrix& vertex_design,
                               StageTimings* timings) -> StatusOr<Solution> {
     Stopwatch clock;
+    const double root_weight = std::sqrt(options.face_weight);
     const DesignMatrix design = StackRows(
-        vertex_design, NormalizeRows(BuildRawDesignMatrix(basis, face_points)));
+        vertex_design,
+        root_weight * NormalizeRows(BuildRawDesignMatrix(basis, face_points)));
     timings->basis += clock.Seconds();
     clock = Stopwatch();
     StatusOr<Solution> s = solve(basis, design, all_targets);
