@@ -168,10 +168,9 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
     Eigen::VectorXd errors;
     double rmse = 0, max = 0;
   };
-  auto solve = [&](const DcbBasis& basis, const DesignMatrix& design,
-                   const Eigen::MatrixX3d& targets) -> StatusOr<Solution> {
-    const Eigen::MatrixX3d fallback =
-        NearestSamplePrior(basis, parameter_tree, samples);
+  // `fallback`: NearestSamplePrior of the basis, computed once per basis.
+  auto solve = [&](const DesignMatrix& design, const Eigen::MatrixX3d& targets,
+                   const Eigen::MatrixX3d& fallback) -> StatusOr<Solution> {
     const Eigen::MatrixX3d prior = GrevillePrior(design, targets, fallback);
     LeastSquaresOptions ls;
     ls.regularization = options.regularization;
@@ -190,6 +189,7 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
   // solve to `timings`.
   auto solve_with_faces = [&](const DcbBasis& basis,
                               const DesignMatrix& vertex_design,
+                              const Eigen::MatrixX3d& fallback,
                               StageTimings* timings) -> StatusOr<Solution> {
     Stopwatch clock;
     const double root_weight = std::sqrt(options.face_weight);
@@ -198,7 +198,7 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
         root_weight * NormalizeRows(BuildRawDesignMatrix(basis, face_points)));
     timings->basis += clock.Seconds();
     clock = Stopwatch();
-    StatusOr<Solution> s = solve(basis, design, all_targets);
+    StatusOr<Solution> s = solve(design, all_targets, fallback);
     timings->solve += clock.Seconds();
     return s;
   };
@@ -222,6 +222,7 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
   std::map<std::vector<int>, int> previous_keys;  // BasisKey -> its column
   std::optional<DcbBasis> last_basis;
   DesignMatrix last_design;
+  Eigen::MatrixX3d last_fallback;
   bool last_has_faces = true;
   auto record = [&](const Solution& s, RoundStatistics* rs) {
     rs->rmse_percent = s.rmse;
@@ -260,9 +261,9 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
       // The previous round's model is the result.
       if (!last_has_faces && nf > 0) {
         RoundDetails& last = result.round_details.back();
-        SDCB_ASSIGN_OR_RETURN(
-            const Solution s,
-            solve_with_faces(*last_basis, last_design, &last.timings));
+        SDCB_ASSIGN_OR_RETURN(const Solution s,
+                              solve_with_faces(*last_basis, last_design,
+                                               last_fallback, &last.timings));
         record(s, &stats.rounds.back());
         last.face_samples = true;
       }
@@ -292,12 +293,14 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
     // Least squares.
     report("solve", base + 0.7 * rounds_fraction);
     stage = Stopwatch();
-    SDCB_ASSIGN_OR_RETURN(Solution solution, solve(basis, design, samples));
+    Eigen::MatrixX3d fallback =
+        NearestSamplePrior(basis, parameter_tree, samples);
+    SDCB_ASSIGN_OR_RETURN(Solution solution, solve(design, samples, fallback));
     details.timings.solve = stage.Seconds();
     const bool last_round = round + 1 == options.max_rounds;
     if (nf > 0 && (solution.rmse <= options.rmse_percent || last_round)) {
-      SDCB_ASSIGN_OR_RETURN(solution,
-                            solve_with_faces(basis, design, &details.timings));
+      SDCB_ASSIGN_OR_RETURN(solution, solve_with_faces(basis, design, fallback,
+                                                       &details.timings));
       details.face_samples = true;
     }
 
@@ -333,6 +336,7 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
     }
     last_basis.emplace(std::move(basis));
     last_design = std::move(design);
+    last_fallback = std::move(fallback);
   }
   if (options.store_parameters) model.parameters = u;
   stats.timings.total = total.Seconds();
