@@ -9,10 +9,10 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "core/dcb_basis.h"
-#include "core/delaunay_configurations.h"
-#include "core/design_matrix.h"
-#include "tests/core/random_sphere_points.h"
+#include "sdcb/core/spline/dcb_basis.h"
+#include "sdcb/core/spline/delaunay_configurations.h"
+#include "sdcb/core/spline/design_matrix.h"
+#include "testing/random_sphere_points.h"
 
 namespace {
 

@@ -16,8 +16,8 @@
 #include <random>
 #include <string>
 
-#include "core/delaunay_configurations.h"
-#include "tests/core/random_knots.h"
+#include "sdcb/core/spline/delaunay_configurations.h"
+#include "testing/random_knots.h"
 
 namespace {
 

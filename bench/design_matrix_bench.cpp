@@ -9,11 +9,11 @@
 #include <cstdlib>
 #include <ctime>
 
-#include "core/dcb_basis.h"
-#include "core/delaunay_configurations.h"
-#include "core/design_matrix.h"
-#include "core/spherical_spline.h"
-#include "tests/core/random_sphere_points.h"
+#include "sdcb/core/spline/dcb_basis.h"
+#include "sdcb/core/spline/delaunay_configurations.h"
+#include "sdcb/core/spline/design_matrix.h"
+#include "sdcb/core/spline/spherical_spline.h"
+#include "testing/random_sphere_points.h"
 
 namespace {
 

@@ -4,8 +4,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/adaptive_fit.h"
-#include "io/mesh_reader.h"
+#include "sdcb/core/fit/adaptive_fit.h"
+#include "sdcb/io/mesh_reader.h"
 
 int main(int argc, char** argv) {
   const std::string path =

@@ -13,11 +13,11 @@
 #include <functional>
 #include <string>
 
-#include "core/curvature.h"
-#include "core/icosphere.h"
-#include "core/point_kd_tree.h"
-#include "core/spherical_cvt.h"
-#include "io/mesh_reader.h"
+#include "sdcb/core/knots/spherical_cvt.h"
+#include "sdcb/core/mesh/curvature.h"
+#include "sdcb/core/mesh/icosphere.h"
+#include "sdcb/core/sphere/point_kd_tree.h"
+#include "sdcb/io/mesh_reader.h"
 
 namespace {
 

@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/dcb_basis.h"
-#include "core/delaunay_configurations.h"
-#include "tests/core/random_sphere_points.h"
+#include "sdcb/core/spline/dcb_basis.h"
+#include "sdcb/core/spline/delaunay_configurations.h"
+#include "testing/random_sphere_points.h"
 
 int main(int argc, char** argv) {
   const int degree = argc > 1 ? std::atoi(argv[1]) : 2;

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "core/spline_model.h"
-#include "io/model_json.h"
-#include "io/sdcb_file.h"
+#include "sdcb/core/spline/spline_model.h"
+#include "sdcb/io/model_json.h"
+#include "sdcb/io/sdcb_file.h"
 
 namespace {
 

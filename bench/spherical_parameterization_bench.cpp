@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "core/parameterization_distortion.h"
-#include "core/spherical_parameterization.h"
-#include "io/mesh_reader.h"
+#include "sdcb/core/param/parameterization_distortion.h"
+#include "sdcb/core/param/spherical_parameterization.h"
+#include "sdcb/io/mesh_reader.h"
 
 int main(int argc, char** argv) {
   std::vector<std::string> meshes;

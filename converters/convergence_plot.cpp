@@ -1,11 +1,11 @@
-#include "converters/convergence_plot.h"
+#include "sdcb/converters/convergence_plot.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
-#include "io/atomic_file.h"
+#include "sdcb/io/atomic_file.h"
 
 namespace sdcb {
 namespace {
@@ -146,7 +146,7 @@ std::string ConvergencePlotSvg(const FitStatistics& statistics,
 
 Status WriteConvergencePlot(const FitStatistics& statistics,
                             const std::string& title, const std::string& path) {
-  return WriteFileAtomically(path, ConvergencePlotSvg(statistics, title));
+  return WriteFileAtomically(ConvergencePlotSvg(statistics, title), path);
 }
 
 }  // namespace sdcb

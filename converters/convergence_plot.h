@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "core/spline_model.h"
-#include "core/status.h"
+#include "sdcb/core/common/status.h"
+#include "sdcb/core/spline/spline_model.h"
 
 namespace sdcb {
 

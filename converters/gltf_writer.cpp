@@ -1,4 +1,4 @@
-#include "converters/gltf_writer.h"
+#include "sdcb/converters/gltf_writer.h"
 
 #include <tiny_gltf.h>
 
@@ -9,7 +9,7 @@
 #include <limits>
 #include <sstream>
 
-#include "io/atomic_file.h"
+#include "sdcb/io/atomic_file.h"
 
 namespace sdcb {
 namespace {
@@ -95,14 +95,16 @@ Status WriteGltfMesh(const TriangleMesh& mesh, const std::string& path) {
   model.defaultScene = 0;
 
   const bool glb = IsGlb(path);
-  return WriteFileAtomically(path, [&](std::ostream& stream) {
-    tinygltf::TinyGLTF writer;
-    if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/!glb,
-                                       glb)) {
-      return IoError(path + ": tinygltf could not serialize the mesh");
-    }
-    return Status::Ok();
-  });
+  return WriteFileAtomically(
+      [&](std::ostream& stream) {
+        tinygltf::TinyGLTF writer;
+        if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/!glb,
+                                           glb)) {
+          return IoError(path + ": tinygltf could not serialize the mesh");
+        }
+        return Status::Ok();
+      },
+      path);
 }
 
 StatusOr<TriangleMesh> ReadGltfMesh(const std::string& path) {

@@ -1,4 +1,4 @@
-#include "io/atomic_file.h"
+#include "sdcb/io/atomic_file.h"
 
 #include <unistd.h>
 
@@ -11,8 +11,8 @@
 
 namespace sdcb {
 
-Status WriteFileAtomically(const std::string& path,
-                           const std::function<Status(std::ostream&)>& write) {
+Status WriteFileAtomically(const std::function<Status(std::ostream&)>& write,
+                           const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
@@ -50,12 +50,15 @@ Status WriteFileAtomically(const std::string& path,
   return Status::Ok();
 }
 
-Status WriteFileAtomically(const std::string& path,
-                           const std::string& contents) {
-  return WriteFileAtomically(path, [&](std::ostream& out) {
-    out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
-    return Status::Ok();
-  });
+Status WriteFileAtomically(const std::string& contents,
+                           const std::string& path) {
+  return WriteFileAtomically(
+      [&](std::ostream& out) {
+        out.write(contents.data(),
+                  static_cast<std::streamsize>(contents.size()));
+        return Status::Ok();
+      },
+      path);
 }
 
 }  // namespace sdcb

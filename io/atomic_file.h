@@ -8,20 +8,21 @@
 #include <ostream>
 #include <string>
 
-#include "core/status.h"
+#include "sdcb/core/common/status.h"
 
 namespace sdcb {
 
+// Writers take the data first, then the path (here: what writes the data).
 // Calls `write` with a binary stream on a temporary file next to `path`, then
 // renames it to `path`. On any failure (including a non-ok Status from
 // `write`) the temporary file is removed and `path` is left untouched.
 // Messages start with `path`.
-Status WriteFileAtomically(const std::string& path,
-                           const std::function<Status(std::ostream&)>& write);
+Status WriteFileAtomically(const std::function<Status(std::ostream&)>& write,
+                           const std::string& path);
 
 // Same, for contents already in memory.
-Status WriteFileAtomically(const std::string& path,
-                           const std::string& contents);
+Status WriteFileAtomically(const std::string& contents,
+                           const std::string& path);
 
 }  // namespace sdcb
 

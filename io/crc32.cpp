@@ -1,4 +1,4 @@
-#include "io/crc32.h"
+#include "sdcb/io/crc32.h"
 
 #include <array>
 

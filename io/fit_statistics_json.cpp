@@ -1,4 +1,4 @@
-#include "io/fit_statistics_json.h"
+#include "sdcb/io/fit_statistics_json.h"
 
 #include <limits>
 #include <string>

@@ -13,8 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/spline_model.h"
-#include "core/status.h"
+#include "sdcb/core/common/status.h"
+#include "sdcb/core/spline/spline_model.h"
 
 namespace sdcb {
 

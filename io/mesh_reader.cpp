@@ -1,4 +1,4 @@
-#include "io/mesh_reader.h"
+#include "sdcb/io/mesh_reader.h"
 
 #include <unistd.h>
 

@@ -9,8 +9,8 @@
 
 #include <string>
 
-#include "core/status.h"
-#include "core/triangle_mesh.h"
+#include "sdcb/core/common/status.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
 
 namespace sdcb {
 

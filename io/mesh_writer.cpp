@@ -1,11 +1,11 @@
-#include "io/mesh_writer.h"
+#include "sdcb/io/mesh_writer.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <ostream>
 
-#include "io/atomic_file.h"
+#include "sdcb/io/atomic_file.h"
 
 namespace sdcb {
 namespace {
@@ -80,7 +80,7 @@ void WritePly(const TriangleMesh& mesh, const VertexColors& colors,
 
 }  // namespace
 
-Status WriteMesh(const std::string& path, const TriangleMesh& mesh,
+Status WriteMesh(const TriangleMesh& mesh, const std::string& path,
                  const MeshWriteOptions& options) {
   const MeshFormat format = FormatOf(path);
   if (format == MeshFormat::kUnknown) {
@@ -97,19 +97,21 @@ Status WriteMesh(const std::string& path, const TriangleMesh& mesh,
           std::to_string(mesh.num_vertices()) + " vertices");
     }
   }
-  return WriteFileAtomically(path, [&](std::ostream& out) {
-    switch (format) {
-      case MeshFormat::kObj:
-        WriteObj(mesh, out);
-        break;
-      case MeshFormat::kOff:
-        WriteOff(mesh, out);
-        break;
-      default:
-        WritePly(mesh, options.colors, out);
-    }
-    return Status::Ok();
-  });
+  return WriteFileAtomically(
+      [&](std::ostream& out) {
+        switch (format) {
+          case MeshFormat::kObj:
+            WriteObj(mesh, out);
+            break;
+          case MeshFormat::kOff:
+            WriteOff(mesh, out);
+            break;
+          default:
+            WritePly(mesh, options.colors, out);
+        }
+        return Status::Ok();
+      },
+      path);
 }
 
 }  // namespace sdcb

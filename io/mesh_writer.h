@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <string>
 
-#include "core/status.h"
-#include "core/triangle_mesh.h"
+#include "sdcb/core/common/status.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
 
 namespace sdcb {
 
@@ -26,7 +26,7 @@ struct MeshWriteOptions {
 // Writes `mesh` to `path` (.obj, .off or .ply, case-insensitive).
 // kInvalidArgument for another extension or colors that do not fit;
 // kIoError when the file cannot be written. Messages start with `path`.
-Status WriteMesh(const std::string& path, const TriangleMesh& mesh,
+Status WriteMesh(const TriangleMesh& mesh, const std::string& path,
                  const MeshWriteOptions& options = {});
 
 }  // namespace sdcb

@@ -1,10 +1,10 @@
-#include "io/model_json.h"
+#include "sdcb/io/model_json.h"
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "io/fit_statistics_json.h"
-#include "io/sdcb_file.h"
+#include "sdcb/io/fit_statistics_json.h"
+#include "sdcb/io/sdcb_file.h"
 
 namespace sdcb {
 namespace {

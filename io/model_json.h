@@ -20,7 +20,7 @@
 
 #include <string>
 
-#include "core/spline_model.h"
+#include "sdcb/core/spline/spline_model.h"
 
 namespace sdcb {
 

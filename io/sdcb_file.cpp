@@ -1,4 +1,4 @@
-#include "io/sdcb_file.h"
+#include "sdcb/io/sdcb_file.h"
 
 #include <algorithm>
 #include <array>
@@ -8,9 +8,9 @@
 #include <fstream>
 #include <limits>
 
-#include "io/atomic_file.h"
-#include "io/crc32.h"
-#include "io/fit_statistics_json.h"
+#include "sdcb/io/atomic_file.h"
+#include "sdcb/io/crc32.h"
+#include "sdcb/io/fit_statistics_json.h"
 
 namespace sdcb {
 namespace {
@@ -535,7 +535,7 @@ StatusOr<SplineModel> ParseSdcb(std::string_view bytes) {
 Status WriteSdcbFile(const SplineModel& model, const std::string& path) {
   StatusOr<std::string> bytes = SerializeSdcb(model);
   if (!bytes.ok()) return bytes.status().WithPrefix(path);
-  return WriteFileAtomically(path, *bytes);
+  return WriteFileAtomically(*bytes, path);
 }
 
 StatusOr<SplineModel> ReadSdcbFile(const std::string& path) {

@@ -1,11 +1,11 @@
 // Sample: fit a spherical DCB-spline to a mesh with the installed sdcb
 // package, then evaluate the surface, its normal and curvature.
 //   fit_surface MESH [RMSE_PERCENT]
+#include <sdcb/core/fit/adaptive_fit.h>
+#include <sdcb/io/mesh_reader.h>
+
 #include <cstdio>
 #include <cstdlib>
-
-#include "core/adaptive_fit.h"
-#include "io/mesh_reader.h"
 
 int main(int argc, char** argv) {
   if (argc < 2) {

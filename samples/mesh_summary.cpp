@@ -1,9 +1,9 @@
 // Sample: read a mesh with the installed sdcb package and print its topology.
 //   mesh_summary MESH
-#include <cstdio>
+#include <sdcb/core/mesh/mesh_topology.h>
+#include <sdcb/io/mesh_reader.h>
 
-#include "core/mesh_topology.h"
-#include "io/mesh_reader.h"
+#include <cstdio>
 
 int main(int argc, char** argv) {
   if (argc != 2) {

@@ -3,8 +3,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "core/mesh_topology.h"
-#include "io/mesh_reader.h"
+#include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/io/mesh_reader.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 

@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <iostream>
 
-#include "io/atomic_file.h"
+#include "sdcb/io/atomic_file.h"
 
 namespace sdcb::cli {
 
@@ -110,7 +110,7 @@ Status WriteTextOutput(const std::string& path, const std::string& text) {
     return std::cout ? Status::Ok()
                      : IoError("writing to standard output failed");
   }
-  return WriteFileAtomically(path, text);
+  return WriteFileAtomically(text, path);
 }
 
 }  // namespace sdcb::cli

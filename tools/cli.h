@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
+#include "sdcb/core/common/status.h"
 
 namespace sdcb::cli {
 

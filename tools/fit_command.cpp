@@ -6,12 +6,12 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "converters/convergence_plot.h"
-#include "core/adaptive_fit.h"
-#include "core/mesh_topology.h"
-#include "io/fit_statistics_json.h"
-#include "io/mesh_reader.h"
-#include "io/sdcb_file.h"
+#include "sdcb/converters/convergence_plot.h"
+#include "sdcb/core/fit/adaptive_fit.h"
+#include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/io/fit_statistics_json.h"
+#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/sdcb_file.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/progress.h"

@@ -5,10 +5,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/adaptive_fit.h"
-#include "io/fit_statistics_json.h"
-#include "io/model_json.h"
-#include "io/sdcb_file.h"
+#include "sdcb/core/spline/spherical_spline.h"
+#include "sdcb/io/fit_statistics_json.h"
+#include "sdcb/io/model_json.h"
+#include "sdcb/io/sdcb_file.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 

@@ -11,11 +11,11 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "core/mesh_topology.h"
-#include "core/parameterization_distortion.h"
-#include "core/spherical_parameterization.h"
-#include "io/mesh_reader.h"
-#include "io/mesh_writer.h"
+#include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/param/parameterization_distortion.h"
+#include "sdcb/core/param/spherical_parameterization.h"
+#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh_writer.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 
@@ -125,7 +125,7 @@ int RunParam(const std::vector<std::string>& argv) {
         VertexDistortionColors(*mesh, d.face_area_distortion, d.face_mesh_area);
   }
   const TriangleMesh sphere_mesh{param->sphere, mesh->faces};
-  const Status written = WriteMesh(output, sphere_mesh, write_options);
+  const Status written = WriteMesh(sphere_mesh, output, write_options);
   if (!written.ok()) return ReportError(written);
 
   if (args.Has("json")) {

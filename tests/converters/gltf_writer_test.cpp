@@ -1,7 +1,7 @@
 // Tests converters/gltf_writer.* and, in the same process, a Draco round
 // trip: libdraco.so exports its own older tinygltf, and mixing the two copies
 // crashes (DESIGN.md). This binary links both, like the sdcb executable.
-#include "converters/gltf_writer.h"
+#include "sdcb/converters/gltf_writer.h"
 
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
@@ -10,7 +10,7 @@
 
 #include <filesystem>
 
-#include "io/mesh_reader.h"
+#include "sdcb/io/mesh_reader.h"
 #include "testing/temp_dir.h"
 
 namespace sdcb {

@@ -9,8 +9,8 @@
 #include <cmath>
 #include <vector>
 
-#include "core/curvature.h"
-#include "io/mesh_reader.h"
+#include "sdcb/core/mesh/curvature.h"
+#include "sdcb/io/mesh_reader.h"
 #include "testing/temp_dir.h"
 
 namespace sdcb {

@@ -1,6 +1,6 @@
 // Tests io/mesh_reader.*: every supported format gives the same mesh, and
 // hostile files give a status (never a crash, hang or silent data loss).
-#include "io/mesh_reader.h"
+#include "sdcb/io/mesh_reader.h"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,7 @@
 #include <random>
 #include <sstream>
 
-#include "core/mesh_topology.h"
+#include "sdcb/core/mesh/mesh_topology.h"
 #include "testing/temp_dir.h"
 
 namespace sdcb {

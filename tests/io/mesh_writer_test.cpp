@@ -1,4 +1,4 @@
-#include "io/mesh_writer.h"
+#include "sdcb/io/mesh_writer.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "io/mesh_reader.h"
+#include "sdcb/io/mesh_reader.h"
 
 namespace sdcb {
 namespace {
@@ -49,7 +49,7 @@ TEST(MeshWriter, RoundTripsThroughTheReader) {
   const TriangleMesh mesh = Tetrahedron();
   for (const std::string ext : {"obj", "off", "ply", "OBJ"}) {
     const std::string path = TempPath("tet." + ext);
-    ASSERT_TRUE(WriteMesh(path, mesh).ok()) << ext;
+    ASSERT_TRUE(WriteMesh(mesh, path).ok()) << ext;
     auto back = ReadMesh(path);
     ASSERT_TRUE(back.ok()) << ext << ": " << back.status().message();
     ExpectSameGeometry(*back, mesh, ext);
@@ -59,7 +59,7 @@ TEST(MeshWriter, RoundTripsThroughTheReader) {
 TEST(MeshWriter, CoordinatesKeepEveryBit) {
   const TriangleMesh mesh = Tetrahedron();
   const std::string path = TempPath("exact.obj");
-  ASSERT_TRUE(WriteMesh(path, mesh).ok());
+  ASSERT_TRUE(WriteMesh(mesh, path).ok());
   std::ifstream in(path);
   std::string tag;
   int v = 0;
@@ -84,7 +84,7 @@ TEST(MeshWriter, WritesPlyColors) {
   options.colors.resize(4, 3);
   options.colors << 255, 0, 0, 0, 255, 0, 0, 0, 255, 12, 34, 56;
   const std::string path = TempPath("colored.ply");
-  ASSERT_TRUE(WriteMesh(path, mesh, options).ok());
+  ASSERT_TRUE(WriteMesh(mesh, path, options).ok());
   std::ifstream in(path);
   std::stringstream text;
   text << in.rdbuf();
@@ -98,18 +98,18 @@ TEST(MeshWriter, WritesPlyColors) {
 TEST(MeshWriter, RejectsBadRequestsWithoutWriting) {
   const TriangleMesh mesh = Tetrahedron();
   const std::string stl = TempPath("x.stl");
-  EXPECT_EQ(WriteMesh(stl, mesh).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(WriteMesh(mesh, stl).code(), StatusCode::kInvalidArgument);
   EXPECT_FALSE(std::filesystem::exists(stl));
   MeshWriteOptions options;
   options.colors.resize(2, 3);
   options.colors.setZero();
-  EXPECT_EQ(WriteMesh(TempPath("few.ply"), mesh, options).code(),
+  EXPECT_EQ(WriteMesh(mesh, TempPath("few.ply"), options).code(),
             StatusCode::kInvalidArgument);
   options.colors.resize(4, 3);
   options.colors.setZero();
-  EXPECT_EQ(WriteMesh(TempPath("colors.obj"), mesh, options).code(),
+  EXPECT_EQ(WriteMesh(mesh, TempPath("colors.obj"), options).code(),
             StatusCode::kInvalidArgument);
-  EXPECT_EQ(WriteMesh("/nonexistent-dir/x.obj", mesh).code(),
+  EXPECT_EQ(WriteMesh(mesh, "/nonexistent-dir/x.obj").code(),
             StatusCode::kIoError);
 }
 

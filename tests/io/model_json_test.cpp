@@ -1,7 +1,7 @@
 // Tests io/model_json.*: the dump parses back with nlohmann, has the keys
 // DESIGN.md promises, and its values are the model's (control points
 // transformed to input coordinates, doubles exact).
-#include "io/model_json.h"
+#include "sdcb/io/model_json.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
-#include "io/sdcb_file.h"
+#include "sdcb/io/sdcb_file.h"
 #include "testing/spline_model_fixture.h"
 
 namespace sdcb {

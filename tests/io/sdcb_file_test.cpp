@@ -5,7 +5,7 @@
 // with valid CRCs but bad contents are rejected with a message naming the
 // problem, and no count read from a file leads to an allocation larger than
 // the file justifies.
-#include "io/sdcb_file.h"
+#include "sdcb/io/sdcb_file.h"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "io/crc32.h"
+#include "sdcb/io/crc32.h"
 #include "testing/spline_model_fixture.h"
 #include "testing/temp_dir.h"
 

@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-#include "core/spherical_cvt.h"
-#include "io/mesh_reader.h"
+#include "sdcb/core/knots/spherical_cvt.h"
+#include "sdcb/io/mesh_reader.h"
 #include "testing/temp_dir.h"
 
 namespace sdcb {

@@ -1,6 +1,6 @@
-// Hand-built SplineModels for the format tests: configurations found by
-// brute force (every knot triple whose smaller cap holds exactly k knots,
-// DESIGN.md's oracle), not by core/delaunay_configurations.
+// Hand-built SplineModels for the format tests: configurations found by the
+// brute-force oracle (testing/brute_force_configurations.h), not by
+// core/spline/delaunay_configurations.
 #ifndef SDCB_TESTS_TESTING_SPLINE_MODEL_FIXTURE_H_
 #define SDCB_TESTS_TESTING_SPLINE_MODEL_FIXTURE_H_
 
@@ -12,8 +12,9 @@
 #include <random>
 #include <vector>
 
-#include "core/sphere_geometry.h"
-#include "core/spline_model.h"
+#include "sdcb/core/sphere/sphere_geometry.h"
+#include "sdcb/core/spline/spline_model.h"
+#include "testing/brute_force_configurations.h"
 
 namespace sdcb::testing {
 
@@ -26,38 +27,6 @@ inline Eigen::MatrixX3d RandomUnitVectors(int n, unsigned seed) {
   for (int i = 0; i < n; ++i) {
     Eigen::Vector3d v(gauss(rng), gauss(rng), gauss(rng));
     out.row(i) = v.normalized().transpose();
-  }
-  return out;
-}
-
-// Brute-force degree-k configurations grouped by unordered set, sorted as
-// core/delaunay_configurations.h promises.
-inline DelaunayConfigurations BruteForceConfigurations(
-    const Eigen::MatrixX3d& knots, int degree) {
-  const int n = static_cast<int>(knots.rows());
-  std::map<std::vector<int>, std::vector<std::array<int, 3>>> groups;
-  for (int a = 0; a < n; ++a) {
-    for (int b = a + 1; b < n; ++b) {
-      for (int c = b + 1; c < n; ++c) {
-        std::vector<int> set = {a, b, c};
-        for (int q = 0; q < n; ++q) {
-          if (q == a || q == b || q == c) continue;
-          if (CapSide(knots.row(a).transpose(), knots.row(b).transpose(),
-                      knots.row(c).transpose(), knots.row(q).transpose()) > 0) {
-            set.push_back(q);
-          }
-        }
-        if (static_cast<int>(set.size()) != degree + 3) continue;
-        std::sort(set.begin(), set.end());
-        groups[set].push_back({a, b, c});
-      }
-    }
-  }
-  DelaunayConfigurations out;
-  out.degree = degree;
-  for (auto& [set, triples] : groups) {
-    std::sort(triples.begin(), triples.end());
-    out.sets.push_back({set, triples});
   }
   return out;
 }

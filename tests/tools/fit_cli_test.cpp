@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "io/mesh_reader.h"
+#include "sdcb/io/mesh_reader.h"
+#include "testing/brute_force_configurations.h"
 #include "testing/run_sdcb.h"
-#include "tests/core/brute_force_configurations.h"
 
 namespace sdcb {
 namespace {

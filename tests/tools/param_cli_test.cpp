@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "core/sphere_geometry.h"
-#include "io/mesh_reader.h"
+#include "sdcb/core/sphere/sphere_geometry.h"
+#include "sdcb/io/mesh_reader.h"
 
 namespace {
 

@@ -1,0 +1,243 @@
+#include "sdcb/core/mesh/mesh_hierarchy.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <tuple>
+
+namespace sdcb {
+namespace {
+
+// Dynamic state of the mesh while collapsing.
+class Collapser {
+ public:
+  Collapser(const TriangleMesh& mesh, const MeshHierarchyOptions& options)
+      : positions_(mesh.vertices),
+        faces_(mesh.faces),
+        face_alive_(mesh.num_faces(), true),
+        vertex_alive_(mesh.num_vertices(), true),
+        vertex_faces_(mesh.num_vertices()),
+        stamp_(mesh.num_vertices(), 0),
+        alive_vertices_(mesh.num_vertices()),
+        cos_max_turn_(std::cos(options.max_normal_turn_degrees * M_PI / 180.0)),
+        min_quality_(options.min_triangle_quality) {
+    for (int f = 0; f < faces_.rows(); ++f) {
+      for (int i = 0; i < 3; ++i) vertex_faces_[faces_(f, i)].push_back(f);
+    }
+  }
+
+  int alive_vertices() const { return alive_vertices_; }
+
+  // Sorted neighbors of x.
+  std::vector<int> Neighbors(int x) const {
+    std::vector<int> n;
+    for (int f : vertex_faces_[x]) {
+      for (int i = 0; i < 3; ++i) {
+        if (faces_(f, i) != x) n.push_back(faces_(f, i));
+      }
+    }
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+    return n;
+  }
+
+  // Collapses v -> u when allowed; returns whether it did.
+  bool TryCollapse(int v, int u, HalfEdgeCollapse* record) {
+    if (alive_vertices_ <= 4) return false;
+    const std::vector<int> nv = Neighbors(v), nu = Neighbors(u);
+    std::vector<int> common;
+    std::set_intersection(nv.begin(), nv.end(), nu.begin(), nu.end(),
+                          std::back_inserter(common));
+    // Link condition: the only common neighbors are the two opposite
+    // vertices of the faces on edge (v, u).
+    std::vector<int> edge_faces;
+    for (int f : vertex_faces_[v]) {
+      if (Corner(f, u) >= 0) edge_faces.push_back(f);
+    }
+    if (edge_faces.size() != 2 || common.size() != 2) return false;
+    // Normals of the re-pointed faces must not turn too far.
+    for (int f : vertex_faces_[v]) {
+      if (Corner(f, u) >= 0) continue;
+      const Eigen::Vector3d before = Normal(f, -1, v);
+      const Eigen::Vector3d after = Normal(f, v, u);
+      const double nb = before.norm(), na = after.norm();
+      if (!(na > 1e-14 * nb) || before.dot(after) < cos_max_turn_ * nb * na) {
+        return false;
+      }
+      // No new slivers: they would ask the sphere triangles to be slivers.
+      if (Quality(f, v, u) < std::min(min_quality_, Quality(f, -1, v)))
+        return false;
+    }
+    record->removed = v;
+    record->kept = u;
+    record->link = OrderedLink(v, u);
+    record->deleted_faces = {edge_faces[0], edge_faces[1]};
+    record->repointed_faces.clear();
+    // Apply.
+    for (int f : edge_faces) {
+      face_alive_[f] = false;
+      for (int i = 0; i < 3; ++i) {
+        const int w = faces_(f, i);
+        if (w == v) continue;
+        auto& list = vertex_faces_[w];
+        list.erase(std::find(list.begin(), list.end(), f));
+      }
+    }
+    for (int f : vertex_faces_[v]) {
+      if (!face_alive_[f]) continue;
+      faces_(f, Corner(f, v)) = u;
+      vertex_faces_[u].push_back(f);
+      record->repointed_faces.push_back(f);
+    }
+    vertex_faces_[v].clear();
+    vertex_alive_[v] = false;
+    --alive_vertices_;
+    return true;
+  }
+
+  int stamp(int x) const { return stamp_[x]; }
+  void Touch(int x) { ++stamp_[x]; }
+  bool vertex_alive(int x) const { return vertex_alive_[x]; }
+  double Length(int a, int b) const {
+    return (positions_.row(a) - positions_.row(b)).norm();
+  }
+
+  MeshHierarchy Release(std::vector<HalfEdgeCollapse> collapses) {
+    MeshHierarchy h;
+    h.faces = std::move(faces_);
+    h.face_alive = std::move(face_alive_);
+    h.vertex_alive = std::move(vertex_alive_);
+    h.collapses = std::move(collapses);
+    return h;
+  }
+
+ private:
+  int Corner(int f, int x) const {
+    for (int i = 0; i < 3; ++i) {
+      if (faces_(f, i) == x) return i;
+    }
+    return -1;
+  }
+
+  // Normal of face f with vertex `from` replaced by `to` (from = -1: as is).
+  Eigen::Vector3d Normal(int f, int from, int to) const {
+    Eigen::Vector3d p[3];
+    for (int i = 0; i < 3; ++i) {
+      const int x = faces_(f, i) == from ? to : faces_(f, i);
+      p[i] = positions_.row(x).transpose();
+    }
+    return (p[1] - p[0]).cross(p[2] - p[0]);
+  }
+
+  // 4 sqrt(3) area / sum of squared edges: 1 for an equilateral triangle, 0
+  // for a degenerate one; face f with vertex `from` replaced by `to`.
+  double Quality(int f, int from, int to) const {
+    Eigen::Vector3d p[3];
+    for (int i = 0; i < 3; ++i) {
+      const int x = faces_(f, i) == from ? to : faces_(f, i);
+      p[i] = positions_.row(x).transpose();
+    }
+    const double squares = (p[1] - p[0]).squaredNorm() +
+                           (p[2] - p[1]).squaredNorm() +
+                           (p[0] - p[2]).squaredNorm();
+    if (squares == 0.0) return 0.0;
+    return 2.0 * std::sqrt(3.0) * (p[1] - p[0]).cross(p[2] - p[0]).norm() /
+           squares;
+  }
+
+  // v's neighbors counter-clockwise, starting at `first`.
+  std::vector<int> OrderedLink(int v, int first) const {
+    std::vector<std::pair<int, int>> next;  // (a, b) for face (v, a, b)
+    for (int f : vertex_faces_[v]) {
+      const int c = Corner(f, v);
+      next.emplace_back(faces_(f, (c + 1) % 3), faces_(f, (c + 2) % 3));
+    }
+    std::sort(next.begin(), next.end());
+    std::vector<int> link = {first};
+    while (link.size() < next.size()) {
+      auto it = std::lower_bound(next.begin(), next.end(),
+                                 std::make_pair(link.back(), -1));
+      link.push_back(it->second);
+    }
+    return link;
+  }
+
+  Eigen::MatrixX3d positions_;
+  Eigen::MatrixX3i faces_;
+  std::vector<bool> face_alive_;
+  std::vector<bool> vertex_alive_;
+  std::vector<std::vector<int>> vertex_faces_;
+  std::vector<int> stamp_;
+  int alive_vertices_;
+  double cos_max_turn_;
+  double min_quality_;
+};
+
+// A candidate edge: its length, its end points (a < b) and their stamps
+// when it was queued (stale entries are skipped).
+using QueueEntry = std::tuple<double, int, int, int, int>;
+
+}  // namespace
+
+StatusOr<MeshHierarchy> BuildMeshHierarchy(
+    const TriangleMesh& mesh, const MeshHierarchyOptions& options) {
+  if (options.base_vertices < 4) {
+    return InvalidArgumentError("base_vertices must be at least 4");
+  }
+  Collapser collapser(mesh, options);
+  std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>>
+      queue;
+  // Queues the edges of `a`, except those to vertices in `skip` with a
+  // smaller index (they are queued from the other end).
+  auto push_edges = [&](int a, const std::vector<int>& skip) {
+    for (int b : collapser.Neighbors(a)) {
+      if (b < a && std::find(skip.begin(), skip.end(), b) != skip.end())
+        continue;
+      const int lo = std::min(a, b), hi = std::max(a, b);
+      queue.emplace(collapser.Length(lo, hi), lo, hi, collapser.stamp(lo),
+                    collapser.stamp(hi));
+    }
+  };
+  for (int a = 0; a < mesh.num_vertices(); ++a) {
+    for (int b : collapser.Neighbors(a)) {
+      if (a < b) queue.emplace(collapser.Length(a, b), a, b, 0, 0);
+    }
+  }
+
+  std::vector<HalfEdgeCollapse> collapses;
+  HalfEdgeCollapse record;
+  while (!queue.empty() && collapser.alive_vertices() > options.base_vertices) {
+    const auto [length, a, b, stamp_a, stamp_b] = queue.top();
+    queue.pop();
+    if (!collapser.vertex_alive(a) || !collapser.vertex_alive(b) ||
+        stamp_a != collapser.stamp(a) || stamp_b != collapser.stamp(b)) {
+      continue;
+    }
+    if (!collapser.TryCollapse(a, b, &record) &&
+        !collapser.TryCollapse(b, a, &record)) {
+      continue;
+    }
+    // Every vertex whose neighborhood changed gets a new stamp and its edges
+    // are queued again.
+    std::vector<int> changed = record.link;
+    for (int w : changed) collapser.Touch(w);
+    for (int w : changed) push_edges(w, changed);
+    collapses.push_back(record);
+  }
+  return collapser.Release(std::move(collapses));
+}
+
+void UndoCollapse(const HalfEdgeCollapse& collapse, Eigen::MatrixX3i* faces,
+                  std::vector<bool>* face_alive,
+                  std::vector<bool>* vertex_alive) {
+  for (int f : collapse.repointed_faces) {
+    for (int i = 0; i < 3; ++i) {
+      if ((*faces)(f, i) == collapse.kept) (*faces)(f, i) = collapse.removed;
+    }
+  }
+  for (int f : collapse.deleted_faces) (*face_alive)[f] = true;
+  (*vertex_alive)[collapse.removed] = true;
+}
+
+}  // namespace sdcb

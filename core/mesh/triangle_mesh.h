@@ -1,0 +1,23 @@
+// The plain triangle mesh that flows between the layers: vertex positions and
+// triangles as index triples, in the order the input file gave them.
+#ifndef SDCB_CORE_MESH_TRIANGLE_MESH_H_
+#define SDCB_CORE_MESH_TRIANGLE_MESH_H_
+
+#include <Eigen/Core>
+
+namespace sdcb {
+
+struct TriangleMesh {
+  // #V by 3 vertex positions, in the input's coordinates and order.
+  Eigen::MatrixX3d vertices;
+  // #F by 3 vertex indices (0-based) into `vertices`, counter-clockwise seen
+  // from outside for a consistently oriented closed mesh.
+  Eigen::MatrixX3i faces;
+
+  int num_vertices() const { return static_cast<int>(vertices.rows()); }
+  int num_faces() const { return static_cast<int>(faces.rows()); }
+};
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_MESH_TRIANGLE_MESH_H_

@@ -1,0 +1,172 @@
+#include "sdcb/core/param/parameterization_distortion.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <limits>
+
+#include "sdcb/core/sphere/sphere_geometry.h"
+
+namespace sdcb {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Area of the flat triangle (a, b, c) and its unit normal.
+double FlatArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                const Eigen::Vector3d& c) {
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
+// cot of the angle between u and v.
+double Cot(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+  const double sin_norm = u.cross(v).norm();
+  if (sin_norm == 0.0) return kInf;
+  return u.dot(v) / sin_norm;
+}
+
+// sum_i cot_i |e_i|^2, the numerator of eq. (10).
+double CotWeightedEdges(const MeshTriangleShape& shape,
+                        const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
+                        const Eigen::Vector3d& s2) {
+  return shape.cot[0] * (s2 - s1).squaredNorm() +
+         shape.cot[1] * (s0 - s2).squaredNorm() +
+         shape.cot[2] * (s1 - s0).squaredNorm();
+}
+
+}  // namespace
+
+MeshTriangleShape ComputeMeshTriangleShape(const Eigen::Vector3d& m0,
+                                           const Eigen::Vector3d& m1,
+                                           const Eigen::Vector3d& m2,
+                                           double area_scale) {
+  MeshTriangleShape shape;
+  shape.cot[0] = Cot(m1 - m0, m2 - m0);
+  shape.cot[1] = Cot(m2 - m1, m0 - m1);
+  shape.cot[2] = Cot(m0 - m2, m1 - m2);
+  shape.area = FlatArea(m0, m1, m2) * area_scale;
+  return shape;
+}
+
+MeshTriangleShape RotateShape(const MeshTriangleShape& shape, int first) {
+  MeshTriangleShape rotated = shape;
+  for (int i = 0; i < 3; ++i) rotated.cot[i] = shape.cot[(i + first) % 3];
+  return rotated;
+}
+
+double SmallTriangleDet3(const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
+                         const Eigen::Vector3d& s2) {
+  // det[s0 s1 s2] = det[s0, s1 - s0, s2 - s0]; the differences of nearby
+  // points are (almost) exact, s1 x s2 would cancel.
+  return s0.dot((s1 - s0).cross(s2 - s0));
+}
+
+double SphericalTriangleArea(const Eigen::Vector3d& s0,
+                             const Eigen::Vector3d& s1,
+                             const Eigen::Vector3d& s2) {
+  // Van Oosterom and Strackee: tan(area / 2) = det / (1 + s0.s1 + s1.s2 +
+  // s2.s0).
+  return 2.0 * std::atan2(SmallTriangleDet3(s0, s1, s2),
+                          1.0 + s0.dot(s1) + s1.dot(s2) + s2.dot(s0));
+}
+
+double AngleDistortion(const MeshTriangleShape& shape,
+                       const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
+                       const Eigen::Vector3d& s2) {
+  return AngleDistortionFormula(CotWeightedEdges(shape, s0, s1, s2),
+                                SphericalTriangleArea(s0, s1, s2));
+}
+
+double AreaDistortion(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
+                      const Eigen::Vector3d& s1, const Eigen::Vector3d& s2) {
+  return AreaDistortionFormula(shape.area, SphericalTriangleArea(s0, s1, s2));
+}
+
+double TriangleEnergy(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
+                      const Eigen::Vector3d& s1, const Eigen::Vector3d& s2,
+                      double lambda, Eigen::Vector3d* grad_s0) {
+  const double det = SmallTriangleDet3(s0, s1, s2);
+  const double denominator = 1.0 + s0.dot(s1) + s1.dot(s2) + s2.dot(s0);
+  const double a = 2.0 * std::atan2(det, denominator);  // SphericalTriangleArea
+  const double am = shape.area;
+  const double n = CotWeightedEdges(shape, s0, s1, s2);
+  const double e_angle = AngleDistortionFormula(n, a);
+  const double e_area = AreaDistortionFormula(am, a);
+  if (!std::isfinite(e_angle) || !std::isfinite(e_area)) {
+    if (grad_s0 != nullptr) grad_s0->setZero();
+    return kInf;
+  }
+  const double area_pow = lambda == 1.0 ? e_area : std::pow(e_area, lambda);
+  const double energy = am * e_angle * area_pow;  // eq. (12), one term
+  if (grad_s0 != nullptr) {
+    // d area / d s0 = 2 (D grad(det) - det grad(D)) / (det^2 + D^2).
+    const Eigen::Vector3d d_a = 2.0 *
+                                (denominator * s1.cross(s2) - det * (s1 + s2)) /
+                                (det * det + denominator * denominator);
+    const Eigen::Vector3d d_n =
+        2.0 * shape.cot[1] * (s0 - s2) + 2.0 * shape.cot[2] * (s0 - s1);
+    const Eigen::Vector3d d_angle = d_n / (2.0 * a) - n / (2.0 * a * a) * d_a;
+    const Eigen::Vector3d d_area = (1.0 / am - am / (a * a)) * d_a;
+    *grad_s0 = am * (area_pow * d_angle +
+                     e_angle * lambda * (area_pow / e_area) * d_area);
+  }
+  return energy;
+}
+
+StatusOr<double> AreaScaleToUnitSphere(const TriangleMesh& mesh) {
+  double total = 0.0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    total += FlatArea(mesh.vertices.row(mesh.faces(f, 0)).transpose(),
+                      mesh.vertices.row(mesh.faces(f, 1)).transpose(),
+                      mesh.vertices.row(mesh.faces(f, 2)).transpose());
+  }
+  if (!(total > 0.0) || !std::isfinite(total)) {
+    return InvalidInputError("mesh has zero or non-finite total area");
+  }
+  return 4.0 * M_PI / total;
+}
+
+StatusOr<ParameterizationDistortion> MeasureParameterizationDistortion(
+    const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere) {
+  if (sphere.rows() != mesh.num_vertices()) {
+    return InvalidArgumentError(
+        "parameterization has " + std::to_string(sphere.rows()) +
+        " points for a mesh of " + std::to_string(mesh.num_vertices()) +
+        " vertices");
+  }
+  SDCB_ASSIGN_OR_RETURN(const double scale, AreaScaleToUnitSphere(mesh));
+  ParameterizationDistortion d;
+  d.face_angle_distortion.assign(mesh.num_faces(), kInf);
+  d.face_area_distortion.assign(mesh.num_faces(), kInf);
+  d.face_mesh_area.assign(mesh.num_faces(), 0.0);
+  double weight = 0.0, angle_sum = 0.0, area_sum = 0.0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    Eigen::Vector3d m[3], s[3];
+    for (int i = 0; i < 3; ++i) {
+      m[i] = mesh.vertices.row(mesh.faces(f, i)).transpose();
+      s[i] = sphere.row(mesh.faces(f, i)).transpose();
+    }
+    const MeshTriangleShape shape =
+        ComputeMeshTriangleShape(m[0], m[1], m[2], scale);
+    d.face_mesh_area[f] = shape.area;
+    if (Det3Sign(s[0], s[1], s[2]) <= 0) {
+      ++d.flipped_triangles;
+      continue;
+    }
+    const double e_angle = AngleDistortion(shape, s[0], s[1], s[2]);
+    const double e_area = AreaDistortion(shape, s[0], s[1], s[2]);
+    d.face_angle_distortion[f] = e_angle;
+    d.face_area_distortion[f] = e_area;
+    d.angle_distortion_max = std::max(d.angle_distortion_max, e_angle);
+    d.area_distortion_max = std::max(d.area_distortion_max, e_area);
+    weight += shape.area;
+    angle_sum += shape.area * e_angle;
+    area_sum += shape.area * e_area;
+  }
+  if (weight > 0.0) {
+    d.angle_distortion_avg = angle_sum / weight;
+    d.area_distortion_avg = area_sum / weight;
+  }
+  return d;
+}
+
+}  // namespace sdcb

@@ -1,0 +1,718 @@
+#include "sdcb/core/param/spherical_parameterization.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/Sparse>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "sdcb/core/mesh/mesh_hierarchy.h"
+#include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/param/parameterization_distortion.h"
+#include "sdcb/core/sphere/sphere_geometry.h"
+
+namespace sdcb {
+namespace {
+
+Eigen::Vector3d Row(const Eigen::MatrixX3d& m, int i) {
+  return m.row(i).transpose();
+}
+
+// One triangle as seen from one of its corners v: the other two corners in
+// counter-clockwise order and the mesh shape rotated so that v is corner 0.
+struct Incidence {
+  int a = -1;
+  int b = -1;
+  MeshTriangleShape shape;
+};
+
+// One greedy step of a vertex at *p along the great circle of steepest
+// descent of `energy`, with backtracking from *step (radians); only
+// positions where `valid` holds and the energy drops (Armijo) are taken.
+// Adapts *step and returns the energy decrease (0 if no move).
+template <typename EnergyFn, typename ValidFn>
+double GreatCircleStep(Eigen::Vector3d* p, double* step, const EnergyFn& energy,
+                       const ValidFn& valid) {
+  constexpr int kMaxHalvings = 12;
+  constexpr double kArmijo = 1e-4;
+  constexpr double kMaxStep = 0.5;
+  Eigen::Vector3d gradient;
+  const double e0 = energy(*p, &gradient);
+  if (!std::isfinite(e0)) return 0.0;
+  const Eigen::Vector3d tangent = gradient - gradient.dot(*p) * *p;
+  const double slope = tangent.norm();
+  if (!(slope > 0.0)) return 0.0;
+  const Eigen::Vector3d direction = -tangent / slope;
+  double t = *step;
+  for (int k = 0; k < kMaxHalvings; ++k, t *= 0.5) {
+    const Eigen::Vector3d q =
+        (std::cos(t) * *p + std::sin(t) * direction).normalized();
+    if (!valid(q)) continue;
+    const double e1 = energy(q, nullptr);
+    if (e1 <= e0 - kArmijo * t * slope) {
+      *p = q;
+      *step = std::min(2.0 * t, kMaxStep);
+      return e0 - e1;
+    }
+  }
+  *step = std::max(t, 1e-12);
+  return 0.0;
+}
+
+// The current level of the hierarchy: which faces and vertices are alive.
+struct LevelState {
+  Eigen::MatrixX3i faces;
+  std::vector<bool> face_alive;
+  std::vector<bool> vertex_alive;
+};
+
+// Greedy per-vertex minimization of eq. (12) on one level (Sec. 4.3).
+class LevelOptimizer {
+ public:
+  LevelOptimizer(const Eigen::MatrixX3d& mesh_positions, double lambda)
+      : mesh_positions_(mesh_positions), lambda_(lambda) {}
+
+  void set_lambda(double lambda) { lambda_ = lambda; }
+  double lambda() const { return lambda_; }
+
+  // Rebuilds the one-rings, shapes, colors and step sizes for `level`.
+  void Prepare(const LevelState& level, const Eigen::MatrixX3d& sphere) {
+    const int nv = static_cast<int>(mesh_positions_.rows());
+    double total_area = 0.0;
+    std::vector<int> alive_faces;
+    for (int f = 0; f < level.faces.rows(); ++f) {
+      if (!level.face_alive[f]) continue;
+      alive_faces.push_back(f);
+      total_area +=
+          ComputeMeshTriangleShape(Corner(level, f, 0), Corner(level, f, 1),
+                                   Corner(level, f, 2), 1.0)
+              .area;
+    }
+    const double scale = 4.0 * M_PI / total_area;
+    // Incidences in CSR order: vertex v owns [offset_[v], offset_[v + 1]).
+    offset_.assign(nv + 1, 0);
+    for (int f : alive_faces) {
+      for (int i = 0; i < 3; ++i) ++offset_[level.faces(f, i) + 1];
+    }
+    for (int v = 0; v < nv; ++v) offset_[v + 1] += offset_[v];
+    incidences_.assign(offset_[nv], Incidence());
+    std::vector<int> fill(offset_.begin(), offset_.end() - 1);
+    for (int f : alive_faces) {
+      const MeshTriangleShape shape = ComputeMeshTriangleShape(
+          Corner(level, f, 0), Corner(level, f, 1), Corner(level, f, 2), scale);
+      for (int i = 0; i < 3; ++i) {
+        Incidence& inc = incidences_[fill[level.faces(f, i)]++];
+        inc.a = level.faces(f, (i + 1) % 3);
+        inc.b = level.faces(f, (i + 2) % 3);
+        inc.shape = RotateShape(shape, i);
+      }
+    }
+    // Greedy coloring in vertex order: same colors on every run.
+    std::vector<int> color(nv, -1);
+    color_classes_.clear();
+    for (int v = 0; v < nv; ++v) {
+      if (!level.vertex_alive[v]) continue;
+      std::vector<bool> used(offset_[v + 1] - offset_[v] + 1, false);
+      for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
+        for (int w : {incidences_[k].a, incidences_[k].b}) {
+          if (color[w] >= 0 && color[w] < static_cast<int>(used.size())) {
+            used[color[w]] = true;
+          }
+        }
+      }
+      int c = 0;
+      while (used[c]) ++c;
+      color[v] = c;
+      if (c >= static_cast<int>(color_classes_.size()))
+        color_classes_.resize(c + 1);
+      color_classes_[c].push_back(v);
+    }
+    // Initial step: a quarter of the mean one-ring edge length on S^2.
+    step_.assign(nv, 0.0);
+    for (int v = 0; v < nv; ++v) {
+      double sum = 0.0;
+      for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
+        sum += (Row(sphere, incidences_[k].a) - Row(sphere, v)).norm();
+      }
+      const int n = offset_[v + 1] - offset_[v];
+      if (n > 0) step_[v] = 0.25 * sum / n;
+    }
+    decrease_.assign(nv, 0.0);
+  }
+
+  // Eq. (12) over the level's faces (each face once, summed in order).
+  double Energy(const Eigen::MatrixX3d& sphere) const {
+    const int nv = static_cast<int>(offset_.size()) - 1;
+    std::vector<double> local(nv, 0.0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256),
+                      [&](const tbb::blocked_range<int>& r) {
+                        for (int v = r.begin(); v != r.end(); ++v) {
+                          local[v] =
+                              LocalEnergy(v, Row(sphere, v), sphere, nullptr);
+                        }
+                      });
+    double e = 0.0;
+    for (double l : local) e += l;  // vertex order: same for any threads
+    return e / 3.0;
+  }
+
+  // Sweeps until the relative decrease of E per sweep is below `tolerance`
+  // or `max_sweeps` were run. Returns the final energy.
+  double Optimize(Eigen::MatrixX3d* sphere, int max_sweeps, double tolerance) {
+    double energy = Energy(*sphere);
+    // Active set: a vertex is visited again only if it or a neighbor moved
+    // in the previous sweep (else its one-ring energy is unchanged and the
+    // line search already failed there).
+    std::vector<char> active(decrease_.size(), 1);
+    for (int sweep = 0; sweep < max_sweeps; ++sweep) {
+      std::fill(decrease_.begin(), decrease_.end(), 0.0);
+      for (const std::vector<int>& cls : color_classes_) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, cls.size(), 64),
+                          [&](const tbb::blocked_range<size_t>& r) {
+                            for (size_t i = r.begin(); i != r.end(); ++i) {
+                              if (active[cls[i]]) MoveVertex(cls[i], sphere);
+                            }
+                          });
+      }
+      double decrease = 0.0;
+      for (double d : decrease_) decrease += d;  // fixed order
+      energy -= decrease;
+      if (decrease < tolerance * energy) break;
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, active.size(), 1024),
+                        [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t v = r.begin(); v != r.end(); ++v) {
+                            bool moved = decrease_[v] > 0.0;
+                            for (int k = offset_[v];
+                                 k < offset_[v + 1] && !moved; ++k) {
+                              moved = decrease_[incidences_[k].a] > 0.0;
+                            }
+                            active[v] = moved;
+                          }
+                        });
+    }
+    return energy;
+  }
+
+  // Global limited-memory BFGS on all of the level's vertices at once
+  // (`memory` pairs), for the low-frequency part of eq. (12) that per-vertex
+  // moves reach only slowly (area has to flow across the whole sphere). The
+  // iterate is a point of (S^2)^n: a step moves every vertex along its
+  // tangent direction and renormalizes; the curvature pairs are the
+  // differences of positions and of tangent gradients in R^3n. A step is
+  // taken only if every triangle stays positively oriented (exact) and the
+  // energy drops (Armijo). Stops after `iterations` or when an iteration
+  // lowers E by less than `tolerance` times E. Returns the final energy.
+  double OptimizeGlobal(Eigen::MatrixX3d* sphere, int iterations,
+                        double tolerance, int memory = 8) {
+    const int nv = static_cast<int>(decrease_.size());
+    Eigen::MatrixX3d gradient(nv, 3);
+    double energy = EnergyAndGradient(*sphere, &gradient);
+    std::vector<Eigen::MatrixX3d> s_hist, y_hist;
+    std::vector<double> rho_hist;
+    double first_step = 0.0;  // radians of the largest move, first iteration
+    for (const double st : step_) first_step = std::max(first_step, st);
+    for (int it = 0; it < iterations; ++it) {
+      // Two-loop recursion: direction = -H gradient.
+      Eigen::MatrixX3d q = gradient;
+      const int m = static_cast<int>(s_hist.size());
+      std::vector<double> alpha(m);
+      for (int i = m - 1; i >= 0; --i) {
+        alpha[i] = rho_hist[i] * Dot(s_hist[i], q);
+        q -= alpha[i] * y_hist[i];
+      }
+      if (m > 0) {
+        q *= Dot(s_hist[m - 1], y_hist[m - 1]) /
+             Dot(y_hist[m - 1], y_hist[m - 1]);
+      } else {
+        // First iteration: scale so that the largest vertex move is
+        // first_step radians.
+        double largest = 0.0;
+        for (int v = 0; v < nv; ++v)
+          largest = std::max(largest, q.row(v).norm());
+        if (!(largest > 0.0)) break;
+        q *= first_step / largest;
+      }
+      for (int i = 0; i < m; ++i) {
+        const double beta = rho_hist[i] * Dot(y_hist[i], q);
+        q += (alpha[i] - beta) * s_hist[i];
+      }
+      Eigen::MatrixX3d direction = -q;
+      ProjectToTangent(*sphere, &direction);
+      double slope = Dot(direction, gradient);
+      if (!(slope < 0.0)) {  // not a descent direction: restart
+        s_hist.clear();
+        y_hist.clear();
+        rho_hist.clear();
+        continue;
+      }
+      constexpr int kMaxHalvings = 30;
+      constexpr double kArmijo = 1e-4;
+      Eigen::MatrixX3d trial(nv, 3);
+      double t = 1.0, trial_energy = 0.0;
+      bool accepted = false;
+      for (int k = 0; k < kMaxHalvings && !accepted; ++k, t *= 0.5) {
+        for (int v = 0; v < nv; ++v) {
+          trial.row(v) = (sphere->row(v) + t * direction.row(v)).normalized();
+        }
+        if (!AllValid(trial)) continue;
+        trial_energy = Energy(trial);
+        accepted = trial_energy <= energy + kArmijo * t * slope;
+        if (accepted) break;
+      }
+      if (!accepted) break;
+      Eigen::MatrixX3d new_gradient(nv, 3);
+      trial_energy = EnergyAndGradient(trial, &new_gradient);
+      const double decrease = energy - trial_energy;
+      Eigen::MatrixX3d s = trial - *sphere;
+      Eigen::MatrixX3d y = new_gradient - gradient;
+      *sphere = trial;
+      gradient = new_gradient;
+      energy = trial_energy;
+      const double sy = Dot(s, y);
+      if (sy > 1e-12 * std::sqrt(Dot(s, s) * Dot(y, y))) {
+        if (static_cast<int>(s_hist.size()) == memory) {
+          s_hist.erase(s_hist.begin());
+          y_hist.erase(y_hist.begin());
+          rho_hist.erase(rho_hist.begin());
+        }
+        s_hist.push_back(std::move(s));
+        y_hist.push_back(std::move(y));
+        rho_hist.push_back(1.0 / sy);
+      }
+      if (decrease < tolerance * energy) break;
+    }
+    return energy;
+  }
+
+ private:
+  // Sum of the entry-wise products, in row order (deterministic).
+  static double Dot(const Eigen::MatrixX3d& a, const Eigen::MatrixX3d& b) {
+    double sum = 0.0;
+    for (int v = 0; v < a.rows(); ++v) sum += a.row(v).dot(b.row(v));
+    return sum;
+  }
+
+  static void ProjectToTangent(const Eigen::MatrixX3d& sphere,
+                               Eigen::MatrixX3d* vectors) {
+    for (int v = 0; v < sphere.rows(); ++v) {
+      const Eigen::RowVector3d p = sphere.row(v);
+      vectors->row(v) -= vectors->row(v).dot(p) * p;
+    }
+  }
+
+  // E (eq. 12) and its gradient, projected onto each vertex's tangent plane
+  // (zero rows for vertices not on the level).
+  double EnergyAndGradient(const Eigen::MatrixX3d& sphere,
+                           Eigen::MatrixX3d* gradient) const {
+    const int nv = static_cast<int>(sphere.rows());
+    std::vector<double> local(nv, 0.0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256),
+                      [&](const tbb::blocked_range<int>& r) {
+                        for (int v = r.begin(); v != r.end(); ++v) {
+                          Eigen::Vector3d g = Eigen::Vector3d::Zero();
+                          const Eigen::Vector3d p = Row(sphere, v);
+                          local[v] = LocalEnergy(v, p, sphere, &g);
+                          gradient->row(v) = (g - g.dot(p) * p).transpose();
+                        }
+                      });
+    double e = 0.0;
+    for (double l : local) e += l;  // fixed order
+    return e / 3.0;
+  }
+
+  // True if every triangle of the level is positively oriented (exact).
+  bool AllValid(const Eigen::MatrixX3d& sphere) const {
+    const int nv = static_cast<int>(sphere.rows());
+    return tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, nv, 256), true,
+        [&](const tbb::blocked_range<int>& r, bool ok) {
+          for (int v = r.begin(); v != r.end() && ok; ++v) {
+            ok = OneRingValid(v, Row(sphere, v), sphere);
+          }
+          return ok;
+        },
+        [](bool a, bool b) { return a && b; });
+  }
+
+  Eigen::Vector3d Corner(const LevelState& level, int f, int i) const {
+    return Row(mesh_positions_, level.faces(f, i));
+  }
+
+  // Energy of v's one-ring with v at p (p on S^2), and its gradient in R^3.
+  double LocalEnergy(int v, const Eigen::Vector3d& p,
+                     const Eigen::MatrixX3d& sphere,
+                     Eigen::Vector3d* gradient) const {
+    double e = 0.0;
+    if (gradient != nullptr) gradient->setZero();
+    Eigen::Vector3d g;
+    for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
+      const Incidence& inc = incidences_[k];
+      e += TriangleEnergy(inc.shape, p, Row(sphere, inc.a), Row(sphere, inc.b),
+                          lambda_, gradient != nullptr ? &g : nullptr);
+      if (gradient != nullptr) *gradient += g;
+    }
+    return e;
+  }
+
+  // True if every triangle of v's one-ring is positively oriented with v at p.
+  bool OneRingValid(int v, const Eigen::Vector3d& p,
+                    const Eigen::MatrixX3d& sphere) const {
+    for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
+      if (Det3Sign(p, Row(sphere, incidences_[k].a),
+                   Row(sphere, incidences_[k].b)) <= 0) {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // One greedy step of v (Sec. 4.3's line search on great circles).
+  void MoveVertex(int v, Eigen::MatrixX3d* sphere) {
+    Eigen::Vector3d p = Row(*sphere, v);
+    decrease_[v] = GreatCircleStep(
+        &p, &step_[v],
+        [&](const Eigen::Vector3d& q, Eigen::Vector3d* g) {
+          return LocalEnergy(v, q, *sphere, g);
+        },
+        [&](const Eigen::Vector3d& q) { return OneRingValid(v, q, *sphere); });
+    sphere->row(v) = p.transpose();
+  }
+
+  const Eigen::MatrixX3d& mesh_positions_;
+  double lambda_;
+  std::vector<int> offset_;
+  std::vector<Incidence> incidences_;
+  std::vector<std::vector<int>> color_classes_;
+  std::vector<double> step_;
+  std::vector<double> decrease_;
+};
+
+// Step 2 of the method: Tutte embedding of the base mesh minus its vertex of
+// highest degree, centrally projected onto the northern hemisphere, plus
+// that vertex at the south pole.
+Status EmbedBaseMesh(const LevelState& level, Eigen::MatrixX3d* sphere) {
+  const int nv = static_cast<int>(level.vertex_alive.size());
+  std::vector<std::vector<std::pair<int, int>>> ring(nv);  // (a, b) per face
+  for (int f = 0; f < level.faces.rows(); ++f) {
+    if (!level.face_alive[f]) continue;
+    for (int i = 0; i < 3; ++i) {
+      ring[level.faces(f, i)].emplace_back(level.faces(f, (i + 1) % 3),
+                                           level.faces(f, (i + 2) % 3));
+    }
+  }
+  int pole = -1;
+  for (int v = 0; v < nv; ++v) {
+    if (level.vertex_alive[v] &&
+        (pole < 0 || ring[v].size() > ring[pole].size())) {
+      pole = v;
+    }
+  }
+  // The pole's link counter-clockwise; in the plane it must run clockwise
+  // for the disk's faces to be counter-clockwise.
+  std::map<int, int> next(ring[pole].begin(), ring[pole].end());
+  std::vector<int> link = {ring[pole][0].first};
+  while (link.size() < next.size()) link.push_back(next.at(link.back()));
+  constexpr double kBoundaryRadius = 2.0;  // in the plane z = 1
+  std::vector<int> index(nv, -1);          // unknown index, -2 for fixed
+  std::vector<Eigen::Vector2d> plane(nv, Eigen::Vector2d::Zero());
+  for (size_t i = 0; i < link.size(); ++i) {
+    const double angle = -2.0 * M_PI * static_cast<double>(i) / link.size();
+    plane[link[i]] =
+        kBoundaryRadius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    index[link[i]] = -2;
+  }
+  index[pole] = -2;
+  int unknowns = 0;
+  for (int v = 0; v < nv; ++v) {
+    if (level.vertex_alive[v] && index[v] == -1) index[v] = unknowns++;
+  }
+  // Uniform Laplacian: deg(v) x_v - sum_{interior w} x_w = sum_{boundary w}
+  // x_w.
+  std::vector<Eigen::Triplet<double>> triplets;
+  Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(unknowns, 2);
+  for (int v = 0; v < nv; ++v) {
+    if (index[v] < 0) continue;
+    triplets.emplace_back(index[v], index[v],
+                          static_cast<double>(ring[v].size()));
+    for (const auto& [w, unused] : ring[v]) {
+      if (index[w] >= 0) {
+        triplets.emplace_back(index[v], index[w], -1.0);
+      } else {
+        rhs.row(index[v]) += plane[w].transpose();
+      }
+    }
+  }
+  if (unknowns > 0) {
+    Eigen::SparseMatrix<double> laplacian(unknowns, unknowns);
+    laplacian.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
+    if (solver.info() != Eigen::Success) {
+      return InternalError(
+          "the base mesh's Tutte system could not be factored");
+    }
+    const Eigen::MatrixX2d x = solver.solve(rhs);
+    for (int v = 0; v < nv; ++v) {
+      if (index[v] >= 0) plane[v] = x.row(index[v]).transpose();
+    }
+  }
+  sphere->setZero(nv, 3);
+  for (int v = 0; v < nv; ++v) {
+    if (!level.vertex_alive[v]) continue;
+    sphere->row(v) = Eigen::Vector3d(plane[v].x(), plane[v].y(), 1.0)
+                         .normalized()
+                         .transpose();
+  }
+  sphere->row(pole) = Eigen::RowVector3d(0.0, 0.0, -1.0);
+  for (int f = 0; f < level.faces.rows(); ++f) {
+    if (!level.face_alive[f]) continue;
+    if (Det3Sign(Row(*sphere, level.faces(f, 0)),
+                 Row(*sphere, level.faces(f, 1)),
+                 Row(*sphere, level.faces(f, 2))) <= 0) {
+      return InternalError(
+          "the base mesh's Tutte embedding has a folded triangle");
+    }
+  }
+  return Status::Ok();
+}
+
+// Step 4: puts the vertex a collapse removed back inside the kernel of its
+// one-ring on S^2 (all one-ring triangles positively oriented, checked
+// exactly), at the candidate whose worst one-ring triangle is fattest.
+Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
+                        const Eigen::MatrixX3d& mesh_positions,
+                        double area_scale, double lambda,
+                        Eigen::MatrixX3d* sphere) {
+  const std::vector<int>& link = collapse.link;
+  const size_t k = link.size();
+  // Smallest det(q,a,b) / (|q-a| |q-b| |a-b|) over the one-ring (a sine
+  // over a length: scale-aware fatness), or -1 if a triangle is not
+  // positively oriented. Validity is the exact sign; the fatness is a
+  // floating-point value that only ranks valid candidates, clamped at 0
+  // (on tiny triangles its rounding error exceeds it).
+  auto score = [&](const Eigen::Vector3d& q) {
+    double worst = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < k; ++i) {
+      const Eigen::Vector3d a = Row(*sphere, link[i]);
+      const Eigen::Vector3d b = Row(*sphere, link[(i + 1) % k]);
+      if (Det3Sign(q, a, b) <= 0) return -1.0;
+      worst = std::min(worst,
+                       SmallTriangleDet3(q, a, b) /
+                           ((q - a).norm() * (q - b).norm() * (a - b).norm()));
+    }
+    return std::max(worst, 0.0);
+  };
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int w : link) centroid += Row(*sphere, w);
+  centroid.normalize();
+  const Eigen::Vector3d u = Row(*sphere, collapse.kept);
+  std::vector<Eigen::Vector3d> candidates = {centroid};
+  for (double t : {0.25, 0.5, 0.75}) {
+    candidates.push_back((u + t * (centroid - u)).normalized());
+  }
+  Eigen::Vector3d best = centroid;
+  double best_score = -1.0;
+  auto consider = [&](const Eigen::Vector3d& q) {
+    const double s = score(q);
+    if (s > best_score) {
+      best_score = s;
+      best = q;
+    }
+  };
+  for (const Eigen::Vector3d& q : candidates) consider(q);
+  if (best_score < 0.0) {
+    // Near the kept vertex u, inside the wedge between its edges to the
+    // first and last link vertices: valid for a small enough offset,
+    // because the fan around u was valid.
+    auto tangent = [&](int w) {
+      const Eigen::Vector3d d = Row(*sphere, w) - u;
+      return Eigen::Vector3d(d - d.dot(u) * u);
+    };
+    const Eigen::Vector3d t1 = tangent(link[1]), t2 = tangent(link[k - 1]);
+    const Eigen::Vector3d bisector = t1.normalized() + t2.normalized();
+    const Eigen::Vector3d side = u.cross(t1.normalized());
+    const double reach = 0.5 * std::min(t1.norm(), t2.norm());
+    int extra_halvings = 3;
+    for (double eps = reach; eps > 1e-14 * reach && extra_halvings > 0;
+         eps *= 0.5) {
+      for (const Eigen::Vector3d& d : {bisector, Eigen::Vector3d(-bisector),
+                                       side, Eigen::Vector3d(-side)}) {
+        if (d.norm() > 1e-9) consider((u + eps * d.normalized()).normalized());
+      }
+      if (best_score >= 0.0) --extra_halvings;
+    }
+  }
+  if (best_score < 0.0) {
+    return InternalError(
+        "a vertex split found no valid position on the sphere");
+  }
+  // A few descent steps of the new vertex alone, so that vertices split
+  // next to it later in the same level find a fat one-ring.
+  constexpr int kRelaxSteps = 3;
+  std::vector<MeshTriangleShape> shapes(k);
+  for (size_t i = 0; i < k; ++i) {
+    shapes[i] = ComputeMeshTriangleShape(
+        Row(mesh_positions, collapse.removed), Row(mesh_positions, link[i]),
+        Row(mesh_positions, link[(i + 1) % k]), area_scale);
+  }
+  auto energy = [&](const Eigen::Vector3d& q, Eigen::Vector3d* gradient) {
+    double e = 0.0;
+    Eigen::Vector3d g;
+    if (gradient != nullptr) gradient->setZero();
+    for (size_t i = 0; i < k; ++i) {
+      e += TriangleEnergy(shapes[i], q, Row(*sphere, link[i]),
+                          Row(*sphere, link[(i + 1) % k]), lambda,
+                          gradient != nullptr ? &g : nullptr);
+      if (gradient != nullptr) *gradient += g;
+    }
+    return e;
+  };
+  double step = 0.0;
+  for (size_t i = 0; i < k; ++i) step += (Row(*sphere, link[i]) - best).norm();
+  step *= 0.25 / k;
+  for (int i = 0; i < kRelaxSteps; ++i) {
+    GreatCircleStep(&best, &step, energy,
+                    [&](const Eigen::Vector3d& q) { return score(q) >= 0.0; });
+  }
+  sphere->row(collapse.removed) = best.transpose();
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status CheckSphericalBijection(const TriangleMesh& mesh,
+                               const Eigen::MatrixX3d& sphere) {
+  if (sphere.rows() != mesh.num_vertices()) {
+    return InvalidArgumentError(
+        "parameterization size does not match the mesh");
+  }
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!(std::abs(sphere.row(v).norm() - 1.0) <= 1e-12)) {
+      return InternalError("vertex " + std::to_string(v) +
+                           " is off the unit sphere");
+    }
+  }
+  double total = 0.0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const Eigen::Vector3d a = Row(sphere, mesh.faces(f, 0));
+    const Eigen::Vector3d b = Row(sphere, mesh.faces(f, 1));
+    const Eigen::Vector3d c = Row(sphere, mesh.faces(f, 2));
+    if (Det3Sign(a, b, c) <= 0) {
+      return InternalError("sphere triangle " + std::to_string(f) +
+                           " is folded or degenerate");
+    }
+    total += SphericalTriangleArea(a, b, c);
+  }
+  if (std::abs(total - 4.0 * M_PI) > 1e-6) {
+    return InternalError("sphere triangles cover S^2 " +
+                         std::to_string(total / (4.0 * M_PI)) +
+                         " times, not once");
+  }
+  return Status::Ok();
+}
+
+StatusOr<SphericalParameterization> ParameterizeOnSphere(
+    const TriangleMesh& mesh, const SphericalParameterizationOptions& options) {
+  if (!(options.lambda > 0.0) || !std::isfinite(options.lambda)) {
+    return InvalidArgumentError("lambda must be a finite number > 0");
+  }
+  if (options.level_growth <= 1.0 || options.threads < 0) {
+    return InvalidArgumentError("level_growth must be > 1 and threads >= 0");
+  }
+  SDCB_RETURN_IF_ERROR(RequireClosedGenusZero(mesh));
+  auto report = [&](const std::string& stage, double fraction) {
+    if (options.progress) options.progress(stage, fraction);
+  };
+
+  MeshHierarchyOptions hierarchy_options;
+  hierarchy_options.base_vertices = std::max(4, options.base_vertices);
+  report("hierarchy", 0.0);
+  SDCB_ASSIGN_OR_RETURN(MeshHierarchy hierarchy,
+                        BuildMeshHierarchy(mesh, hierarchy_options));
+  LevelState level{std::move(hierarchy.faces), std::move(hierarchy.face_alive),
+                   std::move(hierarchy.vertex_alive)};
+  SDCB_ASSIGN_OR_RETURN(const double area_scale, AreaScaleToUnitSphere(mesh));
+  SphericalParameterization result;
+  result.base_vertices =
+      mesh.num_vertices() - static_cast<int>(hierarchy.collapses.size());
+
+  tbb::task_arena arena(options.threads > 0 ? options.threads
+                                            : tbb::task_arena::automatic);
+  Status status = Status::Ok();
+  arena.execute([&] {
+    Eigen::MatrixX3d sphere;
+    report("base", 0.0);
+    status = EmbedBaseMesh(level, &sphere);
+    if (!status.ok()) return;
+    LevelOptimizer optimizer(mesh.vertices, options.lambda);
+    optimizer.Prepare(level, sphere);
+    // Continuation in lambda: a large lambda makes eq. (12) so stiff that
+    // descent from the Tutte embedding stalls. Rounds of `sweeps` with lambda
+    // growing by `lambda_growth` from `from` up to `to`.
+    auto optimize_rising = [&](double from, double to, int sweeps,
+                               double tolerance) {
+      for (double lambda = from;;
+           lambda = std::min(options.lambda_growth * lambda, to)) {
+        optimizer.set_lambda(lambda);
+        result.energy = optimizer.Optimize(&sphere, sweeps, tolerance);
+        if (lambda >= to) break;
+      }
+    };
+    const double start_lambda = std::min(1.0, options.lambda);
+    const double coarse_lambda =
+        std::min(options.lambda, options.coarse_lambda);
+    optimize_rising(start_lambda, coarse_lambda, options.base_sweeps,
+                    options.level_tolerance);
+    result.levels = 1;
+    int alive = result.base_vertices;
+    size_t next = hierarchy.collapses.size();
+    while (next > 0) {
+      report("optimize", static_cast<double>(alive) / mesh.num_vertices());
+      const int target =
+          std::max(alive + 1, static_cast<int>(alive * options.level_growth));
+      while (next > 0 && alive < target) {
+        const HalfEdgeCollapse& collapse = hierarchy.collapses[--next];
+        UndoCollapse(collapse, &level.faces, &level.face_alive,
+                     &level.vertex_alive);
+        status = PlaceSplitVertex(collapse, mesh.vertices, area_scale,
+                                  optimizer.lambda(), &sphere);
+        if (!status.ok()) return;
+        ++alive;
+      }
+      optimizer.Prepare(level, sphere);
+      // Levels within `rising_levels` of the finest raise lambda to its
+      // final value.
+      const bool rising =
+          static_cast<double>(mesh.num_vertices()) <=
+          alive * std::pow(options.level_growth, options.rising_levels - 1);
+      const double from = optimizer.lambda();
+      const double to = rising ? options.lambda : coarse_lambda;
+      if (next > 0) {
+        const bool small =
+            alive <= options.small_level_fraction * mesh.num_vertices();
+        optimize_rising(
+            from, to, options.level_sweeps,
+            small ? options.level_tolerance : options.finest_tolerance);
+      } else {
+        optimize_rising(from, to, options.finest_sweeps,
+                        options.finest_tolerance);
+        if (options.global_iterations > 0) {
+          result.energy = optimizer.OptimizeGlobal(
+              &sphere, options.global_iterations, options.global_tolerance);
+        }
+      }
+      ++result.levels;
+    }
+    result.sphere = std::move(sphere);
+  });
+  SDCB_RETURN_IF_ERROR(status);
+  report("optimize", 1.0);
+  SDCB_RETURN_IF_ERROR(CheckSphericalBijection(mesh, result.sphere));
+  return result;
+}
+
+}  // namespace sdcb

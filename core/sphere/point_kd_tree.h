@@ -1,0 +1,50 @@
+// A static k-d tree over points in R^3 for nearest-neighbour queries with a
+// distance bound: which knot is nearest to a quadrature sample (spherical
+// CVT, paper Sec. 4.4), closest pairs of knots.
+#ifndef SDCB_CORE_SPHERE_POINT_KD_TREE_H_
+#define SDCB_CORE_SPHERE_POINT_KD_TREE_H_
+
+#include <Eigen/Core>
+#include <limits>
+#include <vector>
+
+namespace sdcb {
+
+class PointKdTree {
+ public:
+  struct Neighbor {
+    int index = -1;  // row of the point, or -1 if none qualified
+    double squared_distance = std::numeric_limits<double>::infinity();
+  };
+
+  // `points`: #P by 3, copied. Any #P >= 0.
+  explicit PointKdTree(const Eigen::MatrixX3d& points);
+
+  // The point nearest to `query` among those with squared distance strictly
+  // below `bound_squared`, ignoring row `exclude` (-1: none). Ties between
+  // equally distant points go to the smaller row index, so the answer is a
+  // function of the input alone.
+  Neighbor Nearest(
+      const Eigen::Vector3d& query,
+      double bound_squared = std::numeric_limits<double>::infinity(),
+      int exclude = -1) const;
+
+  int size() const { return static_cast<int>(order_.size()); }
+
+ private:
+  struct Node {
+    int begin, end;             // range in order_
+    int left = -1, right = -1;  // children, -1 for a leaf
+    int axis = 0;
+    double split = 0;
+  };
+  int Build(int begin, int end);
+
+  Eigen::MatrixX3d points_;
+  std::vector<int> order_;  // point rows, grouped by leaf
+  std::vector<Node> nodes_;
+};
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_SPHERE_POINT_KD_TREE_H_

@@ -1,0 +1,143 @@
+#include "sdcb/core/spline/spherical_spline.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+namespace sdcb {
+
+void TangentFrame(const Eigen::Vector3d& p, Eigen::Vector3d* e_u,
+                  Eigen::Vector3d* e_v) {
+  // Cross with the coordinate axis least aligned with p.
+  int axis = 0;
+  p.cwiseAbs().minCoeff(&axis);
+  *e_u = Eigen::Vector3d::Unit(axis).cross(p).normalized();
+  *e_v = p.cross(*e_u);
+}
+
+StatusOr<SphericalSpline> SphericalSpline::Create(
+    DcbBasis basis, Eigen::MatrixX3d control_points) {
+  if (control_points.rows() != basis.size()) {
+    return InvalidArgumentError(
+        "spherical spline: " + std::to_string(control_points.rows()) +
+        " control points for " + std::to_string(basis.size()) +
+        " basis functions");
+  }
+  if (!control_points.allFinite()) {
+    return InvalidArgumentError("spherical spline: non-finite control point");
+  }
+  return SphericalSpline(std::move(basis), std::move(control_points));
+}
+
+Eigen::Vector3d SphericalSpline::Evaluate(const Eigen::Vector3d& p) const {
+  std::vector<BasisValue> values;
+  basis_.NonzeroValues(p, &values);
+  // Eq. 6 with eq. 5: F = (sum B_i c_i) / (sum B_i), summed in index order.
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double norm = 0.0;
+  for (const BasisValue& v : values) {
+    sum += v.value * control_points_.row(v.index).transpose();
+    norm += v.value;
+  }
+  return sum / norm;
+}
+
+SurfacePoint SphericalSpline::EvaluateDifferential(const Eigen::Vector3d& p,
+                                                   JetOrder order) const {
+  SurfacePoint out;
+  if (order == JetOrder::kValue) {
+    out.position = Evaluate(p);
+    return out;
+  }
+  const bool second = order == JetOrder::kHessian;
+  std::vector<int> candidates;
+  basis_.Candidates(p, &candidates);
+  // Numerator N = sum B_i c_i and denominator I = sum B_i with derivatives.
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d dn = Eigen::Matrix3d::Zero();  // Row c: grad N_c.
+  Eigen::Matrix3d hn[3] = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(),
+                           Eigen::Matrix3d::Zero()};
+  ScalarJet total;
+  for (int i : candidates) {
+    const ScalarJet b = basis_.Evaluate(i, p, order);
+    if (b.value == 0.0 && b.gradient.isZero(0.0)) continue;
+    const Eigen::Vector3d c = control_points_.row(i).transpose();
+    n += b.value * c;
+    dn += c * b.gradient.transpose();
+    total.value += b.value;
+    total.gradient += b.gradient;
+    if (second) {
+      for (int k = 0; k < 3; ++k) hn[k] += c[k] * b.hessian;
+      total.hessian += b.hessian;
+    }
+  }
+  const double inv = 1.0 / total.value;
+  out.position = n * inv;
+  // Quotient rule for F = N / I.
+  Eigen::Matrix3d df;
+  for (int k = 0; k < 3; ++k) {
+    df.row(k) =
+        (dn.row(k) - out.position[k] * total.gradient.transpose()) * inv;
+  }
+  TangentFrame(p.normalized(), &out.frame_u, &out.frame_v);
+  out.du = df * out.frame_u;
+  out.dv = df * out.frame_v;
+  const Eigen::Vector3d cross = out.du.cross(out.dv);
+  const double area = cross.norm();
+  if (area > 0) out.normal = cross / area;
+  if (!second) return out;
+  if (area == 0) {
+    out.mean_curvature = out.gaussian_curvature =
+        std::numeric_limits<double>::quiet_NaN();
+    return out;
+  }
+  Eigen::Vector3d fuu, fuv, fvv;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d dfk = df.row(k).transpose();
+    const Eigen::Matrix3d hf =
+        (hn[k] - out.position[k] * total.hessian -
+         dfk * total.gradient.transpose() - total.gradient * dfk.transpose()) *
+        inv;
+    fuu[k] = out.frame_u.dot(hf * out.frame_u);
+    fuv[k] = out.frame_u.dot(hf * out.frame_v);
+    fvv[k] = out.frame_v.dot(hf * out.frame_v);
+  }
+  // First and second fundamental forms.
+  const double e = out.du.dot(out.du), f = out.du.dot(out.dv),
+               g = out.dv.dot(out.dv);
+  const double l = fuu.dot(out.normal), m = fuv.dot(out.normal),
+               nn = fvv.dot(out.normal);
+  const double det = e * g - f * f;
+  out.gaussian_curvature = (l * nn - m * m) / det;
+  // Sign: the outward normal of a sphere gives l = -|du|^2 / R, so H = 1/R.
+  out.mean_curvature = -(e * nn - 2 * f * m + g * l) / (2 * det);
+  return out;
+}
+
+Eigen::MatrixX3d SphericalSpline::EvaluateMany(
+    const Eigen::MatrixX3d& points) const {
+  Eigen::MatrixX3d out(points.rows(), 3);
+  basis_.ParallelForEachPoint(points, [&](Eigen::Index r) {
+    out.row(r) = Evaluate(points.row(r).transpose()).transpose();
+  });
+  return out;
+}
+
+std::vector<SurfacePoint> SphericalSpline::EvaluateDifferentialMany(
+    const Eigen::MatrixX3d& points, JetOrder order) const {
+  std::vector<SurfacePoint> out(points.rows());
+  basis_.ParallelForEachPoint(points, [&](Eigen::Index r) {
+    out[r] = EvaluateDifferential(points.row(r).transpose(), order);
+  });
+  return out;
+}
+
+StatusOr<SphericalSpline> SurfaceFromModel(const SplineModel& model) {
+  SDCB_ASSIGN_OR_RETURN(DcbBasis basis,
+                        DcbBasis::Create(model.knots, model.configurations));
+  return SphericalSpline::Create(std::move(basis), model.control_points);
+}
+
+}  // namespace sdcb

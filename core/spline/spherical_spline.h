@@ -1,0 +1,91 @@
+// The spherical DCB-spline surface (paper eq. 6):
+//   F(p) = sum_i Bbar_i(p) c_i,   p in S^2, c_i in R^3,
+// with the normalized basis of eq. 5. Evaluation of position, tangent
+// derivatives, unit normal, mean and Gaussian curvature at one point or, in
+// parallel (TBB), at many; results do not depend on the thread count.
+//
+// Derivatives: B_i and I are homogeneous of degree k, so F = (sum B_i c_i)/I
+// extends to R^3 \ {0} homogeneous of degree 0, F(x) = F(x / |x|). At a
+// point p with the orthonormal tangent frame (e_u, e_v) (e_u x e_v = p) the
+// chart phi(u, v) = F(p + u e_u + v e_v) parameterizes the surface near F(p),
+// and its partial derivatives are the "tangent derivatives" reported here
+// (first derivatives equal those along geodesics from p).
+#ifndef SDCB_CORE_SPLINE_SPHERICAL_SPLINE_H_
+#define SDCB_CORE_SPLINE_SPHERICAL_SPLINE_H_
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "sdcb/core/common/status.h"
+#include "sdcb/core/spline/dcb_basis.h"
+#include "sdcb/core/spline/spline_model.h"
+
+namespace sdcb {
+
+// Differential geometry of F at one parameter point.
+struct SurfacePoint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // F(p)
+  // Orthonormal tangent frame of S^2 at p, e_u x e_v = p.
+  Eigen::Vector3d frame_u = Eigen::Vector3d::Zero();
+  Eigen::Vector3d frame_v = Eigen::Vector3d::Zero();
+  // dF/du, dF/dv of the chart phi (see above).
+  Eigen::Vector3d du = Eigen::Vector3d::Zero();
+  Eigen::Vector3d dv = Eigen::Vector3d::Zero();
+  // Unit normal (du x dv) / |du x dv|: outward when F preserves the sphere's
+  // orientation. Zero if du, dv are dependent (singular point).
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  // Mean curvature H (a sphere of radius R with outward normal has H = 1/R)
+  // and Gaussian curvature K; computed with JetOrder::kHessian only, NaN at
+  // a singular point.
+  double mean_curvature = 0.0;
+  double gaussian_curvature = 0.0;
+};
+
+class SphericalSpline {
+ public:
+  // `control_points`: basis.size() by 3, one per basis function, in the
+  // order of the configuration sets. Fails with kInvalidArgument on a size
+  // mismatch or non-finite control points.
+  static StatusOr<SphericalSpline> Create(DcbBasis basis,
+                                          Eigen::MatrixX3d control_points);
+
+  int degree() const { return basis_.degree(); }
+  const Eigen::MatrixX3d& knots() const { return basis_.knots(); }
+  const DcbBasis& basis() const { return basis_; }
+  const Eigen::MatrixX3d& control_points() const { return control_points_; }
+
+  // F(p) for a unit vector p.
+  Eigen::Vector3d Evaluate(const Eigen::Vector3d& p) const;
+  // Position and, with kGradient, frame/du/dv/normal; with kHessian, also
+  // the curvatures.
+  SurfacePoint EvaluateDifferential(const Eigen::Vector3d& p,
+                                    JetOrder order = JetOrder::kHessian) const;
+
+  // F at each row of `points` (#P by 3 unit vectors); #P by 3.
+  Eigen::MatrixX3d EvaluateMany(const Eigen::MatrixX3d& points) const;
+  // EvaluateDifferential at each row of `points`.
+  std::vector<SurfacePoint> EvaluateDifferentialMany(
+      const Eigen::MatrixX3d& points,
+      JetOrder order = JetOrder::kHessian) const;
+
+ private:
+  SphericalSpline(DcbBasis basis, Eigen::MatrixX3d control_points)
+      : basis_(std::move(basis)), control_points_(std::move(control_points)) {}
+
+  DcbBasis basis_;
+  Eigen::MatrixX3d control_points_;
+};
+
+// The surface of a model in its normalized frame (SplineModel::transform
+// maps it back to input coordinates): its basis built from the model's knots
+// and configurations, and its control points.
+StatusOr<SphericalSpline> SurfaceFromModel(const SplineModel& model);
+
+// Orthonormal tangent frame (e_u, e_v) of S^2 at the unit vector p, with
+// e_u x e_v = p; deterministic in p.
+void TangentFrame(const Eigen::Vector3d& p, Eigen::Vector3d* e_u,
+                  Eigen::Vector3d* e_v);
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_SPLINE_SPHERICAL_SPLINE_H_
