@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <set>
 #include <string>
 
@@ -85,6 +86,57 @@ TEST(MeshHierarchy, CollapsesAreManifoldAndUndoExactly) {
                           [](bool a) { return a; }));
   EXPECT_TRUE(std::all_of(vertex_alive.begin(), vertex_alive.end(),
                           [](bool a) { return a; }));
+}
+
+// Two fans of n triangles each around the poles (0, 0, +-1) over a ring of
+// n vertices: the CAD cylinder-cap shape whose hub valence is n.
+TriangleMesh DoubleCone(int n) {
+  TriangleMesh m;
+  m.vertices.resize(n + 2, 3);
+  m.vertices.row(0) << 0, 0, 1;
+  m.vertices.row(1) << 0, 0, -1;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    m.vertices.row(2 + i) << std::cos(a), std::sin(a), 0;
+  }
+  m.faces.resize(2 * n, 3);
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    m.faces.row(2 * i) << 0, 2 + i, 2 + j;
+    m.faces.row(2 * i + 1) << 1, 2 + j, 2 + i;
+  }
+  return m;
+}
+
+TEST(MeshHierarchy, FanHubsStayAndRemovedVerticesHaveBoundedValence) {
+  const TriangleMesh mesh = DoubleCone(3000);
+  ASSERT_TRUE(RequireClosedGenusZero(mesh).ok());
+  MeshHierarchyOptions options;
+  auto h = BuildMeshHierarchy(mesh, options);
+  ASSERT_TRUE(h.ok());
+  // The ring collapses down to the base size; the hubs (valence 3000 >
+  // max_removed_valence) stay.
+  const int base = mesh.num_vertices() - static_cast<int>(h->collapses.size());
+  EXPECT_LE(base, options.base_vertices + 10);
+  EXPECT_TRUE(h->vertex_alive[0]);
+  EXPECT_TRUE(h->vertex_alive[1]);
+  for (const HalfEdgeCollapse& c : h->collapses) {
+    ASSERT_LE(static_cast<int>(c.link.size()), options.max_removed_valence);
+  }
+  TriangleMesh base_mesh = AliveMesh(mesh, h->faces, h->face_alive);
+  auto report = AnalyzeMeshTopology(base_mesh);
+  ASSERT_TRUE(report.ok());
+  EXPECT_EQ(report->euler_characteristic, 2);
+  EXPECT_EQ(report->boundary_edges, 0);
+  EXPECT_EQ(report->non_manifold_edges, 0);
+  EXPECT_EQ(report->inconsistently_oriented_edges, 0);
+  // Undoing every collapse gives the input back.
+  Eigen::MatrixX3i faces = h->faces;
+  std::vector<bool> face_alive = h->face_alive, vertex_alive = h->vertex_alive;
+  for (size_t j = h->collapses.size(); j-- > 0;) {
+    UndoCollapse(h->collapses[j], &faces, &face_alive, &vertex_alive);
+  }
+  EXPECT_EQ(faces, mesh.faces);
 }
 
 TEST(MeshHierarchy, RejectsTooSmallBase) {
