@@ -1,6 +1,7 @@
 // sdcb fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
 //          [--max-rounds R] [--max-control-points M] [--lambda L]
-//          [--threads T] [--json FILE] [--plot FILE.svg] [--quiet]
+//          [--threads T] [--json FILE] [--plot FILE.svg] [--quiet] [--repair]
+//          [--max-file-mb N] [--max-memory-mb N]
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -20,10 +21,11 @@ namespace sdcb::cli {
 
 int RunFit(const std::vector<std::string>& argv) {
   const Args args(argv,
-                  {"output", "degree", "rmse", "knots-per-round", "max-rounds",
-                   "max-control-points", "lambda", "threads", "json", "plot",
-                   "regularization"},
-                  {"quiet"});
+                  Concat({"output", "degree", "rmse", "knots-per-round",
+                          "max-rounds", "max-control-points", "lambda",
+                          "threads", "json", "plot", "regularization"},
+                         kMeshValueOptions),
+                  Concat({"quiet"}, kMeshFlagOptions));
   args.RequirePositionals(
       1, "MESH (usage: sdcb fit MESH -o MODEL.sdcb [options])");
   const std::string& path = args.positionals()[0];
@@ -43,10 +45,13 @@ int RunFit(const std::vector<std::string>& argv) {
   options.regularization =
       args.GetDouble("regularization", options.regularization, 1e-12, 1e3);
 
-  StatusOr<TriangleMesh> mesh = ReadMesh(path);
+  // Outputs are checked before the work; the mesh is read, repaired if
+  // asked, checked (tools/cli.h).
+  const Status outputs =
+      PrepareOutputs({output, args.Get("json"), args.Get("plot")});
+  if (!outputs.ok()) return ReportError(outputs);
+  StatusOr<TriangleMesh> mesh = ReadFittableMesh(args, path);
   if (!mesh.ok()) return ReportError(mesh.status());
-  const Status intake = RequireClosedGenusZero(*mesh);
-  if (!intake.ok()) return ReportError(intake.WithPrefix(path));
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
   options.progress = progress.Callback();

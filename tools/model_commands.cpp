@@ -20,6 +20,8 @@ int RunInfo(const std::vector<std::string>& argv) {
   args.RequirePositionals(1,
                           "MODEL (usage: sdcb info MODEL.sdcb [--json FILE])");
   const std::string& path = args.positionals()[0];
+  const Status outputs = PrepareOutputs({args.Get("json")});
+  if (!outputs.ok()) return ReportError(outputs);
   StatusOr<SplineModel> model = ReadSdcbFile(path);
   if (!model.ok()) return ReportError(model.status());
   const SplineModel& m = *model;
@@ -74,6 +76,8 @@ int RunDump(const std::vector<std::string>& argv) {
                           "MODEL (usage: sdcb dump MODEL.sdcb -o MODEL.json)");
   const std::string output = args.Get("output");
   if (output.empty()) throw UsageError{"missing -o MODEL.json"};
+  const Status outputs = PrepareOutputs({output});
+  if (!outputs.ok()) return ReportError(outputs);
   StatusOr<SplineModel> model = ReadSdcbFile(args.positionals()[0]);
   if (!model.ok()) return ReportError(model.status());
   const Status s = WriteTextOutput(output, ModelToJson(*model));
@@ -91,10 +95,14 @@ int RunEval(const std::vector<std::string>& argv) {
   StatusOr<SplineModel> model = ReadSdcbFile(args.positionals()[0]);
   if (!model.ok()) return ReportError(model.status());
 
+  const Status outputs = PrepareOutputs({output});
+  if (!outputs.ok()) return ReportError(outputs);
+
   // Points: three numbers per non-empty line (a '#' starts a comment).
   std::ifstream in(input);
   if (!in) return ReportError(IoError(input + ": cannot open the points file"));
   std::vector<Eigen::Vector3d> points;
+  std::vector<long long> line_numbers;
   std::string line;
   for (long long number = 1; std::getline(in, line); ++number) {
     const size_t hash = line.find('#');
@@ -113,16 +121,20 @@ int RunEval(const std::vector<std::string>& argv) {
       values.push_back(v);
     }
     if (values.empty()) continue;
-    const Eigen::Vector3d p(values.size() == 3 ? values[0] : 0,
-                            values.size() == 3 ? values[1] : 0,
-                            values.size() == 3 ? values[2] : 0);
-    if (values.size() != 3 || !(p.norm() > 0)) {
+    // Scaled by its largest coordinate first, a direction normalizes
+    // without overflow (1e300) or underflow (1e-200); only zero cannot.
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    if (values.size() == 3)
+      p = Eigen::Vector3d(values[0], values[1], values[2]);
+    const double largest = p.cwiseAbs().maxCoeff();
+    if (values.size() != 3 || !(largest > 0)) {
       return ReportError(InvalidInputError(input + ": line " +
                                            std::to_string(number) +
                                            " must hold three numbers, not all "
                                            "zero (a direction on the sphere)"));
     }
-    points.push_back(p.normalized());
+    points.push_back((p / largest).normalized());
+    line_numbers.push_back(number);
   }
   StatusOr<SphericalSpline> surface = SurfaceFromModel(*model);
   if (!surface.ok()) {
@@ -145,6 +157,20 @@ int RunEval(const std::vector<std::string>& argv) {
     positions = surface->EvaluateMany(directions);
   }
   positions = model->transform.ToInput(positions);
+  // Nothing non-finite is ever written: a model whose numbers overflow
+  // (e.g. an extreme transform) is refused at the first such direction.
+  for (Eigen::Index i = 0; i < positions.rows(); ++i) {
+    const bool finite = positions.row(i).allFinite() &&
+                        (!derivatives || normals.row(i).allFinite());
+    if (!finite) {
+      return ReportError(InvalidInputError(
+          args.positionals()[0] +
+          ": the surface has no finite value at the "
+          "direction on line " +
+          std::to_string(line_numbers[i]) + " of " + input +
+          " (the model's numbers overflow); nothing was written"));
+    }
+  }
   std::string text;
   char buffer[160];
   for (Eigen::Index i = 0; i < positions.rows(); ++i) {
