@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   }
   const struct {
     int degree, knots, parameters;
-  } models[] = {{0, 4, 0}, {1, 6, 3}, {1, 8, 0}, {2, 8, 2}, {3, 9, 0}};
+  } models[] = {{0, 8, 0}, {1, 6, 3}, {1, 8, 0}, {2, 8, 2}, {3, 9, 0}};
   for (const auto& m : models) {
     const auto bytes = sdcb::SerializeSdcb(
         sdcb::testing::MakeTestModel(m.degree, m.knots, m.parameters));
