@@ -13,26 +13,9 @@
 
 #include "sdcb/core/mesh/mesh_hierarchy.h"
 #include "sdcb/core/param/spherical_parameterization.h"
+#include "testing/fan_mesh.h"
 
 namespace {
-
-sdcb::TriangleMesh DoubleCone(int n) {
-  sdcb::TriangleMesh m;
-  m.vertices.resize(n + 2, 3);
-  m.vertices.row(0) << 0, 0, 1;
-  m.vertices.row(1) << 0, 0, -1;
-  for (int i = 0; i < n; ++i) {
-    const double a = 2 * M_PI * i / n;
-    m.vertices.row(2 + i) << std::cos(a), std::sin(a), 0;
-  }
-  m.faces.resize(2 * n, 3);
-  for (int i = 0; i < n; ++i) {
-    const int j = (i + 1) % n;
-    m.faces.row(2 * i) << 0, 2 + i, 2 + j;
-    m.faces.row(2 * i + 1) << 1, 2 + j, 2 + i;
-  }
-  return m;
-}
 
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
@@ -48,7 +31,7 @@ int main(int argc, char** argv) {
   std::printf("%8s %10s %14s %16s\n", "fan n", "faces", "hierarchy s",
               "parameterize s");
   for (int n : sizes) {
-    const sdcb::TriangleMesh mesh = DoubleCone(n);
+    const sdcb::TriangleMesh mesh = sdcb::testing::DoubleCone(n);
     auto start = std::chrono::steady_clock::now();
     auto hierarchy = sdcb::BuildMeshHierarchy(mesh);
     const double hierarchy_seconds = Seconds(start);

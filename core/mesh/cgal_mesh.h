@@ -6,16 +6,12 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 
-#include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 
 namespace sdcb {
 
 using CgalKernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using CgalMesh = CGAL::Surface_mesh<CgalKernel::Point_3>;
-
-// kInvalidInput if a face refers to a vertex out of range.
-Status CheckFaceIndices(const TriangleMesh& mesh);
 
 // Builds `out` with the same vertices (same indices) and faces (same
 // indices, same orientation). False, leaving `out` empty, when the

@@ -1,13 +1,9 @@
 #include "sdcb/core/mesh/self_intersections.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
 #include <CGAL/box_intersection_d.h>
 
-#include <array>
+#include <string>
 #include <vector>
 
 #include "sdcb/core/mesh/cgal_mesh.h"

@@ -11,19 +11,13 @@
 namespace sdcb {
 namespace {
 
+using testing::ExpectOneSentenceNaming;
 using testing::FreshTestDir;
 using testing::MeshPath;
 using testing::ReadBytes;
 using testing::RunResult;
 using testing::RunSdcb;
 using testing::WriteBytes;
-
-void ExpectOneSentenceNaming(const RunResult& r, const std::string& file) {
-  EXPECT_FALSE(r.crashed) << r.err;
-  ASSERT_FALSE(r.err.empty());
-  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
-  EXPECT_NE(r.err.find(file), std::string::npos) << r.err;
-}
 
 TEST(CheckCliTest, GenusZeroMeshesAreOk) {
   const std::string dir = FreshTestDir();

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "sdcb/core/mesh/mesh_topology.h"
+#include "testing/fan_mesh.h"
 #include "testing/off_test_mesh.h"
 
 namespace sdcb {
@@ -88,28 +89,8 @@ TEST(MeshHierarchy, CollapsesAreManifoldAndUndoExactly) {
                           [](bool a) { return a; }));
 }
 
-// Two fans of n triangles each around the poles (0, 0, +-1) over a ring of
-// n vertices: the CAD cylinder-cap shape whose hub valence is n.
-TriangleMesh DoubleCone(int n) {
-  TriangleMesh m;
-  m.vertices.resize(n + 2, 3);
-  m.vertices.row(0) << 0, 0, 1;
-  m.vertices.row(1) << 0, 0, -1;
-  for (int i = 0; i < n; ++i) {
-    const double a = 2 * M_PI * i / n;
-    m.vertices.row(2 + i) << std::cos(a), std::sin(a), 0;
-  }
-  m.faces.resize(2 * n, 3);
-  for (int i = 0; i < n; ++i) {
-    const int j = (i + 1) % n;
-    m.faces.row(2 * i) << 0, 2 + i, 2 + j;
-    m.faces.row(2 * i + 1) << 1, 2 + j, 2 + i;
-  }
-  return m;
-}
-
 TEST(MeshHierarchy, FanHubsStayAndRemovedVerticesHaveBoundedValence) {
-  const TriangleMesh mesh = DoubleCone(3000);
+  const TriangleMesh mesh = testing::DoubleCone(3000);
   ASSERT_TRUE(RequireClosedGenusZero(mesh).ok());
   MeshHierarchyOptions options;
   auto h = BuildMeshHierarchy(mesh, options);

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "sdcb/core/mesh/icosphere.h"
+#include "testing/fan_mesh.h"
 
 namespace sdcb {
 namespace {
@@ -96,19 +97,7 @@ TEST(SelfIntersections, HugeFansAreSkippedWithinTheBudget) {
   // Two fans of n triangles around the poles: every pair of triangles of a
   // fan overlaps in its bounding box at the pole.
   const int n = 1000;
-  TriangleMesh m;
-  m.vertices.resize(n + 2, 3);
-  m.vertices.row(0) << 0, 0, 1;
-  m.vertices.row(1) << 0, 0, -1;
-  for (int i = 0; i < n; ++i) {
-    m.vertices.row(2 + i) << std::cos(2 * M_PI * i / n),
-        std::sin(2 * M_PI * i / n), 0;
-  }
-  m.faces.resize(2 * n, 3);
-  for (int i = 0; i < n; ++i) {
-    m.faces.row(2 * i) << 0, 2 + i, 2 + (i + 1) % n;
-    m.faces.row(2 * i + 1) << 1, 2 + (i + 1) % n, 2 + i;
-  }
+  const TriangleMesh m = testing::DoubleCone(n);
   SelfIntersectionOptions tight;
   tight.max_pairs_per_face = 10;
   tight.max_extra_pairs = 0;
