@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sdcb/converters/convergence_plot.h"
-#include "sdcb/core/fit/adaptive_fit.h"
+#include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/io/fit_statistics_json.h"
 #include "sdcb/io/mesh_reader.h"
@@ -49,7 +49,9 @@ int RunFit(const std::vector<std::string>& argv) {
   if (!intake.ok()) return ReportError(intake.WithPrefix(path));
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
-  options.progress = progress.Callback();
+  options.progress = [bar = progress.Callback()](const FitProgress& p) {
+    bar(FitStageName(p.stage), p.fraction);
+  };
   StatusOr<FitResult> fit = FitSphericalSpline(*mesh, options);
   progress.Finish();
   if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));
@@ -57,31 +59,15 @@ int RunFit(const std::vector<std::string>& argv) {
 
   Status written = WriteSdcbFile(fit->model, output);
   if (!written.ok()) return ReportError(written);
-  const FitStatistics& stats = fit->statistics;
+  const FitStatistics& stats = fit->model.statistics;
   if (args.Has("json")) {
     nlohmann::ordered_json report;
     report["input"] = path;
     report["output"] = output;
     report["vertices"] = mesh->num_vertices();
     report["faces"] = mesh->num_faces();
-    report["reached_target"] = fit->reached_target;
-    const nlohmann::json s = FitStatisticsToJson(stats);
-    for (const auto& [key, value] : s.items()) report[key] = value;
-    nlohmann::ordered_json details = nlohmann::ordered_json::array();
-    for (size_t i = 0; i < fit->round_details.size(); ++i) {
-      const RoundDetails& d = fit->round_details[i];
-      details.push_back(
-          {{"round", stats.rounds[i].round},
-           {"knot_placement", d.timings.knot_placement},
-           {"configurations", d.timings.configurations},
-           {"basis", d.timings.basis},
-           {"solve", d.timings.solve},
-           {"cvt_initial_energy", d.cvt_initial_energy},
-           {"cvt_final_energy", d.cvt_final_energy},
-           {"cvt_iterations", d.cvt_iterations},
-           {"min_knot_separation_radians", d.min_knot_separation}});
-    }
-    report["round_details"] = details;
+    const nlohmann::ordered_json fit_report = FitReportToJson(*fit);
+    for (const auto& [key, value] : fit_report.items()) report[key] = value;
     written = WriteTextOutput(args.Get("json"), report.dump(2) + "\n");
     if (!written.ok()) return ReportError(written);
   }
@@ -101,9 +87,9 @@ int RunFit(const std::vector<std::string>& argv) {
     std::printf(
         "  rmse %.4f%%  max error %.4f%%  (target rmse %.4f%%)  %.2f s\n",
         f.rmse_percent, f.max_error_percent, options.rmse_percent,
-        stats.timings.total);
+        fit->timings.total);
   }
-  if (!fit->reached_target) {
+  if (!fit->reached_target()) {
     std::fprintf(
         stderr,
         "sdcb: %s: warning: rmse %.4f%% did not reach the target %.4f%% "

@@ -80,7 +80,9 @@ bool SameRound(const RoundStatistics& a, const RoundStatistics& b) {
          a.control_points == b.control_points &&
          SameBits(a.rmse_percent, b.rmse_percent) &&
          SameBits(a.max_error_percent, b.max_error_percent) &&
-         SameBits(a.seconds, b.seconds);
+         SameBits(a.vertex_rmse_percent, b.vertex_rmse_percent) &&
+         SameBits(a.vertex_max_error_percent, b.vertex_max_error_percent) &&
+         SameBits(a.folded_area_percent, b.folded_area_percent);
 }
 
 // Every field, doubles compared bit for bit (so -0.0 != 0.0).
@@ -115,22 +117,21 @@ bool SameRound(const RoundStatistics& a, const RoundStatistics& b) {
     if (!SameRound(fa.rounds[i], fb.rounds[i])) return fail("a round");
   }
   if (!SameRound(fa.final_result, fb.final_result)) return fail("final");
-  const StageTimings& ta = fa.timings;
-  const StageTimings& tb = fb.timings;
-  if (!SameBits(ta.parameterization, tb.parameterization) ||
-      !SameBits(ta.knot_placement, tb.knot_placement) ||
-      !SameBits(ta.configurations, tb.configurations) ||
-      !SameBits(ta.basis, tb.basis) || !SameBits(ta.solve, tb.solve) ||
-      !SameBits(ta.total, tb.total)) {
-    return fail("timings");
-  }
+  if (fa.error_measure != fb.error_measure) return fail("error measure");
+  if (fa.reached_target != fb.reached_target) return fail("reached target");
   const RecordedFitOptions& oa = fa.options;
   const RecordedFitOptions& ob = fb.options;
   if (oa.degree != ob.degree || !SameBits(oa.rmse_percent, ob.rmse_percent) ||
       oa.knots_per_round != ob.knots_per_round ||
-      oa.max_rounds != ob.max_rounds || !SameBits(oa.lambda, ob.lambda)) {
+      oa.initial_knots != ob.initial_knots || oa.max_rounds != ob.max_rounds ||
+      oa.max_control_points != ob.max_control_points ||
+      !SameBits(oa.lambda, ob.lambda) || !SameBits(oa.alpha, ob.alpha) ||
+      !SameBits(oa.regularization, ob.regularization) ||
+      oa.face_samples != ob.face_samples ||
+      !SameBits(oa.face_weight, ob.face_weight)) {
     return fail("options");
   }
+  if (a.basis_form != b.basis_form) return fail("basis form");
   if (a.source.num_vertices != b.source.num_vertices ||
       a.source.num_faces != b.source.num_faces ||
       a.source.hash != b.source.hash ||
@@ -271,9 +272,9 @@ TEST(SdcbFileTest, SpecialDoublesSurviveBitForBit) {
   EXPECT_EQ(back->control_points(1, 0), std::numeric_limits<double>::max());
   EXPECT_EQ(back->control_points(1, 1), std::numeric_limits<double>::lowest());
   EXPECT_EQ(back->transform.translation[1], 1e-320);
-  EXPECT_EQ(back->statistics.rounds[0].seconds,
+  EXPECT_EQ(back->statistics.rounds[0].folded_area_percent,
             std::numeric_limits<double>::denorm_min());
-  EXPECT_TRUE(std::signbit(back->statistics.timings.basis));  // -0.0
+  EXPECT_TRUE(std::signbit(back->statistics.options.face_weight));  // -0.0
   EXPECT_EQ(back->source.file_name, "meshes/bunny \xc3\xa9.off");
 }
 
@@ -294,11 +295,13 @@ TEST(SdcbFileTest, StatisticsJsonIsBitExactForRandomDoubles) {
   for (RoundStatistics& r : model.statistics.rounds) {
     r.rmse_percent = random_double();
     r.max_error_percent = random_double();
-    r.seconds = random_double();
+    r.vertex_rmse_percent = random_double();
+    r.vertex_max_error_percent = random_double();
+    r.folded_area_percent = random_double();
   }
   model.statistics.options.lambda = 0.1 + 0.2;
-  model.statistics.timings.total = 5e-324;
-  model.statistics.timings.solve = 1.7976931348623157e308;
+  model.statistics.options.alpha = 5e-324;
+  model.statistics.options.regularization = 1.7976931348623157e308;
   const StatusOr<SplineModel> back = ParseSdcb(Serialize(model));
   ASSERT_TRUE(back.ok()) << back.status().message();
   EXPECT_TRUE(BitIdentical(model, *back));
@@ -373,7 +376,7 @@ TEST(SdcbFileTest, LayoutMatchesFormatDocument) {
       nlohmann::json::parse(Find(chunks, "STAT")->payload);
   EXPECT_EQ(stat["rounds"].size(), 3u);
   EXPECT_EQ(stat["final"]["knots"], 300);
-  EXPECT_EQ(stat["timings"]["total"], 12.5);
+  EXPECT_EQ(stat["options"]["regularization"], 12.5);
   EXPECT_EQ(stat["options"]["lambda"], 0.2);
 
   EXPECT_EQ(Find(chunks, "SRCM")->payload, Le(4, 8) + Le(4, 8) +
@@ -556,10 +559,10 @@ TEST(SdcbFileTest, CraftedFilesWithValidCrcsAreRejected) {
   ExpectCorrupt(edit("STAT",
                      [](std::string& p) {
                        auto j = nlohmann::json::parse(p);
-                       j["timings"].erase("solve");
+                       j["options"].erase("lambda");
                        p = j.dump();
                      }),
-                "statistics.timings lacks the key \"solve\"");
+                "statistics.options lacks the key \"lambda\"");
   ExpectCorrupt(edit("STAT",
                      [](std::string& p) {
                        auto j = nlohmann::json::parse(p);
@@ -692,7 +695,7 @@ TEST(SdcbFileTest, ChunkStructureViolationsAreRejected) {
     const StatusOr<SplineModel> m = ParseSdcb(JoinFile(c));
     ASSERT_TRUE(m.ok()) << m.status().message();
     EXPECT_TRUE(m->statistics.rounds.empty());
-    EXPECT_EQ(m->statistics.timings.total, 0.0);
+    EXPECT_EQ(m->statistics.options.degree, 0);
     EXPECT_TRUE(SameBits(m->control_points, model.control_points));
   }
 }
