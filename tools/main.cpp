@@ -37,6 +37,9 @@ commands:
                              Evaluate the surface at directions (x y z per
                              line, normalized onto the sphere); writes x y z
                              in the input's coordinates (+ unit normal).
+  compare MODEL.sdcb MESH [--json FILE] [--samples N]
+                             Two-sided distance between the surface and a
+                             mesh (dense samples of both), folded area.
 
 PCT values are percent of the largest side of the input's bounding box.
 
@@ -71,6 +74,7 @@ int main(int argc, char** argv) {
     if (command == "info") return RunInfo(args);
     if (command == "dump") return RunDump(args);
     if (command == "eval") return RunEval(args);
+    if (command == "compare") return RunCompare(args);
     std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;
   } catch (const UsageError& e) {

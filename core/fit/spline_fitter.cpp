@@ -2,22 +2,26 @@
 
 #include <tbb/task_arena.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <optional>
 #include <utility>
 
+#include "sdcb/core/fit/fit_samples.h"
 #include "sdcb/core/fit/least_squares.h"
+#include "sdcb/core/fit/surface_deviation.h"
 #include "sdcb/core/knots/spherical_cvt.h"
 #include "sdcb/core/mesh/curvature.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/param/spherical_parameterization.h"
 #include "sdcb/core/sphere/point_kd_tree.h"
+#include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/dcb_basis.h"
 #include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/core/spline/design_matrix.h"
+#include "sdcb/core/spline/spherical_spline.h"
 
 namespace sdcb {
 namespace {
@@ -39,16 +43,18 @@ class Stopwatch {
 // this share of a typical fit (bunny00: 1.9 s of 4.4 s; smaller meshes less).
 constexpr double kParameterizationShare = 0.3;
 // Where each stage starts within a round, as a share of the round's time
-// (bunny00, degree 4: knot placement ~0.1 s, configurations ~0.01 s, basis
-// ~0.2 s, solve ~0.1 s).
+// (bunny00, degree 4).
 constexpr double kRoundStageStart[] = {
     0.0,   // knot placement
-    0.25,  // configurations
-    0.3,   // basis
-    0.7,   // solve
+    0.2,   // configurations
+    0.25,  // basis
+    0.55,  // solve
+    0.75,  // measure
 };
 // Rounds assumed before two rounds show the error's decay.
 constexpr int kInitialRoundGuess = 5;
+// Bending weight factor of a re-solve in folded knot triangles.
+constexpr double kFoldFairnessFactor = 10.0;
 
 Status CheckOptions(const FitOptions& o) {
   if (o.degree < 2 || o.degree > kMaxSplineDegree) {
@@ -59,17 +65,26 @@ Status CheckOptions(const FitOptions& o) {
         "the RMSE target must be a positive percentage");
   }
   if (o.knots_per_round < 1 || o.initial_knots < 0 || o.max_rounds < 1 ||
-      o.max_control_points < 1 || o.threads < 0) {
+      o.max_control_points < 1 || o.threads < 0 || o.fold_retries < 0 ||
+      o.round_samples_per_knot < 1 || o.final_surface_samples < 1) {
     return InvalidArgumentError(
-        "knots per round, rounds and control points must be positive, "
-        "threads >= 0");
+        "knots per round, rounds, control points and sample counts must be "
+        "positive, threads and fold retries >= 0");
   }
-  for (double v : {o.alpha, o.regularization, o.lambda, o.face_weight}) {
+  for (double v :
+       {o.alpha, o.regularization, o.lambda, o.samples_per_spacing}) {
     if (!(v > 0) || !std::isfinite(v)) {
       return InvalidArgumentError(
-          "alpha, lambda, regularization and face weight must be finite and "
-          "> 0");
+          "alpha, lambda, regularization and samples per spacing must be "
+          "finite and > 0");
     }
+  }
+  if (!(o.fairness >= 0) || !std::isfinite(o.fairness)) {
+    return InvalidArgumentError("the fairness weight must be finite and >= 0");
+  }
+  if (o.basis_form != BasisForm::kNormalized &&
+      o.basis_form != BasisForm::kRaw) {
+    return InvalidArgumentError("unknown basis form");
   }
   return Status::Ok();
 }
@@ -78,7 +93,7 @@ Status CheckOptions(const FitOptions& o) {
 // knots: the prior of basis functions that no sample sees.
 Eigen::MatrixX3d NearestSamplePrior(const DcbBasis& basis,
                                     const PointKdTree& tree,
-                                    const Eigen::MatrixX3d& samples) {
+                                    const Eigen::MatrixX3d& targets) {
   Eigen::MatrixX3d prior(basis.size(), 3);
   for (int i = 0; i < basis.size(); ++i) {
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
@@ -86,22 +101,32 @@ Eigen::MatrixX3d NearestSamplePrior(const DcbBasis& basis,
       center += basis.knots().row(k).transpose();
     }
     const PointKdTree::Neighbor n = tree.Nearest(center.normalized());
-    prior.row(i) = samples.row(n.index >= 0 ? n.index : 0);
+    prior.row(i) = targets.row(n.index >= 0 ? n.index : 0);
   }
   return prior;
 }
 
-// The rows of `top` followed by the rows of `bottom` (same column count).
-DesignMatrix StackRows(const DesignMatrix& top, const DesignMatrix& bottom) {
-  DesignMatrix out(top.rows() + bottom.rows(), top.cols());
-  out.resizeNonZeros(top.nonZeros() + bottom.nonZeros());
+// Stacks row-major sparse matrices, each row of part j scaled by
+// scales[j][row].
+DesignMatrix StackScaledRows(
+    const std::vector<std::pair<const DesignMatrix*, const Eigen::VectorXd*>>&
+        parts) {
+  Eigen::Index rows = 0, nonzeros = 0, cols = 0;
+  for (const auto& [m, s] : parts) {
+    rows += m->rows();
+    nonzeros += m->nonZeros();
+    cols = m->cols();
+  }
+  DesignMatrix out(rows, cols);
+  out.resizeNonZeros(nonzeros);
   Eigen::Index at = 0, row = 0;
-  for (const DesignMatrix* part : {&top, &bottom}) {
-    for (Eigen::Index r = 0; r < part->rows(); ++r, ++row) {
+  for (const auto& [m, s] : parts) {
+    for (Eigen::Index r = 0; r < m->rows(); ++r, ++row) {
       out.outerIndexPtr()[row] = static_cast<int>(at);
-      for (DesignMatrix::InnerIterator it(*part, r); it; ++it, ++at) {
+      const double scale = (*s)[r];
+      for (DesignMatrix::InnerIterator it(*m, r); it; ++it, ++at) {
         out.innerIndexPtr()[at] = static_cast<int>(it.col());
-        out.valuePtr()[at] = it.value();
+        out.valuePtr()[at] = scale * it.value();
       }
     }
   }
@@ -109,23 +134,61 @@ DesignMatrix StackRows(const DesignMatrix& top, const DesignMatrix& bottom) {
   return out;
 }
 
-// Identifies a basis function across rounds: its knot indices, then its
-// boundary triples (knot indices are stable: fixed knots keep their rows).
-std::vector<int> BasisKey(const ConfigurationSet& set) {
-  std::vector<int> key = set.knots;
-  key.push_back(-1);
-  for (const auto& b : set.boundaries)
-    key.insert(key.end(), b.begin(), b.end());
-  return key;
+// The bending energy's quadrature: three points per knot triangle (the
+// degree-2 planar rule at barycentric (2/3, 1/6, 1/6) and permutations,
+// mapped onto the sphere), each weighted a third of the spherical area.
+struct BendingQuadrature {
+  Eigen::MatrixX3d points;
+  Eigen::VectorXd weights;
+  std::vector<int> triangle;  // knot triangle of each point
+};
+
+// Spherical area of the triangle (a, b, c) (unit vectors): the solid angle
+// 2 atan(|det| / (1 + a.b + b.c + c.a)).
+double SphericalArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                     const Eigen::Vector3d& c) {
+  return 2.0 * std::atan2(std::abs(a.dot(b.cross(c))),
+                          1.0 + a.dot(b) + b.dot(c) + c.dot(a));
 }
 
-// Control points and the errors at the vertices, in percent of the largest
-// side (normalized frame: side 1).
-struct Solution {
-  Eigen::MatrixX3d control_points;
-  Eigen::VectorXd errors;
-  double rmse = 0, max = 0;
-};
+BendingQuadrature MakeBendingQuadrature(const Eigen::MatrixX3d& knots,
+                                        const DelaunayConfigurations& tri) {
+  const Eigen::Index n = static_cast<Eigen::Index>(tri.sets.size());
+  BendingQuadrature q;
+  q.points.resize(3 * n, 3);
+  q.weights.resize(3 * n);
+  q.triangle.resize(3 * n);
+  for (Eigen::Index t = 0; t < n; ++t) {
+    const std::vector<int>& k = tri.sets[t].knots;
+    const Eigen::Vector3d v[3] = {knots.row(k[0]), knots.row(k[1]),
+                                  knots.row(k[2])};
+    const double area = SphericalArea(v[0], v[1], v[2]);
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Vector3d p = (4.0 * v[j] + v[(j + 1) % 3] + v[(j + 2) % 3])
+                                    .normalized();  // (2/3, 1/6, 1/6)
+      q.points.row(3 * t + j) = p.transpose();
+      q.weights[3 * t + j] = area / 3.0;
+      q.triangle[3 * t + j] = static_cast<int>(t);
+    }
+  }
+  return q;
+}
+
+// Knot triangles sharing a knot with one of `marked` (marked included).
+std::vector<char> WithNeighbours(const DelaunayConfigurations& tri,
+                                 const std::vector<char>& marked,
+                                 int num_knots) {
+  std::vector<char> knot_marked(num_knots, 0);
+  for (size_t t = 0; t < tri.sets.size(); ++t) {
+    if (!marked[t]) continue;
+    for (int k : tri.sets[t].knots) knot_marked[k] = 1;
+  }
+  std::vector<char> out(tri.sets.size(), 0);
+  for (size_t t = 0; t < tri.sets.size(); ++t) {
+    for (int k : tri.sets[t].knots) out[t] |= knot_marked[k];
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -141,6 +204,8 @@ const char* FitStageName(FitStage stage) {
       return "basis";
     case FitStage::kSolve:
       return "solve";
+    case FitStage::kMeasure:
+      return "measure";
     case FitStage::kDone:
       return "done";
   }
@@ -158,8 +223,11 @@ RecordedFitOptions RecordFitOptions(const FitOptions& o) {
   r.lambda = o.lambda;
   r.alpha = o.alpha;
   r.regularization = o.regularization;
-  r.face_samples = o.face_samples;
-  r.face_weight = o.face_weight;
+  r.fairness = o.fairness;
+  r.samples_per_spacing = o.samples_per_spacing;
+  r.fold_retries = o.fold_retries;
+  r.round_samples_per_knot = o.round_samples_per_knot;
+  r.final_surface_samples = o.final_surface_samples;
   return r;
 }
 
@@ -171,30 +239,17 @@ struct SplineFitter::State {
   std::unique_ptr<tbb::task_arena> arena;
   Stopwatch clock;  // since Create
 
-  Eigen::MatrixX3i faces;
-  Eigen::MatrixX3d samples;  // the vertices in the normalized frame
-  Eigen::MatrixX3d u;        // their sphere parameters
-  // Centroid rows (FitOptions::face_samples): each triangle's parameter is
-  // the normalized sum of its corners' sphere points; targets are the
-  // vertices, then sqrt(face_weight) times each flat triangle's centroid.
-  Eigen::MatrixX3d face_points;
-  Eigen::MatrixX3d all_targets;
+  TriangleMesh mesh;   // in the normalized frame
+  Eigen::MatrixX3d u;  // the vertices' sphere parameters
+  double mesh_area = 0;
   std::unique_ptr<PointKdTree> parameter_tree;
   SphericalDensity density;  // of the next round's knots
 
-  // The latest round, kept for the next one (reuse of basis values) and for
-  // a final refit with the centroid rows.
-  struct Round {
-    DcbBasis basis;
-    DesignMatrix raw;     // raw (eq. 4) values at the vertices
-    DesignMatrix design;  // normalized rows
-    Eigen::MatrixX3d fallback;
-    std::map<std::vector<int>, int> columns_by_key;  // BasisKey -> column
-    bool has_faces = false;
-  };
-  std::optional<Round> last;
-
   FitResult result;
+  // The candidate to return if the target is missed: the round with the
+  // smallest rms among those without folds (else the least folded).
+  std::optional<SplineModel> best;
+  Eigen::VectorXd best_vertex_errors;
   bool finished = false;
   int estimated_rounds = kInitialRoundGuess;
 
@@ -223,59 +278,32 @@ struct SplineFitter::State {
     options.progress(p);
   }
 
-  // Least squares for `design` (vertex rows first) and `targets`.
-  StatusOr<Solution> Solve(const DesignMatrix& design,
-                           const Eigen::MatrixX3d& targets,
-                           const Eigen::MatrixX3d& fallback) const {
-    const Eigen::MatrixX3d prior = GrevillePrior(design, targets, fallback);
-    LeastSquaresOptions ls;
-    ls.regularization = options.regularization;
-    Solution s;
-    SDCB_ASSIGN_OR_RETURN(s.control_points, SolveRegularizedLeastSquares(
-                                                design, targets, prior, ls));
-    const Eigen::MatrixX3d fitted =
-        design.topRows(samples.rows()) * s.control_points;
-    s.errors = 100.0 * (fitted - samples).rowwise().norm();
-    s.rmse = std::sqrt(s.errors.squaredNorm() / s.errors.size());
-    s.max = s.errors.maxCoeff();
-    return s;
+  // Whether round statistics `a` are a better fallback than `b`.
+  static bool Better(const RoundStatistics& a, const RoundStatistics& b) {
+    if ((a.folded_area_percent == 0) != (b.folded_area_percent == 0)) {
+      return a.folded_area_percent == 0;
+    }
+    if (a.folded_area_percent != b.folded_area_percent) {
+      return a.folded_area_percent < b.folded_area_percent;
+    }
+    return a.rmse_percent < b.rmse_percent;
   }
 
-  // The fit of `round` with the triangle-centroid rows added; adds its
-  // seconds to `timings`.
-  StatusOr<Solution> SolveWithFaces(const Round& round,
-                                    StageTimings* timings) const {
-    Stopwatch clock;
-    const double root_weight = std::sqrt(options.face_weight);
-    const DesignMatrix design = StackRows(
-        round.design, root_weight * NormalizeRows(BuildRawDesignMatrix(
-                                        round.basis, face_points)));
-    timings->basis += clock.Seconds();
-    clock = Stopwatch();
-    StatusOr<Solution> s = Solve(design, all_targets, round.fallback);
-    timings->solve += clock.Seconds();
-    return s;
-  }
-
-  // Makes `s` the model's solution, recorded in the round statistics `rs`.
-  void Record(const Solution& s, RoundStatistics* rs) {
-    rs->rmse_percent = rs->vertex_rmse_percent = s.rmse;
-    rs->max_error_percent = rs->vertex_max_error_percent = s.max;
-    result.model.control_points = s.control_points;
-    result.vertex_errors_percent = s.errors;
-    result.model.statistics.final_result = *rs;
-  }
-
-  // Refits the latest round with the centroid rows unless it has them.
-  Status FinalizeLastRound() {
-    if (!last || last->has_faces) return Status::Ok();
-    RoundDetails& details = result.round_details.back();
-    SDCB_ASSIGN_OR_RETURN(const Solution s,
-                          SolveWithFaces(*last, &details.timings));
-    details.face_samples = true;
-    last->has_faces = true;
-    Record(s, &result.model.statistics.rounds.back());
-    return Status::Ok();
+  // Ends the fit: the last round when it met the target, else the best.
+  void Finish(bool reached, std::string shortfall) {
+    finished = true;
+    result.model.statistics.reached_target = reached;
+    if (reached) return;
+    result.shortfall = std::move(shortfall);
+    if (best && Better(best->statistics.final_result,
+                       result.model.statistics.final_result)) {
+      FitStatistics stats = std::move(result.model.statistics);
+      result.model = std::move(*best);
+      stats.final_result = result.model.statistics.final_result;
+      stats.reached_target = false;
+      result.model.statistics = std::move(stats);
+      result.vertex_errors_percent = best_vertex_errors;
+    }
   }
 
   Status RunRound();
@@ -294,17 +322,24 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   const int automatic = tbb::task_arena::automatic;
   s.arena =
       std::make_unique<tbb::task_arena>(o.threads > 0 ? o.threads : automatic);
-  s.faces = mesh.faces;
 
   SplineModel& model = s.result.model;
   model.degree = o.degree;
+  model.basis_form = o.basis_form;
   SDCB_ASSIGN_OR_RETURN(model.transform, ComputeNormalizingTransform(mesh));
-  s.samples = model.transform.ToNormalized(mesh.vertices);
+  s.mesh.faces = mesh.faces;
+  s.mesh.vertices = model.transform.ToNormalized(mesh.vertices);
   model.source.num_vertices = mesh.num_vertices();
   model.source.num_faces = mesh.num_faces();
   model.source.hash = HashTriangleMesh(mesh);
   model.statistics.options = RecordFitOptions(o);
-  model.statistics.error_measure = ErrorMeasure::kVertices;
+  model.statistics.error_measure = ErrorMeasure::kDenseTwoSided;
+  for (Eigen::Index f = 0; f < s.mesh.faces.rows(); ++f) {
+    const Eigen::Vector3d a = s.mesh.vertices.row(s.mesh.faces(f, 0));
+    const Eigen::Vector3d b = s.mesh.vertices.row(s.mesh.faces(f, 1));
+    const Eigen::Vector3d c = s.mesh.vertices.row(s.mesh.faces(f, 2));
+    s.mesh_area += 0.5 * (b - a).cross(c - a).norm();
+  }
 
   // 1. Spherical parameterization (Sec. 4.3).
   s.Report(FitStage::kParameterization, 0, 0);
@@ -315,26 +350,11 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   param_options.progress = [&s](const std::string&, double f) {
     s.Report(FitStage::kParameterization, 0, f);
   };
-  SDCB_ASSIGN_OR_RETURN(const SphericalParameterization param, s.InArena([&] {
-    return ParameterizeOnSphere(mesh, param_options);
-  }));
+  SDCB_ASSIGN_OR_RETURN(
+      const SphericalParameterization param,
+      s.InArena([&] { return ParameterizeOnSphere(mesh, param_options); }));
   s.u = param.sphere;
   s.result.timings.parameterization = stage.Seconds();
-
-  const Eigen::Index nv = mesh.num_vertices();
-  const Eigen::Index nf = o.face_samples ? mesh.num_faces() : 0;
-  s.face_points.resize(nf, 3);
-  s.all_targets.resize(nv + nf, 3);
-  s.all_targets.topRows(nv) = s.samples;
-  for (Eigen::Index f = 0; f < nf; ++f) {
-    Eigen::RowVector3d p = Eigen::RowVector3d::Zero(), x = p;
-    for (int k = 0; k < 3; ++k) {
-      p += s.u.row(mesh.faces(f, k));
-      x += s.samples.row(mesh.faces(f, k));
-    }
-    s.face_points.row(f) = p.normalized();
-    s.all_targets.row(nv + f) = std::sqrt(o.face_weight) * x / 3.0;
-  }
   s.parameter_tree = std::make_unique<PointKdTree>(s.u);
 
   // 2. Round-0 density: curvedness^alpha (Sec. 4.4).
@@ -358,9 +378,9 @@ SplineFitter::~SplineFitter() = default;
 bool SplineFitter::finished() const { return !state_ || state_->finished; }
 
 int SplineFitter::rounds() const {
-  return state_
-             ? static_cast<int>(state_->result.model.statistics.rounds.size())
-             : 0;
+  return state_ ? static_cast<int>(
+                      state_->result.model.statistics.rounds.size())
+                : 0;
 }
 
 const SplineModel& SplineFitter::model() const { return state_->result.model; }
@@ -378,8 +398,8 @@ Status SplineFitter::State::RunRound() {
   FitStatistics& stats = model.statistics;
   const int round = static_cast<int>(stats.rounds.size());
   const Stopwatch round_clock;
-  const int new_knots =
-      round == 0 && o.initial_knots > 0 ? o.initial_knots : o.knots_per_round;
+  const int new_knots = round == 0 && o.initial_knots > 0 ? o.initial_knots
+                                                          : o.knots_per_round;
   // Knot placement with the existing knots fixed.
   Report(FitStage::kKnotPlacement, round, kRoundStageStart[0]);
   RoundDetails details;
@@ -392,105 +412,241 @@ Status SplineFitter::State::RunRound() {
   details.cvt_final_energy = placement.final_energy;
   details.cvt_iterations = placement.iterations;
   details.min_knot_separation = placement.min_separation;
+  const Eigen::MatrixX3d& knots = placement.knots;
 
   // Configurations; a round that would exceed the control-point cap is not
-  // added: the previous round's model is the result.
+  // added.
   Report(FitStage::kConfigurations, round, kRoundStageStart[1]);
   stage = Stopwatch();
-  SDCB_ASSIGN_OR_RETURN(
-      DelaunayConfigurations configurations,
-      ComputeDelaunayConfigurations(placement.knots, o.degree));
+  SDCB_ASSIGN_OR_RETURN(DelaunayConfigurations configurations,
+                        ComputeDelaunayConfigurations(knots, o.degree));
+  SDCB_ASSIGN_OR_RETURN(const DelaunayConfigurations knot_triangles,
+                        ComputeDelaunayConfigurations(knots, 0));
   details.timings.configurations = stage.Seconds();
   if (round > 0 &&
       static_cast<int>(configurations.sets.size()) > o.max_control_points) {
-    finished = true;
-    return FinalizeLastRound();
+    Finish(false, "the next round would exceed " +
+                      std::to_string(o.max_control_points) +
+                      " control points");
+    return Status::Ok();
   }
 
-  // Basis. Basis functions unchanged since the last round (same knots, same
-  // boundary triples) keep their values: only new ones are evaluated.
+  // Basis, the data term's design matrix and the bending rows.
   Report(FitStage::kBasis, round, kRoundStageStart[2]);
   stage = Stopwatch();
   SDCB_ASSIGN_OR_RETURN(DcbBasis basis,
-                        DcbBasis::Create(placement.knots, configurations));
-  std::vector<int> previous_columns(basis.size(), -1);
-  std::map<std::vector<int>, int> columns_by_key;
-  for (int i = 0; i < basis.size(); ++i) {
-    std::vector<int> key = BasisKey(configurations.sets[i]);
-    if (last) {
-      const auto it = last->columns_by_key.find(key);
-      if (it != last->columns_by_key.end()) {
-        previous_columns[i] = it->second;
-        ++details.reused_basis_functions;
-      }
+                        DcbBasis::Create(knots, configurations));
+  FitSampleOptions sample_options;
+  sample_options.samples_per_spacing = o.samples_per_spacing;
+  const FitSamples samples = BuildFitSamples(mesh, u, knots, sample_options);
+  const DesignMatrix data =
+      BuildFormDesignMatrix(basis, samples.points, o.basis_form);
+  const BendingQuadrature bending =
+      MakeBendingQuadrature(knots, knot_triangles);
+  const ChartHessianRows hessian =
+      o.fairness > 0
+          ? BuildChartHessianRows(basis, bending.points, o.basis_form)
+          : ChartHessianRows{};
+  details.data_samples = static_cast<int>(samples.points.rows());
+  details.split_triangles = samples.split_triangles;
+  {
+    std::vector<int> per_column(basis.size(), 0);
+    for (Eigen::Index k = 0; k < data.nonZeros(); ++k) {
+      ++per_column[data.innerIndexPtr()[k]];
     }
-    columns_by_key.emplace(std::move(key), i);
+    details.min_samples_per_basis =
+        per_column.empty()
+            ? 0
+            : *std::min_element(per_column.begin(), per_column.end());
   }
-  DesignMatrix raw = BuildRawDesignMatrix(basis, u, last ? &last->raw : nullptr,
-                                          &previous_columns);
-  DesignMatrix design = NormalizeRows(raw);
   details.timings.basis = stage.Seconds();
 
-  // Least squares on the vertices.
-  Report(FitStage::kSolve, round, kRoundStageStart[3]);
-  stage = Stopwatch();
-  Eigen::MatrixX3d fallback =
-      NearestSamplePrior(basis, *parameter_tree, samples);
-  SDCB_ASSIGN_OR_RETURN(Solution solution, Solve(design, samples, fallback));
-  details.timings.solve = stage.Seconds();
+  // Least squares: sqrt(w) rows of the data term, sqrt(fairness * area /
+  // 4 pi * weight) rows of the bending energy (uv counted twice), zero
+  // targets for the latter. Re-solved with more bending where it folds.
+  const Eigen::VectorXd data_scale = samples.weights.cwiseSqrt();
+  Eigen::MatrixX3d targets(data.rows() + 3 * bending.points.rows(), 3);
+  targets.setZero();
+  targets.topRows(data.rows()) =
+      data_scale.asDiagonal() * samples.targets;
+  const Eigen::MatrixX3d fallback =
+      NearestSamplePrior(basis, *parameter_tree, mesh.vertices);
+  const Eigen::MatrixX3d prior =
+      GrevillePrior(data, samples.targets, fallback);
+  std::vector<double> local(knot_triangles.sets.size(), 1.0);
+  LeastSquaresOptions ls;
+  ls.regularization = o.regularization;
+  Eigen::MatrixX3d control_points;
+  SurfaceDeviation deviation;
+  Eigen::MatrixX3d fitted;
+  for (int attempt = 0;; ++attempt) {
+    Report(FitStage::kSolve, round, kRoundStageStart[3]);
+    stage = Stopwatch();
+    Eigen::VectorXd bend_scale(bending.points.rows());
+    for (Eigen::Index q = 0; q < bend_scale.size(); ++q) {
+      bend_scale[q] = std::sqrt(o.fairness * mesh_area / (4.0 * M_PI) *
+                                bending.weights[q] *
+                                local[bending.triangle[q]]);
+    }
+    const Eigen::VectorXd bend_scale_uv = std::sqrt(2.0) * bend_scale;
+    DesignMatrix design =
+        o.fairness > 0
+            ? StackScaledRows({{&data, &data_scale},
+                               {&hessian.uu, &bend_scale},
+                               {&hessian.uv, &bend_scale_uv},
+                               {&hessian.vv, &bend_scale}})
+            : StackScaledRows({{&data, &data_scale}});
+    SDCB_ASSIGN_OR_RETURN(
+        control_points,
+        SolveRegularizedLeastSquares(design, targets.topRows(design.rows()),
+                                     prior, ls));
+    fitted = data * control_points;
+    ++details.solves;
+    details.timings.solve += stage.Seconds();
 
-  last.emplace(Round{std::move(basis), std::move(raw), std::move(design),
-                     std::move(fallback), std::move(columns_by_key),
-                     face_points.rows() == 0});
-  // A round whose vertex fit reaches the target, and the last round, are
-  // refitted with the centroid rows.
-  const bool last_allowed = round + 1 == o.max_rounds;
-  if (!last->has_faces && (solution.rmse <= o.rmse_percent || last_allowed)) {
-    SDCB_ASSIGN_OR_RETURN(solution, SolveWithFaces(*last, &details.timings));
-    details.face_samples = true;
-    last->has_faces = true;
+    // Measure: surface -> mesh at a lattice over the knot triangles, mesh
+    // -> surface bounded by |F(u_i) - x_i| (the closest points come with
+    // the final measurement).
+    Report(FitStage::kMeasure, round, kRoundStageStart[4]);
+    stage = Stopwatch();
+    SDCB_ASSIGN_OR_RETURN(
+        SphericalSpline surface,
+        SphericalSpline::Create(basis, control_points, o.basis_form));
+    DeviationOptions measure;
+    measure.min_surface_samples = o.round_samples_per_knot *
+                                  static_cast<int>(knots.rows());
+    measure.closest_points = false;
+    const Eigen::MatrixX3d vertex_points = fitted.topRows(mesh.vertices.rows());
+    SDCB_ASSIGN_OR_RETURN(
+        deviation,
+        MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points));
+    details.timings.measure += stage.Seconds();
+    if (deviation.folded_area_percent == 0 || attempt >= o.fold_retries ||
+        o.fairness == 0) {
+      break;
+    }
+    std::vector<char> folded(knot_triangles.sets.size(), 0);
+    for (size_t i = 0; i < deviation.surface_sample_folded.size(); ++i) {
+      if (deviation.surface_sample_folded[i]) {
+        folded[deviation.surface_sample_knot_triangle[i]] = 1;
+      }
+    }
+    const std::vector<char> raise =
+        WithNeighbours(knot_triangles, folded, static_cast<int>(knots.rows()));
+    for (size_t t = 0; t < raise.size(); ++t) {
+      if (raise[t]) local[t] *= kFoldFairnessFactor;
+    }
   }
+  details.surface_samples = deviation.surface_samples;
+
+  // Parametric errors at the vertices (the paper's measure).
+  const Eigen::Index nv = mesh.vertices.rows();
+  const Eigen::VectorXd vertex_errors =
+      100.0 * (fitted.topRows(nv) - mesh.vertices).rowwise().norm();
 
   RoundStatistics rs;
   rs.round = round;
-  rs.knots = static_cast<int>(placement.knots.rows());
-  rs.control_points = last->basis.size();
-  Record(solution, &rs);
+  rs.knots = static_cast<int>(knots.rows());
+  rs.control_points = basis.size();
+  rs.rmse_percent = deviation.rms_percent;
+  rs.max_error_percent = deviation.hausdorff_percent;
+  rs.vertex_rmse_percent =
+      std::sqrt(vertex_errors.squaredNorm() / std::max<Eigen::Index>(nv, 1));
+  rs.vertex_max_error_percent = nv > 0 ? vertex_errors.maxCoeff() : 0;
+  rs.folded_area_percent = deviation.folded_area_percent;
+
+  model.knots = knots;
+  model.configurations = std::move(configurations);
+  model.control_points = control_points;
+  result.vertex_errors_percent = vertex_errors;
+
+  // A round that meets the target is confirmed by the final measurement:
+  // dense surface samples and closest points on the spline.
+  bool reached = false;
+  if (rs.rmse_percent <= o.rmse_percent && rs.folded_area_percent == 0) {
+    Report(FitStage::kMeasure, round, kRoundStageStart[4]);
+    stage = Stopwatch();
+    SDCB_ASSIGN_OR_RETURN(
+        SphericalSpline surface,
+        SphericalSpline::Create(std::move(basis), control_points,
+                                o.basis_form));
+    DeviationOptions measure;
+    measure.min_surface_samples =
+        std::max(o.final_surface_samples,
+                 o.round_samples_per_knot * static_cast<int>(knots.rows()));
+    const Eigen::MatrixX3d vertex_points = fitted.topRows(nv);
+    SDCB_ASSIGN_OR_RETURN(
+        deviation,
+        MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points));
+    details.timings.measure += stage.Seconds();
+    details.surface_samples = deviation.surface_samples;
+    details.closest_points = true;
+    rs.rmse_percent = deviation.rms_percent;
+    rs.max_error_percent = deviation.hausdorff_percent;
+    rs.folded_area_percent = deviation.folded_area_percent;
+    reached = rs.rmse_percent <= o.rmse_percent && rs.folded_area_percent == 0;
+  }
+
   details.timings.total = round_clock.Seconds();
   stats.rounds.push_back(rs);
+  stats.final_result = rs;
   StageTimings& t = result.timings;
   t.knot_placement += details.timings.knot_placement;
   t.configurations += details.timings.configurations;
   t.basis += details.timings.basis;
   t.solve += details.timings.solve;
+  t.measure += details.timings.measure;
   result.round_details.push_back(details);
-  model.knots = std::move(placement.knots);
-  model.configurations = std::move(configurations);
+  if (!best || Better(rs, best->statistics.final_result)) {
+    best = model;
+    best_vertex_errors = vertex_errors;
+  }
 
-  if (rs.rmse_percent <= o.rmse_percent && last->has_faces) {
-    stats.reached_target = true;
-    finished = true;
+  if (reached) {
+    Finish(true, "");
     return Status::Ok();
   }
-  if (last_allowed) {
-    finished = true;
+  if (round + 1 == o.max_rounds) {
+    Finish(false, "the target was not reached within " +
+                      std::to_string(o.max_rounds) + " rounds");
     return Status::Ok();
   }
-  // The number of rounds, estimated from the decay of the vertex RMSE.
+  // The number of rounds, estimated from the decay of the RMSE.
   if (stats.rounds.size() >= 2) {
     const double previous = stats.rounds[stats.rounds.size() - 2].rmse_percent;
     const double decay = rs.rmse_percent / previous;
     if (decay > 0 && decay < 1) {
-      const double more = std::ceil(std::log(o.rmse_percent / rs.rmse_percent) /
-                                    std::log(decay));
+      const double more = std::ceil(
+          std::log(o.rmse_percent / rs.rmse_percent) / std::log(decay));
       estimated_rounds = std::min<int>(
           o.max_rounds, round + 1 + static_cast<int>(std::max(1.0, more)));
     }
   }
-  // Next round's density: the error, normalized, to the power alpha.
-  if (solution.errors.maxCoeff() > 0) {
+
+  // Next round's density: the error, normalized, to the power alpha. The
+  // error of a vertex is the largest of its parametric residual, those of
+  // the data samples inside its triangles, and the surface -> mesh distance
+  // of the surface samples nearest to it on the sphere.
+  Eigen::VectorXd error = vertex_errors;
+  for (size_t r = 0; r < samples.triangle.size(); ++r) {
+    const double e =
+        100.0 * (fitted.row(nv + r) - samples.targets.row(nv + r)).norm();
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.faces(samples.triangle[r], k);
+      error[v] = std::max(error[v], e);
+    }
+  }
+  for (Eigen::Index i = 0; i < deviation.surface_sample_points.rows(); ++i) {
+    const PointKdTree::Neighbor n = parameter_tree->Nearest(
+        deviation.surface_sample_points.row(i).transpose());
+    if (n.index >= 0) {
+      error[n.index] =
+          std::max(error[n.index], deviation.surface_sample_distance_percent[i]);
+    }
+  }
+  if (error.maxCoeff() > 0) {
     SDCB_ASSIGN_OR_RETURN(density.values,
-                          DensityFromValues(solution.errors, o.alpha));
+                          DensityFromValues(error, o.alpha));
   }
   return Status::Ok();
 }

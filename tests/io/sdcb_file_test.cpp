@@ -127,8 +127,11 @@ bool SameRound(const RoundStatistics& a, const RoundStatistics& b) {
       oa.max_control_points != ob.max_control_points ||
       !SameBits(oa.lambda, ob.lambda) || !SameBits(oa.alpha, ob.alpha) ||
       !SameBits(oa.regularization, ob.regularization) ||
-      oa.face_samples != ob.face_samples ||
-      !SameBits(oa.face_weight, ob.face_weight)) {
+      !SameBits(oa.fairness, ob.fairness) ||
+      !SameBits(oa.samples_per_spacing, ob.samples_per_spacing) ||
+      oa.fold_retries != ob.fold_retries ||
+      oa.round_samples_per_knot != ob.round_samples_per_knot ||
+      oa.final_surface_samples != ob.final_surface_samples) {
     return fail("options");
   }
   if (a.basis_form != b.basis_form) return fail("basis form");
@@ -274,7 +277,7 @@ TEST(SdcbFileTest, SpecialDoublesSurviveBitForBit) {
   EXPECT_EQ(back->transform.translation[1], 1e-320);
   EXPECT_EQ(back->statistics.rounds[0].folded_area_percent,
             std::numeric_limits<double>::denorm_min());
-  EXPECT_TRUE(std::signbit(back->statistics.options.face_weight));  // -0.0
+  EXPECT_TRUE(std::signbit(back->statistics.options.fairness));  // -0.0
   EXPECT_EQ(back->source.file_name, "meshes/bunny \xc3\xa9.off");
 }
 
