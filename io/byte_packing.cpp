@@ -69,7 +69,8 @@ std::string ZlibCompress(std::string_view data) {
 
 StatusOr<std::string> ZlibDecompress(std::string_view stream,
                                      uint64_t inflated_bytes) {
-  if (inflated_bytes / kMaxDeflateRatio > stream.size()) {
+  // (stream.size() < 2^54 for anything held in memory: no overflow.)
+  if (inflated_bytes > kMaxDeflateRatio * uint64_t{stream.size()}) {
     return CorruptFileError("a zlib stream of " + Str(stream.size()) +
                             " bytes declares " + Str(inflated_bytes) +
                             " inflated bytes, more than deflate allows");
