@@ -41,9 +41,10 @@ std::string FromBytePlanes(std::string_view planes, int width) {
 
 std::string ZlibCompress(std::string_view data) {
   z_stream z{};
-  // Level 9, default window (15 bits) and memory level (8), default
-  // strategy: deflateInit(&z, 9).
-  if (deflateInit(&z, 9) != Z_OK) throw std::bad_alloc();
+  // Level 6 (zlib's default), default window (15 bits), memory level (8)
+  // and strategy. Level 9 gains 0.2 % on packed doubles and takes 13x as
+  // long (2.2 s instead of 0.17 s for 2 MB of them).
+  if (deflateInit(&z, 6) != Z_OK) throw std::bad_alloc();
   std::string out(deflateBound(&z, data.size()), '\0');
   z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
   z.next_out = reinterpret_cast<Bytef*>(out.data());

@@ -30,7 +30,7 @@ std::string FromBytePlanes(std::string_view planes, int width);
 // bytes) is impossible and rejected before anything is allocated.
 constexpr uint64_t kMaxDeflateRatio = 1032;
 
-// `data` as one zlib stream (RFC 1950: deflate, compression level 9, 32 KiB
+// `data` as one zlib stream (RFC 1950: deflate, compression level 6, 32 KiB
 // window, Adler-32 trailer). The bytes are a function of `data` and of the
 // zlib build (Debian 12: zlib 1.2.13).
 std::string ZlibCompress(std::string_view data);
