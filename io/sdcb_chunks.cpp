@@ -125,6 +125,14 @@ Status CheckCount(uint64_t count, uint64_t bytes_each, uint64_t expansion,
   return Status::Ok();
 }
 
+StatusOr<int> CheckDegree(uint32_t degree) {
+  if (degree > static_cast<uint32_t>(kMaxSplineDegree)) {
+    return Corrupt("HEAD declares degree " + Str(degree) + ", outside 0.." +
+                   Str(kMaxSplineDegree));
+  }
+  return static_cast<int>(degree);
+}
+
 std::string BasisPayload(const DelaunayConfigurations& configurations) {
   ByteWriter w;
   for (const ConfigurationSet& set : configurations.sets) {

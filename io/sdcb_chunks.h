@@ -154,6 +154,9 @@ Status SplitChunks(std::string_view bytes, Chunks* chunks);
 Status CheckCount(uint64_t count, uint64_t bytes_each, uint64_t expansion,
                   size_t file_size, const char* what);
 
+// The degree read from HEAD: 0..kMaxSplineDegree, else corrupt.
+StatusOr<int> CheckDegree(uint32_t degree);
+
 // Version 1's BSIS payload for `configurations` (the records of
 // docs/FORMAT.md, appendix); version 2 hashes these bytes.
 std::string BasisPayload(const DelaunayConfigurations& configurations);

@@ -222,11 +222,7 @@ StatusOr<Head> ParseHead(std::string_view payload, size_t file_size) {
   (void)r.U64(&h.num_basis);
   (void)r.U64(&h.num_parameters);
   (void)r.U64(&h.configuration_hash);
-  if (degree > static_cast<uint32_t>(kMaxSplineDegree)) {
-    return Corrupt("HEAD declares degree " + Str(degree) + ", outside 0.." +
-                   Str(kMaxSplineDegree));
-  }
-  h.degree = static_cast<int>(degree);
+  SDCB_ASSIGN_OR_RETURN(h.degree, CheckDegree(degree));
   if (form != static_cast<uint32_t>(BasisForm::kNormalized) &&
       form != static_cast<uint32_t>(BasisForm::kRaw)) {
     return Corrupt("HEAD declares the unknown basis form " + Str(form));

@@ -32,11 +32,7 @@ StatusOr<Head> ParseHead(std::string_view payload, size_t file_size) {
   (void)r.U64(&h.num_knots);
   (void)r.U64(&h.num_basis);
   (void)r.U64(&h.num_parameters);
-  if (degree > static_cast<uint32_t>(kMaxSplineDegree)) {
-    return Corrupt("HEAD declares degree " + Str(degree) + ", outside 0.." +
-                   Str(kMaxSplineDegree));
-  }
-  h.degree = static_cast<int>(degree);
+  SDCB_ASSIGN_OR_RETURN(h.degree, CheckDegree(degree));
   SDCB_RETURN_IF_ERROR(
       CheckCount(h.num_knots, kPointBytes, 1, file_size, "knots"));
   SDCB_RETURN_IF_ERROR(CheckCount(h.num_basis,

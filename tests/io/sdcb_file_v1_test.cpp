@@ -97,29 +97,9 @@ TEST(SdcbFileV1Test, EverySingleByteCorruptionIsRejected) {
   const SplineModel model = AsVersion1Reads(MakeTestModel(1, 7, 3));
   const std::string file = Version1File(model);
   ASSERT_LT(file.size(), 4000u);  // keep the loop quick
-  int accepted = 0;
-  size_t largest_overall = 0;
-  for (size_t i = 0; i < file.size(); ++i) {
-    for (int mask : {1, 2, 4, 8, 16, 32, 64, 128, 255}) {
-      std::string bad = file;
-      bad[i] = static_cast<char>(bad[i] ^ mask);
-      StatusOr<SplineModel> m = InternalError("not parsed");
-      largest_overall = std::max(
-          largest_overall,
-          testing::LargestAllocationDuring([&] { m = ParseSdcb(bad); }));
-      if (m.ok()) {
-        ++accepted;
-        EXPECT_TRUE(BitIdentical(model, *m)) << "byte " << i;
-      } else {
-        EXPECT_TRUE(m.status().code() == StatusCode::kCorruptFile ||
-                    m.status().code() == StatusCode::kUnsupported)
-            << m.status().message();
-        EXPECT_FALSE(m.status().message().empty());
-      }
-    }
-  }
-  EXPECT_EQ(accepted, 0);
-  EXPECT_LT(largest_overall, 16 * file.size() + 4096);
+  const size_t largest =
+      testing::ExpectEverySingleByteCorruptionRejected(file, model);
+  EXPECT_LT(largest, 16 * file.size() + 4096);
 }
 
 TEST(SdcbFileV1Test, EveryTruncationIsRejected) {
@@ -234,22 +214,7 @@ TEST(SdcbFileV1Test, RandomMutationsWithValidCrcsNeverCrash) {
   size_t largest_overall = 0;
   for (int iteration = 0; iteration < 5000; ++iteration) {
     std::vector<RawChunk> chunks = good;
-    std::string& p = chunks[rng() % chunks.size()].payload;
-    const int edits = 1 + static_cast<int>(rng() % 4);
-    for (int e = 0; e < edits; ++e) {
-      const size_t at = p.empty() ? 0 : rng() % p.size();
-      switch (rng() % 4) {
-        case 0:
-        case 1:
-          if (!p.empty()) p[at] = static_cast<char>(rng());
-          break;
-        case 2:
-          p.insert(p.begin() + at, static_cast<char>(rng()));
-          break;
-        default:
-          if (!p.empty()) p.erase(at, 1);
-      }
-    }
+    testing::MutateBytes(&rng, &chunks[rng() % chunks.size()].payload);
     StatusOr<SplineModel> m = InternalError("not parsed");
     largest_overall =
         std::max(largest_overall, testing::LargestAllocationDuring([&] {

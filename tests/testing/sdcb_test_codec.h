@@ -8,14 +8,17 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "sdcb/core/spline/spline_model.h"
 #include "sdcb/io/crc32.h"
 #include "sdcb/io/sdcb_file.h"
+#include "testing/allocation_tracker.h"
 
 namespace sdcb::testing {
 
@@ -338,6 +341,58 @@ inline void ExpectCorrupt(const std::string& file,
   EXPECT_NE(m.status().message().find(fragment), std::string::npos)
       << "message: " << m.status().message()
       << "\nexpected to contain: " << fragment;
+}
+
+// --- Hostile input -------------------------------------------------------
+
+// Flips each bit and each whole byte of `file` (a valid file of `model`) in
+// turn: every result must be refused (corrupt or unsupported, with a
+// message); CRC-32 detects every single-byte error, so none may be accepted.
+// Returns the largest single allocation any of the parses made.
+inline size_t ExpectEverySingleByteCorruptionRejected(
+    const std::string& file, const SplineModel& model) {
+  int accepted = 0;
+  size_t largest = 0;
+  for (size_t i = 0; i < file.size(); ++i) {
+    for (int mask : {1, 2, 4, 8, 16, 32, 64, 128, 255}) {
+      std::string bad = file;
+      bad[i] = static_cast<char>(bad[i] ^ mask);
+      StatusOr<SplineModel> m = InternalError("not parsed");
+      largest = std::max(largest,
+                         LargestAllocationDuring([&] { m = ParseSdcb(bad); }));
+      if (m.ok()) {
+        ++accepted;
+        EXPECT_TRUE(BitIdentical(model, *m)) << "byte " << i;
+      } else {
+        EXPECT_TRUE(m.status().code() == StatusCode::kCorruptFile ||
+                    m.status().code() == StatusCode::kUnsupported)
+            << m.status().message();
+        EXPECT_FALSE(m.status().message().empty());
+      }
+    }
+  }
+  EXPECT_EQ(accepted, 0);
+  return largest;
+}
+
+// Changes, inserts or drops 1 to 4 random bytes of `bytes`.
+inline void MutateBytes(std::mt19937* rng, std::string* bytes) {
+  std::string& p = *bytes;
+  const int edits = 1 + static_cast<int>((*rng)() % 4);
+  for (int e = 0; e < edits; ++e) {
+    const size_t at = p.empty() ? 0 : (*rng)() % p.size();
+    switch ((*rng)() % 4) {
+      case 0:  // overwrite a byte
+      case 1:
+        if (!p.empty()) p[at] = static_cast<char>((*rng)());
+        break;
+      case 2:  // insert a byte
+        p.insert(p.begin() + at, static_cast<char>((*rng)()));
+        break;
+      default:  // drop a byte
+        if (!p.empty()) p.erase(at, 1);
+    }
+  }
 }
 
 }  // namespace sdcb::testing
