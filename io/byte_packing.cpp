@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cassert>
 #include <limits>
+#include <new>
 
 namespace sdcb {
 namespace {
@@ -122,11 +123,11 @@ StatusOr<std::string> ZlibDecompress(std::string_view stream,
     // anything else: an error.
     if (result != Z_OK) break;
   }
+  const std::string zlib_message = z.msg != nullptr ? z.msg : "invalid data";
   inflateEnd(&z);
   if (result == Z_DATA_ERROR || result == Z_NEED_DICT ||
       result == Z_STREAM_ERROR) {
-    return CorruptFileError(std::string("a zlib stream is corrupt (") +
-                            (z.msg != nullptr ? z.msg : "invalid data") + ")");
+    return CorruptFileError("a zlib stream is corrupt (" + zlib_message + ")");
   }
   if (result == Z_MEM_ERROR) throw std::bad_alloc();
   if (result != Z_STREAM_END) {
