@@ -1,6 +1,7 @@
 // sdcb fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
 //          [--max-rounds R] [--max-control-points M] [--lambda L]
-//          [--threads T] [--json FILE] [--plot FILE.svg] [--quiet]
+//          [--threads T] [--regularization R] [--store-parameters]
+//          [--quantize BITS] [--json FILE] [--plot FILE.svg] [--quiet]
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -22,8 +23,8 @@ int RunFit(const std::vector<std::string>& argv) {
   const Args args(argv,
                   {"output", "degree", "rmse", "knots-per-round", "max-rounds",
                    "max-control-points", "lambda", "threads", "json", "plot",
-                   "regularization"},
-                  {"quiet"});
+                   "regularization", "quantize"},
+                  {"quiet", "store-parameters"});
   args.RequirePositionals(
       1, "MESH (usage: sdcb fit MESH -o MODEL.sdcb [options])");
   const std::string& path = args.positionals()[0];
@@ -42,6 +43,12 @@ int RunFit(const std::vector<std::string>& argv) {
   options.threads = args.GetInt("threads", 0, 0, 1024);
   options.regularization =
       args.GetDouble("regularization", options.regularization, 1e-12, 1e3);
+  // The sphere point of every input vertex is kept only on request: it is
+  // most of a file's bytes and needed only to check the vertex errors.
+  options.store_parameters = args.Has("store-parameters");
+  SdcbWriteOptions write_options;
+  write_options.store_parameters = options.store_parameters;
+  write_options.quantize_bits = args.GetInt("quantize", 0, 8, 30);
 
   StatusOr<TriangleMesh> mesh = ReadMesh(path);
   if (!mesh.ok()) return ReportError(mesh.status());
@@ -57,8 +64,10 @@ int RunFit(const std::vector<std::string>& argv) {
   if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));
   fit->model.source.file_name = std::filesystem::path(path).filename().string();
 
-  Status written = WriteSdcbFile(fit->model, output);
+  SdcbFileInfo file_info;
+  Status written = WriteSdcbFile(fit->model, output, write_options, &file_info);
   if (!written.ok()) return ReportError(written);
+  const ControlPointQuantization& quantization = file_info.quantization;
   const FitStatistics& stats = fit->model.statistics;
   if (args.Has("json")) {
     nlohmann::ordered_json report;
@@ -66,6 +75,15 @@ int RunFit(const std::vector<std::string>& argv) {
     report["output"] = output;
     report["vertices"] = mesh->num_vertices();
     report["faces"] = mesh->num_faces();
+    report["output_bytes"] = file_info.file_bytes;
+    if (!quantization.lossless()) {
+      // The stored surface is within this of the fitted one everywhere
+      // (io/control_point_quantization.h); the errors below are the fit's.
+      report["quantization_bits"] = quantization.bits;
+      report["quantization_error_bound_percent"] =
+          quantization.surface_error_bound_percent();
+      report["quantization_bound_measured"] = quantization.basis_sum_measured;
+    }
     const nlohmann::ordered_json fit_report = FitReportToJson(*fit);
     for (const auto& [key, value] : fit_report.items()) report[key] = value;
     written = WriteTextOutput(args.Get("json"), report.dump(2) + "\n");
@@ -88,6 +106,13 @@ int RunFit(const std::vector<std::string>& argv) {
         "  rmse %.4f%%  max error %.4f%%  (target rmse %.4f%%)  %.2f s\n",
         f.rmse_percent, f.max_error_percent, options.rmse_percent,
         fit->timings.total);
+    if (!quantization.lossless()) {
+      std::printf(
+          "  control points quantized to %d bits: the stored surface is "
+          "within %.3g%% of the fitted one%s\n",
+          quantization.bits, quantization.surface_error_bound_percent(),
+          quantization.basis_sum_measured ? " (bound measured)" : "");
+    }
   }
   if (!fit->reached_target()) {
     std::fprintf(
