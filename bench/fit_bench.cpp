@@ -2,7 +2,7 @@
 // the paper's vertex errors) and per-stage times.
 //   fit_bench MESH [--degree K] [--rmse PCT] [--knots-per-round N]
 //             [--max-rounds R] [--raw] [--fairness F] [--samples S]
-//             [--fold-retries N] [--threads T] [--initial-knots N]
+//             [--lambda L] [--threads T] [--initial-knots N]
 //             [--max-control-points M] [-o MODEL.sdcb]
 #include <cstdio>
 #include <cstdlib>
@@ -36,10 +36,10 @@ int main(int argc, char** argv) {
       options.basis_form = sdcb::BasisForm::kRaw;
     } else if (a == "--fairness") {
       options.fairness = std::atof(next());
+    } else if (a == "--lambda") {
+      options.lambda = std::atof(next());
     } else if (a == "--samples") {
       options.samples_per_spacing = std::atof(next());
-    } else if (a == "--fold-retries") {
-      options.fold_retries = std::atoi(next());
     } else if (a == "-o") {
       output = next();
     } else if (a == "--threads") {
@@ -67,18 +67,18 @@ int main(int argc, char** argv) {
       options.fairness, options.samples_per_spacing, options.rmse_percent);
   std::printf(
       "round knots ctrl  | rms%%     max%%     fold%% | vrms%%    vmax%%   | "
-      "rows   split minS solves | s: knots  conf  basis  solve measure "
+      "rows   split minS | s: knots  conf  basis  solve measure "
       "round\n");
   for (size_t i = 0; i < s.rounds.size(); ++i) {
     const auto& r = s.rounds[i];
     const auto& d = fit->round_details[i];
     std::printf(
-        "%4d %5d %5d | %.5f %.5f %.4f | %.5f %.5f | %6d %5d %4d %d%s | "
+        "%4d %5d %5d | %.5f %.5f %.4f | %.5f %.5f | %6d %5d %4d%s | "
         "%6.3f %5.3f %6.3f %6.3f %6.3f %6.3f\n",
         r.round, r.knots, r.control_points, r.rmse_percent, r.max_error_percent,
         r.folded_area_percent, r.vertex_rmse_percent,
         r.vertex_max_error_percent, d.data_samples, d.split_triangles,
-        d.min_samples_per_basis, d.solves, d.closest_points ? "*" : " ",
+        d.min_samples_per_basis, d.closest_points ? "*" : " ",
         d.timings.knot_placement, d.timings.configurations, d.timings.basis,
         d.timings.solve, d.timings.measure, d.timings.total);
   }
@@ -89,8 +89,8 @@ int main(int argc, char** argv) {
       "vertex rms %.5f%% max %.5f%%, reached %s%s%s\n",
       f.control_points, f.rmse_percent, f.max_error_percent,
       f.folded_area_percent, f.vertex_rmse_percent, f.vertex_max_error_percent,
-      fit->reached_target() ? "yes" : "no",
-      fit->shortfall.empty() ? "" : ": ", fit->shortfall.c_str());
+      fit->reached_target() ? "yes" : "no", fit->shortfall.empty() ? "" : ": ",
+      fit->shortfall.c_str());
   std::printf(
       "timings (s): parameterization %.3f, knot placement %.3f, "
       "configurations %.3f, basis %.3f, solve %.3f, measure %.3f, total "

@@ -127,7 +127,7 @@ json FitStatisticsToJson(const FitStatistics& s) {
                 {"regularization", o.regularization},
                 {"fairness", o.fairness},
                 {"samples_per_spacing", o.samples_per_spacing},
-                {"fold_retries", o.fold_retries},
+                {"max_fold_rounds", o.max_fold_rounds},
                 {"round_samples_per_knot", o.round_samples_per_knot},
                 {"final_surface_samples", o.final_surface_samples}}},
               {"error_measure", ErrorMeasureName(s.error_measure)},
@@ -171,7 +171,7 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "samples_per_spacing", ow,
                                    &so.samples_per_spacing, GetDouble));
   SDCB_RETURN_IF_ERROR(
-      GetOptional(*o, "fold_retries", ow, &so.fold_retries, GetInt));
+      GetOptional(*o, "max_fold_rounds", ow, &so.max_fold_rounds, GetInt));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "round_samples_per_knot", ow,
                                    &so.round_samples_per_knot, GetInt));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "final_surface_samples", ow,
@@ -239,7 +239,6 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
                        {"data_samples", d.data_samples},
                        {"split_triangles", d.split_triangles},
                        {"min_samples_per_basis", d.min_samples_per_basis},
-                       {"solves", d.solves},
                        {"surface_samples", d.surface_samples},
                        {"closest_points", d.closest_points}});
   }

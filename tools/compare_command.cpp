@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <vector>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "sdcb/core/fit/surface_deviation.h"
 #include "sdcb/io/mesh_reader.h"
@@ -23,15 +23,16 @@ int RunCompare(const std::vector<std::string>& argv) {
   const std::string& model_path = args.positionals()[0];
   const std::string& mesh_path = args.positionals()[1];
   DeviationOptions options;
-  options.min_surface_samples = args.GetInt(
-      "samples", options.min_surface_samples, 1000, 100000000);
+  options.min_surface_samples =
+      args.GetInt("samples", options.min_surface_samples, 1000, 100000000);
 
   StatusOr<SplineModel> model = ReadSdcbFile(model_path);
   if (!model.ok()) return ReportError(model.status());
   StatusOr<TriangleMesh> mesh = ReadMesh(mesh_path);
   if (!mesh.ok()) return ReportError(mesh.status());
   StatusOr<SphericalSpline> surface = SurfaceFromModel(*model);
-  if (!surface.ok()) return ReportError(surface.status().WithPrefix(model_path));
+  if (!surface.ok())
+    return ReportError(surface.status().WithPrefix(model_path));
 
   // Both in the model's normalized frame; 100 % = the mesh's largest side.
   TriangleMesh normalized = *mesh;
@@ -42,8 +43,7 @@ int RunCompare(const std::vector<std::string>& argv) {
   StatusOr<SurfaceDeviation> d =
       MeasureSurfaceDeviation(*surface, normalized, options);
   if (!d.ok()) {
-    return ReportError(
-        d.status().WithPrefix(model_path + " vs " + mesh_path));
+    return ReportError(d.status().WithPrefix(model_path + " vs " + mesh_path));
   }
   if (args.Has("json")) {
     nlohmann::ordered_json j;
@@ -74,19 +74,8 @@ int RunCompare(const std::vector<std::string>& argv) {
     std::printf("  two-sided         rms %.5f%%  Hausdorff %.5f%%\n",
                 d->rms_percent, d->hausdorff_percent);
     std::printf("  folded area       %.4f%%\n", d->folded_area_percent);
-    if (getenv("SDCB_DEBUG_FOLDS")) {
-      std::vector<double> fd;
-      for (size_t i = 0; i < d->surface_sample_folded.size(); ++i)
-        if (d->surface_sample_folded[i]) fd.push_back(d->surface_sample_distance_percent[i]);
-      std::sort(fd.begin(), fd.end());
-      if (!fd.empty()) std::printf("folded %zu: distance min %g p25 %g median %g p75 %g max %g\n", fd.size(), fd[0], fd[fd.size()/4], fd[fd.size()/2], fd[3*fd.size()/4], fd.back());
-      FILE* out = fopen("/tmp/folded.xyz", "w");
-      for (size_t i = 0; i < d->surface_sample_folded.size(); ++i) if (d->surface_sample_folded[i]) { Eigen::Vector3d p = surface->Evaluate(d->surface_sample_points.row(i).transpose()); fprintf(out, "%g %g %g %g\n", p.x(), p.y(), p.z(), d->surface_sample_distance_percent[i]); }
-      fclose(out);
-    }
     std::printf("  lattice level %d, %lld vertices refined on the spline\n",
-                d->lattice_level,
-                static_cast<long long>(d->refined_vertices));
+                d->lattice_level, static_cast<long long>(d->refined_vertices));
   }
   return kExitOk;
 }

@@ -3,10 +3,10 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <map>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+#include <map>
 
 #include "sdcb/core/sphere/point_kd_tree.h"
 
@@ -16,10 +16,9 @@ Eigen::VectorXd KnotSpacing(const Eigen::MatrixX3d& knots) {
   const PointKdTree tree(knots);
   Eigen::VectorXd spacing(knots.rows());
   for (Eigen::Index k = 0; k < knots.rows(); ++k) {
-    const PointKdTree::Neighbor n =
-        tree.Nearest(knots.row(k).transpose(),
-                     std::numeric_limits<double>::infinity(),
-                     static_cast<int>(k));
+    const PointKdTree::Neighbor n = tree.Nearest(
+        knots.row(k).transpose(), std::numeric_limits<double>::infinity(),
+        static_cast<int>(k));
     spacing[k] = std::sqrt(n.squared_distance);
   }
   return spacing;
@@ -38,8 +37,9 @@ Eigen::Vector3d OnSphere(const Eigen::Vector2d& b, const Eigen::Vector3d s[3]) {
 }
 
 // Splits `t` by longest-edge bisection (lengths measured on the sphere)
-// until every edge is at most `length`; appends the leaves.
-void Bisect(const Sub& t, const Eigen::Vector3d s[3], double length,
+// until every edge is at most `length(centroid)`; appends the leaves.
+template <typename Length>
+void Bisect(const Sub& t, const Eigen::Vector3d s[3], const Length& length,
             int depth, std::vector<Sub>* leaves) {
   double longest = 0;
   int edge = 0;
@@ -51,7 +51,8 @@ void Bisect(const Sub& t, const Eigen::Vector3d s[3], double length,
       edge = e;
     }
   }
-  if (longest <= length || depth == 0) {
+  if (depth == 0 ||
+      longest <= length(OnSphere((t.v[0] + t.v[1] + t.v[2]) / 3.0, s))) {
     leaves->push_back(t);
     return;
   }
@@ -84,14 +85,16 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
                                   sphere.row(mesh.faces(f, 2))};
     const double longest = std::max(
         {(s[1] - s[0]).norm(), (s[2] - s[1]).norm(), (s[0] - s[2]).norm()});
-    const PointKdTree::Neighbor near =
-        knot_tree.Nearest((s[0] + s[1] + s[2]).normalized());
-    const double h = near.index >= 0 ? spacing[near.index]
-                                     : std::numeric_limits<double>::infinity();
-    const double length = h / options.samples_per_spacing;
-    if (longest <= length) continue;
-    const Sub whole{{Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0),
-                     Eigen::Vector2d(0, 1)}};
+    // The sample spacing at a point: the spacing of the knot nearest to it
+    // over samples_per_spacing.
+    const auto length = [&](const Eigen::Vector3d& p) {
+      const PointKdTree::Neighbor near = knot_tree.Nearest(p);
+      return near.index >= 0 ? spacing[near.index] / options.samples_per_spacing
+                             : std::numeric_limits<double>::infinity();
+    };
+    if (longest <= length((s[0] + s[1] + s[2]).normalized())) continue;
+    const Sub whole{
+        {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)}};
     Bisect(whole, s, length, options.max_depth, &leaves[f]);
     ++out.split_triangles;
   }
@@ -140,8 +143,7 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
     for (const Sub& t : leaves[f]) {
       // Barycentric area share of the leaf (affine in the mesh triangle).
       const Eigen::Vector2d e0 = t.v[1] - t.v[0], e1 = t.v[2] - t.v[0];
-      const double leaf_area =
-          area * std::abs(e0[0] * e1[1] - e0[1] * e1[0]);
+      const double leaf_area = area * std::abs(e0[0] * e1[1] - e0[1] * e1[0]);
       for (int k = 0; k < 3; ++k) {
         out.weights[row_of(t.v[k])] += leaf_area / 12.0;
       }

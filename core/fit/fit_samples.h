@@ -8,10 +8,10 @@
 // A triangle whose spherical image is small against the local knot spacing
 // is integrated by the vertex rule (a third of its area to each corner). A
 // larger one is split by longest-edge bisection until no edge of a piece's
-// spherical image is longer than the spacing over
-// FitSampleOptions::samples_per_spacing, each piece integrated by the rule
-// that gives its corners 1/12 and its centroid 3/4 of its area (exact for
-// quadratics). So every part of the sphere, and every basis support, holds
+// spherical image is longer than the spacing (of the knot nearest to the
+// piece) over FitSampleOptions::samples_per_spacing, each piece integrated by
+// the rule that gives its corners 1/12 and its centroid 3/4 of its area (exact
+// for quadratics). So every part of the sphere, and every basis support, holds
 // samples about that dense, slivers included, without an m x m lattice.
 #ifndef SDCB_CORE_FIT_FIT_SAMPLES_H_
 #define SDCB_CORE_FIT_FIT_SAMPLES_H_
@@ -25,7 +25,7 @@ namespace sdcb {
 
 struct FitSampleOptions {
   // Samples per knot spacing along a spherical triangle's longest edge.
-  double samples_per_spacing = 3.0;
+  double samples_per_spacing = 2.0;
   // Bisection depth at most (2^depth pieces per triangle at most).
   int max_depth = 14;
 };

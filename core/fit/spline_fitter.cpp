@@ -51,10 +51,10 @@ constexpr double kRoundStageStart[] = {
     0.55,  // solve
     0.75,  // measure
 };
+// Knots of a round that only removes folds: at least this many.
+constexpr int kMinFoldKnots = 10;
 // Rounds assumed before two rounds show the error's decay.
 constexpr int kInitialRoundGuess = 5;
-// Bending weight factor of a re-solve in folded knot triangles.
-constexpr double kFoldFairnessFactor = 10.0;
 
 Status CheckOptions(const FitOptions& o) {
   if (o.degree < 2 || o.degree > kMaxSplineDegree) {
@@ -65,11 +65,12 @@ Status CheckOptions(const FitOptions& o) {
         "the RMSE target must be a positive percentage");
   }
   if (o.knots_per_round < 1 || o.initial_knots < 0 || o.max_rounds < 1 ||
-      o.max_control_points < 1 || o.threads < 0 || o.fold_retries < 0 ||
-      o.round_samples_per_knot < 1 || o.final_surface_samples < 1) {
+      o.max_control_points < 1 || o.threads < 0 ||
+      o.round_samples_per_knot < 1 || o.final_surface_samples < 1 ||
+      o.max_fold_rounds < 0) {
     return InvalidArgumentError(
         "knots per round, rounds, control points and sample counts must be "
-        "positive, threads and fold retries >= 0");
+        "positive, threads >= 0");
   }
   for (double v :
        {o.alpha, o.regularization, o.lambda, o.samples_per_spacing}) {
@@ -140,7 +141,6 @@ DesignMatrix StackScaledRows(
 struct BendingQuadrature {
   Eigen::MatrixX3d points;
   Eigen::VectorXd weights;
-  std::vector<int> triangle;  // knot triangle of each point
 };
 
 // Spherical area of the triangle (a, b, c) (unit vectors): the solid angle
@@ -157,7 +157,6 @@ BendingQuadrature MakeBendingQuadrature(const Eigen::MatrixX3d& knots,
   BendingQuadrature q;
   q.points.resize(3 * n, 3);
   q.weights.resize(3 * n);
-  q.triangle.resize(3 * n);
   for (Eigen::Index t = 0; t < n; ++t) {
     const std::vector<int>& k = tri.sets[t].knots;
     const Eigen::Vector3d v[3] = {knots.row(k[0]), knots.row(k[1]),
@@ -168,26 +167,9 @@ BendingQuadrature MakeBendingQuadrature(const Eigen::MatrixX3d& knots,
                                     .normalized();  // (2/3, 1/6, 1/6)
       q.points.row(3 * t + j) = p.transpose();
       q.weights[3 * t + j] = area / 3.0;
-      q.triangle[3 * t + j] = static_cast<int>(t);
     }
   }
   return q;
-}
-
-// Knot triangles sharing a knot with one of `marked` (marked included).
-std::vector<char> WithNeighbours(const DelaunayConfigurations& tri,
-                                 const std::vector<char>& marked,
-                                 int num_knots) {
-  std::vector<char> knot_marked(num_knots, 0);
-  for (size_t t = 0; t < tri.sets.size(); ++t) {
-    if (!marked[t]) continue;
-    for (int k : tri.sets[t].knots) knot_marked[k] = 1;
-  }
-  std::vector<char> out(tri.sets.size(), 0);
-  for (size_t t = 0; t < tri.sets.size(); ++t) {
-    for (int k : tri.sets[t].knots) out[t] |= knot_marked[k];
-  }
-  return out;
 }
 
 }  // namespace
@@ -225,7 +207,7 @@ RecordedFitOptions RecordFitOptions(const FitOptions& o) {
   r.regularization = o.regularization;
   r.fairness = o.fairness;
   r.samples_per_spacing = o.samples_per_spacing;
-  r.fold_retries = o.fold_retries;
+  r.max_fold_rounds = o.max_fold_rounds;
   r.round_samples_per_knot = o.round_samples_per_knot;
   r.final_surface_samples = o.final_surface_samples;
   return r;
@@ -252,6 +234,9 @@ struct SplineFitter::State {
   Eigen::VectorXd best_vertex_errors;
   bool finished = false;
   int estimated_rounds = kInitialRoundGuess;
+  // The next round places knots only where the surface folds.
+  bool fold_round = false;
+  int fold_rounds = 0;
 
   template <typename F>
   auto InArena(F&& f) {
@@ -350,9 +335,9 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   param_options.progress = [&s](const std::string&, double f) {
     s.Report(FitStage::kParameterization, 0, f);
   };
-  SDCB_ASSIGN_OR_RETURN(
-      const SphericalParameterization param,
-      s.InArena([&] { return ParameterizeOnSphere(mesh, param_options); }));
+  SDCB_ASSIGN_OR_RETURN(const SphericalParameterization param, s.InArena([&] {
+    return ParameterizeOnSphere(mesh, param_options);
+  }));
   s.u = param.sphere;
   s.result.timings.parameterization = stage.Seconds();
   s.parameter_tree = std::make_unique<PointKdTree>(s.u);
@@ -378,9 +363,9 @@ SplineFitter::~SplineFitter() = default;
 bool SplineFitter::finished() const { return !state_ || state_->finished; }
 
 int SplineFitter::rounds() const {
-  return state_ ? static_cast<int>(
-                      state_->result.model.statistics.rounds.size())
-                : 0;
+  return state_
+             ? static_cast<int>(state_->result.model.statistics.rounds.size())
+             : 0;
 }
 
 const SplineModel& SplineFitter::model() const { return state_->result.model; }
@@ -399,7 +384,9 @@ Status SplineFitter::State::RunRound() {
   const int round = static_cast<int>(stats.rounds.size());
   const Stopwatch round_clock;
   const int new_knots = round == 0 && o.initial_knots > 0 ? o.initial_knots
-                                                          : o.knots_per_round;
+                        : fold_round
+                            ? std::max(kMinFoldKnots, o.knots_per_round / 4)
+                            : o.knots_per_round;
   // Knot placement with the existing knots fixed.
   Report(FitStage::kKnotPlacement, round, kRoundStageStart[0]);
   RoundDetails details;
@@ -426,8 +413,7 @@ Status SplineFitter::State::RunRound() {
   if (round > 0 &&
       static_cast<int>(configurations.sets.size()) > o.max_control_points) {
     Finish(false, "the next round would exceed " +
-                      std::to_string(o.max_control_points) +
-                      " control points");
+                      std::to_string(o.max_control_points) + " control points");
     return Status::Ok();
   }
 
@@ -462,81 +448,53 @@ Status SplineFitter::State::RunRound() {
   details.timings.basis = stage.Seconds();
 
   // Least squares: sqrt(w) rows of the data term, sqrt(fairness * area /
-  // 4 pi * weight) rows of the bending energy (uv counted twice), zero
-  // targets for the latter. Re-solved with more bending where it folds.
+  // 4 pi * weight) rows of the bending energy (uv counted twice) with zero
+  // targets.
+  Report(FitStage::kSolve, round, kRoundStageStart[3]);
+  stage = Stopwatch();
   const Eigen::VectorXd data_scale = samples.weights.cwiseSqrt();
-  Eigen::MatrixX3d targets(data.rows() + 3 * bending.points.rows(), 3);
-  targets.setZero();
-  targets.topRows(data.rows()) =
-      data_scale.asDiagonal() * samples.targets;
-  const Eigen::MatrixX3d fallback =
-      NearestSamplePrior(basis, *parameter_tree, mesh.vertices);
+  std::vector<std::pair<const DesignMatrix*, const Eigen::VectorXd*>> parts = {
+      {&data, &data_scale}};
+  Eigen::VectorXd bend_scale, bend_scale_uv;
+  if (o.fairness > 0) {
+    bend_scale =
+        (o.fairness * mesh_area / (4.0 * M_PI) * bending.weights).cwiseSqrt();
+    bend_scale_uv = std::sqrt(2.0) * bend_scale;
+    parts.push_back({&hessian.uu, &bend_scale});
+    parts.push_back({&hessian.uv, &bend_scale_uv});
+    parts.push_back({&hessian.vv, &bend_scale});
+  }
+  const DesignMatrix design = StackScaledRows(parts);
+  Eigen::MatrixX3d targets = Eigen::MatrixX3d::Zero(design.rows(), 3);
+  targets.topRows(data.rows()) = data_scale.asDiagonal() * samples.targets;
   const Eigen::MatrixX3d prior =
-      GrevillePrior(data, samples.targets, fallback);
-  std::vector<double> local(knot_triangles.sets.size(), 1.0);
+      GrevillePrior(data, samples.targets,
+                    NearestSamplePrior(basis, *parameter_tree, mesh.vertices));
   LeastSquaresOptions ls;
   ls.regularization = o.regularization;
-  Eigen::MatrixX3d control_points;
-  SurfaceDeviation deviation;
-  Eigen::MatrixX3d fitted;
-  for (int attempt = 0;; ++attempt) {
-    Report(FitStage::kSolve, round, kRoundStageStart[3]);
-    stage = Stopwatch();
-    Eigen::VectorXd bend_scale(bending.points.rows());
-    for (Eigen::Index q = 0; q < bend_scale.size(); ++q) {
-      bend_scale[q] = std::sqrt(o.fairness * mesh_area / (4.0 * M_PI) *
-                                bending.weights[q] *
-                                local[bending.triangle[q]]);
-    }
-    const Eigen::VectorXd bend_scale_uv = std::sqrt(2.0) * bend_scale;
-    DesignMatrix design =
-        o.fairness > 0
-            ? StackScaledRows({{&data, &data_scale},
-                               {&hessian.uu, &bend_scale},
-                               {&hessian.uv, &bend_scale_uv},
-                               {&hessian.vv, &bend_scale}})
-            : StackScaledRows({{&data, &data_scale}});
-    SDCB_ASSIGN_OR_RETURN(
-        control_points,
-        SolveRegularizedLeastSquares(design, targets.topRows(design.rows()),
-                                     prior, ls));
-    fitted = data * control_points;
-    ++details.solves;
-    details.timings.solve += stage.Seconds();
+  SDCB_ASSIGN_OR_RETURN(
+      const Eigen::MatrixX3d control_points,
+      SolveRegularizedLeastSquares(design, targets, prior, ls));
+  const Eigen::MatrixX3d fitted = data * control_points;
+  details.timings.solve = stage.Seconds();
 
-    // Measure: surface -> mesh at a lattice over the knot triangles, mesh
-    // -> surface bounded by |F(u_i) - x_i| (the closest points come with
-    // the final measurement).
-    Report(FitStage::kMeasure, round, kRoundStageStart[4]);
-    stage = Stopwatch();
-    SDCB_ASSIGN_OR_RETURN(
-        SphericalSpline surface,
-        SphericalSpline::Create(basis, control_points, o.basis_form));
-    DeviationOptions measure;
-    measure.min_surface_samples = o.round_samples_per_knot *
-                                  static_cast<int>(knots.rows());
-    measure.closest_points = false;
-    const Eigen::MatrixX3d vertex_points = fitted.topRows(mesh.vertices.rows());
-    SDCB_ASSIGN_OR_RETURN(
-        deviation,
-        MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points));
-    details.timings.measure += stage.Seconds();
-    if (deviation.folded_area_percent == 0 || attempt >= o.fold_retries ||
-        o.fairness == 0) {
-      break;
-    }
-    std::vector<char> folded(knot_triangles.sets.size(), 0);
-    for (size_t i = 0; i < deviation.surface_sample_folded.size(); ++i) {
-      if (deviation.surface_sample_folded[i]) {
-        folded[deviation.surface_sample_knot_triangle[i]] = 1;
-      }
-    }
-    const std::vector<char> raise =
-        WithNeighbours(knot_triangles, folded, static_cast<int>(knots.rows()));
-    for (size_t t = 0; t < raise.size(); ++t) {
-      if (raise[t]) local[t] *= kFoldFairnessFactor;
-    }
-  }
+  // Measure: surface -> mesh at a lattice over the knot triangles, mesh ->
+  // surface bounded by |F(u_i) - x_i| (the closest points come with the
+  // final measurement).
+  Report(FitStage::kMeasure, round, kRoundStageStart[4]);
+  stage = Stopwatch();
+  SDCB_ASSIGN_OR_RETURN(
+      SphericalSpline surface,
+      SphericalSpline::Create(std::move(basis), control_points, o.basis_form));
+  DeviationOptions measure;
+  measure.min_surface_samples =
+      o.round_samples_per_knot * static_cast<int>(knots.rows());
+  measure.closest_points = false;
+  const Eigen::MatrixX3d vertex_points = fitted.topRows(mesh.vertices.rows());
+  SDCB_ASSIGN_OR_RETURN(
+      SurfaceDeviation deviation,
+      MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points));
+  details.timings.measure += stage.Seconds();
   details.surface_samples = deviation.surface_samples;
 
   // Parametric errors at the vertices (the paper's measure).
@@ -547,7 +505,7 @@ Status SplineFitter::State::RunRound() {
   RoundStatistics rs;
   rs.round = round;
   rs.knots = static_cast<int>(knots.rows());
-  rs.control_points = basis.size();
+  rs.control_points = static_cast<int>(control_points.rows());
   rs.rmse_percent = deviation.rms_percent;
   rs.max_error_percent = deviation.hausdorff_percent;
   rs.vertex_rmse_percent =
@@ -566,15 +524,10 @@ Status SplineFitter::State::RunRound() {
   if (rs.rmse_percent <= o.rmse_percent && rs.folded_area_percent == 0) {
     Report(FitStage::kMeasure, round, kRoundStageStart[4]);
     stage = Stopwatch();
-    SDCB_ASSIGN_OR_RETURN(
-        SphericalSpline surface,
-        SphericalSpline::Create(std::move(basis), control_points,
-                                o.basis_form));
     DeviationOptions measure;
     measure.min_surface_samples =
         std::max(o.final_surface_samples,
                  o.round_samples_per_knot * static_cast<int>(knots.rows()));
-    const Eigen::MatrixX3d vertex_points = fitted.topRows(nv);
     SDCB_ASSIGN_OR_RETURN(
         deviation,
         MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points));
@@ -606,18 +559,33 @@ Status SplineFitter::State::RunRound() {
     Finish(true, "");
     return Status::Ok();
   }
-  if (round + 1 == o.max_rounds) {
-    Finish(false, "the target was not reached within " +
-                      std::to_string(o.max_rounds) + " rounds");
+  // Met the target but folded: the next rounds put fewer knots, only where
+  // the surface folds, a few times at most.
+  const bool only_folds =
+      rs.rmse_percent <= o.rmse_percent && rs.folded_area_percent > 0;
+  const std::string folds_left =
+      "the surface still folds over " + std::to_string(rs.folded_area_percent) +
+      " % of its area (narrow creases or thin parts the spline cannot follow "
+      "yet)";
+  if (only_folds && fold_rounds >= o.max_fold_rounds) {
+    Finish(false, folds_left);
     return Status::Ok();
   }
+  if (round + 1 == o.max_rounds) {
+    Finish(false, only_folds ? folds_left
+                             : "the target was not reached within " +
+                                   std::to_string(o.max_rounds) + " rounds");
+    return Status::Ok();
+  }
+  fold_round = only_folds;
+  if (only_folds) ++fold_rounds;
   // The number of rounds, estimated from the decay of the RMSE.
   if (stats.rounds.size() >= 2) {
     const double previous = stats.rounds[stats.rounds.size() - 2].rmse_percent;
     const double decay = rs.rmse_percent / previous;
     if (decay > 0 && decay < 1) {
-      const double more = std::ceil(
-          std::log(o.rmse_percent / rs.rmse_percent) / std::log(decay));
+      const double more = std::ceil(std::log(o.rmse_percent / rs.rmse_percent) /
+                                    std::log(decay));
       estimated_rounds = std::min<int>(
           o.max_rounds, round + 1 + static_cast<int>(std::max(1.0, more)));
     }
@@ -636,17 +604,29 @@ Status SplineFitter::State::RunRound() {
       error[v] = std::max(error[v], e);
     }
   }
+  // A folded sample counts as the largest error: knots go there. In a round
+  // after the target was met, only there.
+  if (fold_round) error.setConstant(0.0);
+  const double worst =
+      std::max(error.maxCoeff(),
+               deviation.surface_sample_distance_percent.size()
+                   ? deviation.surface_sample_distance_percent.maxCoeff()
+                   : 0.0);
   for (Eigen::Index i = 0; i < deviation.surface_sample_points.rows(); ++i) {
     const PointKdTree::Neighbor n = parameter_tree->Nearest(
         deviation.surface_sample_points.row(i).transpose());
     if (n.index >= 0) {
-      error[n.index] =
-          std::max(error[n.index], deviation.surface_sample_distance_percent[i]);
+      const double e = deviation.surface_sample_folded[i] ? worst
+                       : fold_round
+                           ? 0.0
+                           : deviation.surface_sample_distance_percent[i];
+      error[n.index] = std::max(error[n.index], e);
     }
   }
   if (error.maxCoeff() > 0) {
-    SDCB_ASSIGN_OR_RETURN(density.values,
-                          DensityFromValues(error, o.alpha));
+    // A floor keeps the density positive everywhere (the CVT needs it).
+    error = error.cwiseMax(1e-3 * error.maxCoeff());
+    SDCB_ASSIGN_OR_RETURN(density.values, DensityFromValues(error, o.alpha));
   }
   return Status::Ok();
 }

@@ -73,13 +73,13 @@ struct FitOptions {
   // integral over the mesh of |F(u(x)) - x|^2 divided by the mesh's area
   // (both lengths squared, so the weight is scale-free). Keeps regions with
   // few samples smooth instead of oscillating.
-  double fairness = 1e-7;
+  double fairness = 0.0;
   // Samples of the data term per knot spacing (core/fit/fit_samples.h).
-  double samples_per_spacing = 3.0;
-  // When a solution folds (its normal opposes the mesh's somewhere), it is
-  // solved again with the bending weight raised tenfold in the folded knot
-  // triangles and their neighbours, at most this many times.
-  int fold_retries = 4;
+  double samples_per_spacing = 2.0;
+  // When a round meets the RMSE target but its surface folds, up to this
+  // many rounds follow that place a quarter of knots_per_round, only where
+  // it folds.
+  int max_fold_rounds = 5;
   // Surface samples of the error measurement: per knot in every round, and
   // at least this many for the returned model.
   int round_samples_per_knot = 12;
@@ -117,7 +117,6 @@ struct RoundDetails {
   int data_samples = 0;            // rows of the data term
   int split_triangles = 0;         // mesh triangles with interior samples
   int min_samples_per_basis = 0;   // fewest data samples in one support
-  int solves = 0;                  // 1 + re-solves to remove folds
   // The measurement of this round (surface samples; mesh -> surface as the
   // parametric bound |F(u_i) - x_i| unless `closest_points`).
   int64_t surface_samples = 0;
@@ -155,12 +154,11 @@ class SplineFitter {
 
   // Runs one round: places the round's knots with the existing ones fixed,
   // builds the basis on their configurations, solves for the control points
-  // (again with more bending weight where the surface folds) and measures
-  // the surface against the mesh. The fit is finished when a round meets the
-  // target with no fold (confirmed by the denser final measurement), after
-  // max_rounds, or when a round would exceed max_control_points (that round
-  // is not added). A fit that misses the target returns the round with the
-  // smallest error among those without folds (or, if every round folds, the
+  // and measures the surface against the mesh. The fit is finished when a round
+  // meets the target with no fold (confirmed by the denser final measurement),
+  // after max_rounds, or when a round would exceed max_control_points (that
+  // round is not added). A fit that misses the target returns the round with
+  // the smallest error among those without folds (or, if every round folds, the
   // least folded), with FitResult::shortfall saying why. kInvalidArgument
   // when called after finished().
   Status AddRound();

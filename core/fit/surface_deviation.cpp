@@ -1,9 +1,9 @@
 #include "sdcb/core/fit/surface_deviation.h"
 
-#include <Eigen/Geometry>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -18,6 +18,11 @@ namespace {
 // The lattice of level L over every knot triangle: sphere points (one row
 // per lattice vertex; vertices on shared edges appear once per triangle) and
 // its triangles (three rows of `points` each).
+constexpr double kInset = 1e-6;
+// A spline point farther than this times the distance to the lattice's image
+// starts a closest-point search on the spline.
+constexpr double kRefineRatio = 1.01;
+
 struct Lattice {
   Eigen::MatrixX3d points;
   Eigen::MatrixX3i triangles;
@@ -47,7 +52,12 @@ Lattice BuildLattice(const Eigen::MatrixX3d& knots,
     for (int i = 0; i <= level; ++i) {
       row_start[i] = point - base;
       for (int j = 0; j <= level - i; ++j, ++point) {
-        const double wb = double(i) / level, wc = double(j) / level;
+        // Pulled toward the centroid by kInset (relative): no sample lies
+        // exactly on a knot or on the great circle through two knots, where
+        // the basis's exact predicates would need exact arithmetic; the
+        // images of neighbouring knot triangles still meet within ~1e-6.
+        const double wb = kInset + (1.0 - 3.0 * kInset) * i / level;
+        const double wc = kInset + (1.0 - 3.0 * kInset) * j / level;
         out.points.row(point) =
             ((1.0 - wb - wc) * a + wb * b + wc * c).normalized().transpose();
         out.knot_triangle[point] = t;
@@ -130,7 +140,8 @@ double ClosestOnSpline(const SphericalSpline& surface, const Eigen::Vector3d& x,
 
 StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     const SphericalSpline& surface, const TriangleMesh& mesh,
-    const DeviationOptions& options, const Eigen::MatrixX3d* vertex_candidates) {
+    const DeviationOptions& options,
+    const Eigen::MatrixX3d* vertex_candidates) {
   if (!(options.length_unit > 0) || !std::isfinite(options.length_unit) ||
       options.min_surface_samples < 1 || options.closest_point_iterations < 0) {
     return InvalidArgumentError(
@@ -143,8 +154,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     return InvalidArgumentError(
         "surface deviation: one candidate point per mesh vertex is needed");
   }
-  SDCB_ASSIGN_OR_RETURN(const MeshDistance to_mesh,
-                        MeshDistance::Create(mesh));
+  SDCB_ASSIGN_OR_RETURN(const MeshDistance to_mesh, MeshDistance::Create(mesh));
   SDCB_ASSIGN_OR_RETURN(const DelaunayConfigurations knot_triangles,
                         ComputeDelaunayConfigurations(surface.knots(), 0));
   const double triangles = static_cast<double>(knot_triangles.sets.size());
@@ -194,7 +204,13 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
           const MeshDistance::Closest c =
               to_mesh.Find(image.vertices.row(i).transpose());
           out.surface_sample_distance_percent[i] = to_percent * c.distance;
-          folded[i] = normal.row(i).dot(to_mesh.FaceNormal(c.face)) < 0;
+          // The lattice's normal is only a hint where it is coarse: a
+          // suspected fold is confirmed with the spline's own normal.
+          if (to_mesh.Opposes(c, normal.row(i).transpose())) {
+            const SurfacePoint exact = surface.EvaluateDifferential(
+                lattice.points.row(i).transpose(), JetOrder::kGradient);
+            folded[i] = to_mesh.Opposes(c, exact.normal);
+          }
         }
       });
   double area = 0, sum_squares = 0, folded_area = 0;
@@ -221,8 +237,8 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   std::vector<char> refined(nv, 0);
   if (!options.closest_points) {
     for (Eigen::Index i = 0; i < nv; ++i) {
-      distance[i] =
-          to_percent * (vertex_candidates->row(i) - mesh.vertices.row(i)).norm();
+      distance[i] = to_percent *
+                    (vertex_candidates->row(i) - mesh.vertices.row(i)).norm();
     }
   } else {
     SDCB_ASSIGN_OR_RETURN(const MeshDistance to_image,
@@ -239,8 +255,8 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
                 image.vertices.row(lattice.triangles(c.face, 2)));
             Eigen::Vector3d p = Eigen::Vector3d::Zero();
             for (int k = 0; k < 3; ++k) {
-              p += bary[k] * lattice.points.row(lattice.triangles(c.face, k))
-                                 .transpose();
+              p += bary[k] *
+                   lattice.points.row(lattice.triangles(c.face, k)).transpose();
             }
             p.normalize();
             double d = (surface.Evaluate(p) - x).norm();
@@ -250,9 +266,10 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
             }
             // The spline point is farther than the lattice image suggests:
             // search the spline itself.
-            if (d > 1.05 * c.distance + 1e-9 * options.length_unit) {
-              d = std::min(d, ClosestOnSpline(surface, x, p,
-                                              options.closest_point_iterations));
+            if (d > kRefineRatio * c.distance + 1e-9 * options.length_unit) {
+              d = std::min(d,
+                           ClosestOnSpline(surface, x, p,
+                                           options.closest_point_iterations));
               refined[i] = 1;
             }
             distance[i] = to_percent * d;
@@ -276,11 +293,10 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
           ? std::sqrt(vertex_area.dot(distance.cwiseAbs2()) / mesh_area)
           : 0;
   out.mesh_to_surface_max_percent = nv > 0 ? distance.maxCoeff() : 0;
-  out.rms_percent =
-      std::sqrt(0.5 * (out.surface_to_mesh_rms_percent *
-                           out.surface_to_mesh_rms_percent +
-                       out.mesh_to_surface_rms_percent *
-                           out.mesh_to_surface_rms_percent));
+  out.rms_percent = std::sqrt(
+      0.5 *
+      (out.surface_to_mesh_rms_percent * out.surface_to_mesh_rms_percent +
+       out.mesh_to_surface_rms_percent * out.mesh_to_surface_rms_percent));
   out.hausdorff_percent = std::max(out.surface_to_mesh_max_percent,
                                    out.mesh_to_surface_max_percent);
   return out;

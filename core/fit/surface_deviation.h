@@ -12,15 +12,18 @@
 //   the closest point y of the lattice's image (an AABB tree over it) gives
 //   the sphere point p_y of the same barycentric coordinates, and
 //   |x - F(p_y)| is a distance to a point of the spline. When that is
-//   farther than |x - y| by more than the lattice's measured interpolation
-//   error allows, Gauss-Newton steps on the exact spline improve it. Every
-//   spline point found bounds the true distance from above, so the figure
-//   can only be pessimistic, never flattering. Area-weighted over the mesh
+//   more than 1 % farther than |x - y|, Gauss-Newton steps on the exact
+//   spline improve it. Every spline point found bounds the true distance from
+//   above, so the figure can only be pessimistic, never flattering (tested:
+//   within 1 % of brute force). Area-weighted over the mesh
 //   (a third of each incident triangle's area per vertex).
-// - folds: a surface sample is folded when the normal of the lattice's image
-//   there (area-weighted over its lattice triangles, oriented as the sphere)
-//   points away from the normal of the closest mesh triangle (negative dot
-//   product); the folded area is the area those samples stand for.
+// - folds: a surface sample is folded when the spline's normal there (du x
+//   dv, oriented as the sphere) points away from the mesh's normal at the
+//   closest point (negative dot product with the closest triangle's normal,
+//   and with those of its neighbours when the closest point is on an edge or
+//   a vertex: at a crease the mesh has no single normal); the folded area is
+//   the area those samples stand for. The lattice image's normal screens the
+//   samples; only suspects are evaluated with derivatives.
 //
 // Distances are in percent of DeviationOptions::length_unit (the largest
 // side of the mesh's bounding box, in the frame of both objects).

@@ -26,8 +26,12 @@ Point ToPoint(const Eigen::Vector3d& v) { return Point(v.x(), v.y(), v.z()); }
 
 struct MeshDistance::Tree {
   std::vector<Triangle> triangles;
-  std::vector<int> faces;  // mesh face of each triangle
+  std::vector<int> faces;                // mesh face of each triangle
   std::vector<Eigen::Vector3d> normals;  // per mesh face
+  Eigen::MatrixX3i corners;              // per mesh face
+  Eigen::MatrixX3d vertices;
+  // CSR: the faces around each vertex.
+  std::vector<int> vertex_face_start, vertex_faces;
   AabbTree tree;
 };
 
@@ -50,6 +54,24 @@ StatusOr<MeshDistance> MeshDistance::Create(const TriangleMesh& mesh) {
   }
   if (t->triangles.empty()) {
     return InvalidInputError("the mesh has no non-degenerate triangle");
+  }
+  t->corners = mesh.faces;
+  t->vertices = mesh.vertices;
+  const Eigen::Index nv = mesh.vertices.rows();
+  t->vertex_face_start.assign(nv + 1, 0);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) ++t->vertex_face_start[mesh.faces(f, k) + 1];
+  }
+  for (Eigen::Index v = 0; v < nv; ++v) {
+    t->vertex_face_start[v + 1] += t->vertex_face_start[v];
+  }
+  t->vertex_faces.resize(t->vertex_face_start[nv]);
+  std::vector<int> fill(t->vertex_face_start.begin(),
+                        t->vertex_face_start.end() - 1);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      t->vertex_faces[fill[mesh.faces(f, k)]++] = static_cast<int>(f);
+    }
   }
   t->tree.insert(t->triangles.begin(), t->triangles.end());
   t->tree.build();
@@ -74,6 +96,45 @@ MeshDistance::Closest MeshDistance::Find(const Eigen::Vector3d& query) const {
 
 Eigen::Vector3d MeshDistance::FaceNormal(int face) const {
   return tree_->normals[face];
+}
+
+bool MeshDistance::Opposes(const Closest& c,
+                           const Eigen::Vector3d& direction) const {
+  const Tree& t = *tree_;
+  if (!(direction.dot(t.normals[c.face]) < 0)) return false;
+  // Barycentric coordinates of the closest point in its triangle.
+  const int v[3] = {t.corners(c.face, 0), t.corners(c.face, 1),
+                    t.corners(c.face, 2)};
+  const Eigen::Vector3d a = t.vertices.row(v[0]), b = t.vertices.row(v[1]),
+                        cc = t.vertices.row(v[2]);
+  const Eigen::Vector3d n = (b - a).cross(cc - a);
+  const double twice_area = n.squaredNorm();
+  if (!(twice_area > 0)) return true;
+  double bary[3];
+  bary[0] = n.dot((b - c.point).cross(cc - c.point)) / twice_area;
+  bary[1] = n.dot((cc - c.point).cross(a - c.point)) / twice_area;
+  bary[2] = 1.0 - bary[0] - bary[1];
+  constexpr double kOnBoundary = 1e-9;
+  // Corners of the feature holding the point: one vertex (two coordinates
+  // ~0), an edge (one ~0), or the interior.
+  std::vector<int> feature;
+  for (int k = 0; k < 3; ++k) {
+    if (bary[k] > kOnBoundary) feature.push_back(v[k]);
+  }
+  if (feature.size() == 3) return true;
+  // Every face holding the whole feature (its vertices) must be opposed.
+  const int pivot = feature.empty() ? v[0] : feature[0];
+  for (int j = t.vertex_face_start[pivot]; j < t.vertex_face_start[pivot + 1];
+       ++j) {
+    const int f = t.vertex_faces[j];
+    bool holds = true;
+    for (int w : feature) {
+      holds = holds && (t.corners(f, 0) == w || t.corners(f, 1) == w ||
+                        t.corners(f, 2) == w);
+    }
+    if (holds && !(direction.dot(t.normals[f]) < 0)) return false;
+  }
+  return true;
 }
 
 }  // namespace sdcb

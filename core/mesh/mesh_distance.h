@@ -38,6 +38,13 @@ class MeshDistance {
   // zero for an exactly degenerate triangle.
   Eigen::Vector3d FaceNormal(int face) const;
 
+  // Whether `direction` points away from the mesh's orientation at the
+  // closest point `c`: its dot product with the normal of c.face is
+  // negative, and, when c lies on an edge or a vertex of that triangle
+  // (within 1e-9 of its size), with the normals of every triangle sharing
+  // that edge or vertex too (at a crease the mesh has no single normal).
+  bool Opposes(const Closest& c, const Eigen::Vector3d& direction) const;
+
  private:
   struct Tree;
   explicit MeshDistance(std::unique_ptr<Tree> tree);

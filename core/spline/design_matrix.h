@@ -66,6 +66,16 @@ ChartHessianRows BuildChartHessianRows(const DcbBasis& basis,
                                        const Eigen::MatrixX3d& points,
                                        BasisForm form);
 
+// First derivatives in the same chart: row r of `u` and `v` holds
+// d b_i / du and d b_i / dv at points.row(r), in the frame
+// TangentFrame(points.row(r)).
+struct ChartGradientRows {
+  DesignMatrix u, v;
+};
+ChartGradientRows BuildChartGradientRows(const DcbBasis& basis,
+                                         const Eigen::MatrixX3d& points,
+                                         BasisForm form);
+
 }  // namespace sdcb
 
 #endif  // SDCB_CORE_SPLINE_DESIGN_MATRIX_H_

@@ -81,7 +81,7 @@ struct RecordedFitOptions {
   double regularization = 0.0;
   double fairness = 0.0;
   double samples_per_spacing = 0.0;
-  int fold_retries = 0;
+  int max_fold_rounds = 0;
   int round_samples_per_knot = 0;
   int final_surface_samples = 0;
 };

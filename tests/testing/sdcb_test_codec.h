@@ -319,7 +319,7 @@ inline ::testing::AssertionResult BitIdentical(const SplineModel& a,
       !SameBits(oa.regularization, ob.regularization) ||
       !SameBits(oa.fairness, ob.fairness) ||
       !SameBits(oa.samples_per_spacing, ob.samples_per_spacing) ||
-      oa.fold_retries != ob.fold_retries ||
+      oa.max_fold_rounds != ob.max_fold_rounds ||
       oa.round_samples_per_knot != ob.round_samples_per_knot ||
       oa.final_surface_samples != ob.final_surface_samples) {
     return fail("options");
