@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,12 @@ class Tessellator {
     positions_[v] = p.row(0).transpose();
     normals_[v] = n.row(0).transpose();
   }
+  // Splits faces until every face reachable from `pending` is certified.
+  Status Refine(std::vector<int> pending);
+  double PredictedError(int a, int b, int c) const;
+  // Edge collapses and flips guided by PredictedError.
+  void Optimize();
+  int Smooth(double target);
   // Certifies `faces` (alive face slots) in one batch.
   std::vector<FaceCheck> Check(const std::vector<int>& faces);
   double ShortestDomainEdge(int f) const {
@@ -147,20 +154,9 @@ std::vector<FaceCheck> Tessellator::Check(const std::vector<int>& faces) {
   return checks;
 }
 
-Status Tessellator::Run(Tessellation* out) {
+Status Tessellator::Refine(std::vector<int> pending) {
   const auto length = [this](int a, int b) { return EdgeLength(a, b); };
   const auto on_vertex = [this](int v) { AddVertex(v); };
-  // The icosahedron's vertices are evaluated before its edges are ordered.
-  {
-    SphereTriangulation probe =
-        SphereTriangulation::Icosahedron([](int, int) { return 0.0; });
-    triangulation_ = std::move(probe);
-    for (int v = 0; v < triangulation_.num_vertices(); ++v) AddVertex(v);
-    triangulation_ = SphereTriangulation::Icosahedron(length);
-  }
-  std::vector<int> pending;
-  for (int f = 0; f < triangulation_.num_face_slots(); ++f)
-    pending.push_back(f);
   while (!pending.empty()) {
     const std::vector<FaceCheck> checks = Check(pending);
     const int first_new = triangulation_.num_face_slots();
@@ -180,12 +176,182 @@ Status Tessellator::Run(Tessellation* out) {
       if (triangulation_.alive(f)) pending.push_back(f);
     }
   }
-  // Final certificate of every face (the numbers reported).
-  std::vector<int> all;
-  for (int f = 0; f < triangulation_.num_face_slots(); ++f) {
-    if (triangulation_.alive(f)) all.push_back(f);
+  return Status::Ok();
+}
+
+// Chordal error of face (a, b, c) predicted from its corners' positions and
+// normals: for a quadratic surface over the triangle, linear interpolation
+// misses by (1/2) |sum_{i<j} l_i l_j Q_ij| at barycentric point l, with
+// Q_ij = (n_j - n_i) . (p_j - p_i) = d_ij^T H d_ij exactly. Infinite where a
+// normal is missing (singular point) or the normal test fails.
+double Tessellator::PredictedError(int a, int b, int c) const {
+  const Eigen::Vector3d& pa = positions_[a];
+  const Eigen::Vector3d& pb = positions_[b];
+  const Eigen::Vector3d& pc = positions_[c];
+  const Eigen::Vector3d& na = normals_[a];
+  const Eigen::Vector3d& nb = normals_[b];
+  const Eigen::Vector3d& nc = normals_[c];
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (na.isZero(0.0) || nb.isZero(0.0) || nc.isZero(0.0)) return kInf;
+  const Eigen::Vector3d cross = (pb - pa).cross(pc - pa);
+  const double area2 = cross.norm();
+  if (!(area2 > 0.0)) return kInf;
+  const Eigen::Vector3d n = cross / area2;
+  // The image must not turn over against the surface normals.
+  const double min_cos = std::min({n.dot(na), n.dot(nb), n.dot(nc)});
+  if (min_cos <= 0.0) return kInf;
+  if (test_angle_ && min_cos < cos_angle_) {
+    const double diameter =
+        std::max({(pa - pb).norm(), (pb - pc).norm(), (pc - pa).norm()});
+    if (diameter > options_.tolerance) return kInf;
   }
-  const std::vector<FaceCheck> checks = Check(all);
+  const double qab = (nb - na).dot(pb - pa), qbc = (nc - nb).dot(pc - pb),
+               qca = (na - nc).dot(pa - pc);
+  double worst = 0.0;
+  constexpr int kOrder = 8;
+  for (int i = 0; i <= kOrder; ++i)
+    for (int j = 0; i + j <= kOrder; ++j) {
+      const double la = double(i) / kOrder, lb = double(j) / kOrder,
+                   lc = 1.0 - la - lb;
+      worst = std::max(worst,
+                       std::abs(la * lb * qab + lb * lc * qbc + lc * la * qca));
+    }
+  return 0.5 * worst;
+}
+
+void Tessellator::Optimize() {
+  const auto length = [this](int a, int b) { return EdgeLength(a, b); };
+  // Predictions are checked by the final certificate; aim a little lower
+  // so that few faces fail it.
+  const double target = 0.85 * accept_;
+  std::vector<SphereTriangulation::Face> faces, old_faces;
+  auto worst = [&](const std::vector<SphereTriangulation::Face>& fs) {
+    double w = 0.0;
+    for (const auto& t : fs) w = std::max(w, PredictedError(t[0], t[1], t[2]));
+    return w;
+  };
+  for (int pass = 0; pass < 6; ++pass) {
+    int changes = 0;
+    std::vector<std::array<int, 2>> edges = triangulation_.Edges();
+    std::vector<double> lengths(edges.size());
+    for (size_t i = 0; i < edges.size(); ++i) {
+      lengths[i] = (positions_[edges[i][0]] - positions_[edges[i][1]]).norm();
+    }
+    std::vector<size_t> order(edges.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) {
+      return lengths[x] < lengths[y];
+    });
+    // Collapses, shortest edges first.
+    for (size_t o : order) {
+      const int a = edges[o][0], b = edges[o][1];
+      if (!triangulation_.HasEdge(a, b)) continue;
+      double best = target;
+      int from = -1, to = -1;
+      for (const auto& [v, w] : {std::make_pair(a, b), std::make_pair(b, a)}) {
+        if (!triangulation_.PreviewCollapse(v, w, &faces)) continue;
+        const double e = worst(faces);
+        if (e <= best) {
+          best = e;
+          from = v;
+          to = w;
+        }
+      }
+      if (from >= 0) {
+        triangulation_.Collapse(from, to, length);
+        ++changes;
+      }
+    }
+    // Flips that lower the larger predicted error of the two faces.
+    for (const auto& [a, b] : triangulation_.Edges()) {
+      if (!triangulation_.HasEdge(a, b)) continue;
+      if (!triangulation_.PreviewFlip(a, b, &faces)) continue;
+      const double after = worst(faces);
+      // New faces (a, d, c), (d, b, c) replace (a, b, c), (b, a, d).
+      const int c = faces[0][2], d = faces[0][1];
+      old_faces = {{a, b, c}, {b, a, d}};
+      if (after < 0.98 * worst(old_faces) && after <= target) {
+        triangulation_.Flip(a, b, length);
+        ++changes;
+      }
+    }
+    changes += Smooth(target);
+    if (changes == 0) break;
+  }
+}
+
+// Moves each vertex halfway toward the centroid of its neighbours on the
+// domain where that lowers the largest predicted error of its faces
+// (equalizing errors leaves room for more collapses). One batch of surface
+// evaluations for all candidate positions; acceptance is sequential.
+int Tessellator::Smooth(double target) {
+  std::vector<int> vertices = triangulation_.AliveVertices();
+  Eigen::MatrixX3d candidates(vertices.size(), 3);
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    const int v = vertices[i];
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int x : triangulation_.Ring(v)) centroid += triangulation_.vertex(x);
+    candidates.row(i) =
+        (triangulation_.vertex(v) + centroid.normalized()).normalized();
+  }
+  Eigen::MatrixX3d positions, normals;
+  surface_.Sample(candidates, &positions, &normals);
+  evaluations_ += candidates.rows();
+  int moved = 0;
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    const int v = vertices[i];
+    const std::vector<int> ring = triangulation_.Ring(v);
+    const int n = static_cast<int>(ring.size());
+    double before = 0.0;
+    for (int k = 0; k < n; ++k) {
+      before = std::max(before, PredictedError(v, ring[k], ring[(k + 1) % n]));
+    }
+    const Eigen::Vector3d old_direction = triangulation_.vertex(v);
+    const Eigen::Vector3d old_position = positions_[v],
+                          old_normal = normals_[v];
+    triangulation_.MoveVertex(v, candidates.row(i).transpose());
+    positions_[v] = positions.row(i).transpose();
+    normals_[v] = normals.row(i).transpose();
+    double after = 0.0;
+    bool valid = true;
+    for (int k = 0; k < n && valid; ++k) {
+      valid = triangulation_.IsPositive(v, ring[k], ring[(k + 1) % n]);
+      after = std::max(after, PredictedError(v, ring[k], ring[(k + 1) % n]));
+    }
+    if (valid && after < 0.98 * before && after <= std::max(target, before)) {
+      ++moved;
+      continue;
+    }
+    triangulation_.MoveVertex(v, old_direction);
+    positions_[v] = old_position;
+    normals_[v] = old_normal;
+  }
+  return moved;
+}
+
+Status Tessellator::Run(Tessellation* out) {
+  const auto length = [this](int a, int b) { return EdgeLength(a, b); };
+  // The icosahedron's vertices are evaluated before its edges are ordered.
+  triangulation_ =
+      SphereTriangulation::Icosahedron([](int, int) { return 0.0; });
+  for (int v = 0; v < triangulation_.num_vertices(); ++v) AddVertex(v);
+  triangulation_ = SphereTriangulation::Icosahedron(length);
+  auto alive_faces = [this] {
+    std::vector<int> all;
+    for (int f = 0; f < triangulation_.num_face_slots(); ++f) {
+      if (triangulation_.alive(f)) all.push_back(f);
+    }
+    return all;
+  };
+  SDCB_RETURN_IF_ERROR(Refine(alive_faces()));
+  if (options_.optimize) {
+    Optimize();
+    // The predictions are not a certificate: certify every face again and
+    // split those that fail.
+    SDCB_RETURN_IF_ERROR(Refine(alive_faces()));
+  }
+  // Final certificate of every face (the numbers reported).
+  const std::vector<FaceCheck> checks = Check(alive_faces());
   const double scale =
       1.0 / (1.0 - 4.0 / (3.0 * options_.lattice * options_.lattice));
   for (const FaceCheck& c : checks) {
@@ -194,14 +360,17 @@ Status Tessellator::Run(Tessellation* out) {
     if (!c.pass) ++uncertified_;
   }
 
-  out->directions = triangulation_.Vertices();
+  const std::vector<int> vertices = triangulation_.AliveVertices();
   out->faces = triangulation_.Faces();
-  const int nv = triangulation_.num_vertices();
+  const int nv = static_cast<int>(vertices.size());
+  out->directions.resize(nv, 3);
   out->positions.resize(nv, 3);
   out->normals.resize(nv, 3);
-  for (int v = 0; v < nv; ++v) {
-    out->positions.row(v) = positions_[v].transpose();
-    out->normals.row(v) = normals_[v].transpose();
+  for (int i = 0; i < nv; ++i) {
+    const int v = vertices[i];
+    out->directions.row(i) = triangulation_.vertex(v).transpose();
+    out->positions.row(i) = positions_[v].transpose();
+    out->normals.row(i) = normals_[v].transpose();
   }
   out->certified_distance = max_distance_;
   out->max_normal_angle_degrees = max_angle_ * 180.0 / kPi;

@@ -54,12 +54,42 @@ class SphereTriangulation {
 
   // The other face across edge (a, b), or -1.
   int Opposite(int f, int a, int b) const;
+  bool HasEdge(int a, int b) const { return edges_.count(Key(a, b)) > 0; }
+  bool vertex_alive(int v) const { return vertex_face_[v] >= 0; }
 
-  // Alive faces as a #F by 3 index matrix and a compact numbering of the
-  // vertices they use (all of them: nothing is ever removed).
+  // The neighbours of vertex v in counter-clockwise order (seen from
+  // outside); ring[i], ring[i + 1] and v span one face.
+  std::vector<int> Ring(int v) const;
+
+  // Half-edge collapse of v into its neighbour w: the two faces of edge
+  // (v, w) disappear, v's other faces get w instead of v. Fills `faces`
+  // with the faces that would replace v's faces and returns true if the
+  // collapse keeps a valid triangulation of the sphere: the link condition
+  // (v and w share exactly two neighbours, so the result stays manifold)
+  // and every new face positively oriented on the sphere.
+  bool PreviewCollapse(int v, int w, std::vector<Face>* faces) const;
+  void Collapse(int v, int w, const EdgeLength& length);
+  // Flips edge (a, b) of faces (a, b, c), (b, a, d) to (a, d, c), (d, b, c).
+  // Returns false (and does nothing) if edge (c, d) exists already or a new
+  // face would not be positively oriented. `faces` gets the new faces.
+  bool PreviewFlip(int a, int b, std::vector<Face>* faces) const;
+  void Flip(int a, int b, const EdgeLength& length);
+  // Moves vertex v to the unit vector `direction` (the caller checks the
+  // faces stay positive with IsPositive). Edge lengths are not updated: they
+  // only order bisections.
+  void MoveVertex(int v, const Eigen::Vector3d& direction) {
+    vertices_[v] = direction;
+  }
+  // Whether (a, b, c) is a positively oriented spherical triangle (with a
+  // small relative margin against rounding).
+  bool IsPositive(int a, int b, int c) const { return Positive(a, b, c); }
+  // All edges as (a, b), a < b, in increasing order of (a, b).
+  std::vector<std::array<int, 2>> Edges() const;
+
+  // The alive vertices in increasing order, and the alive faces with their
+  // corners renumbered accordingly (#F by 3).
+  std::vector<int> AliveVertices() const;
   Eigen::MatrixX3i Faces() const;
-  // #V by 3 vertex directions.
-  Eigen::MatrixX3d Vertices() const;
 
  private:
   struct Edge {
@@ -73,6 +103,8 @@ class SphereTriangulation {
   }
   // Whether edge (a, b) is longer than (c, d) in the strict order.
   bool Longer(int a, int b, int c, int d) const;
+  // Whether (a, b, c) is a positively oriented spherical triangle.
+  bool Positive(int a, int b, int c) const;
   // The longest edge of face f as (a, b), in the face's orientation.
   std::array<int, 2> LongestEdge(int f) const;
   int AddFace(const Face& face, const EdgeLength& length);
@@ -84,6 +116,7 @@ class SphereTriangulation {
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<Face> faces_;
   std::vector<char> alive_;
+  std::vector<int> vertex_face_;  // an alive face of each vertex, -1: removed
   int num_alive_ = 0;
   std::unordered_map<std::uint64_t, Edge> edges_;
 };
