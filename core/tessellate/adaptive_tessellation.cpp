@@ -285,6 +285,7 @@ void Tessellator::Optimize() {
 // (equalizing errors leaves room for more collapses). One batch of surface
 // evaluations for all candidate positions; acceptance is sequential.
 int Tessellator::Smooth(double target) {
+  const auto length = [this](int a, int b) { return EdgeLength(a, b); };
   std::vector<int> vertices = triangulation_.AliveVertices();
   Eigen::MatrixX3d candidates(vertices.size(), 3);
   for (size_t i = 0; i < vertices.size(); ++i) {
@@ -309,9 +310,9 @@ int Tessellator::Smooth(double target) {
     const Eigen::Vector3d old_direction = triangulation_.vertex(v);
     const Eigen::Vector3d old_position = positions_[v],
                           old_normal = normals_[v];
-    triangulation_.MoveVertex(v, candidates.row(i).transpose());
     positions_[v] = positions.row(i).transpose();
     normals_[v] = normals.row(i).transpose();
+    triangulation_.MoveVertex(v, candidates.row(i).transpose(), length);
     double after = 0.0;
     bool valid = true;
     for (int k = 0; k < n && valid; ++k) {
@@ -322,9 +323,9 @@ int Tessellator::Smooth(double target) {
       ++moved;
       continue;
     }
-    triangulation_.MoveVertex(v, old_direction);
     positions_[v] = old_position;
     normals_[v] = old_normal;
+    triangulation_.MoveVertex(v, old_direction, length);
   }
   return moved;
 }

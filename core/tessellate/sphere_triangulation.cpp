@@ -270,6 +270,12 @@ void SphereTriangulation::Flip(int a, int b, const EdgeLength& length) {
   for (const Face& t : faces) AddFace(t, length);
 }
 
+void SphereTriangulation::MoveVertex(int v, const Eigen::Vector3d& direction,
+                                     const EdgeLength& length) {
+  vertices_[v] = direction;
+  for (int x : Ring(v)) edges_.at(Key(v, x)).length = length(v, x);
+}
+
 std::vector<std::array<int, 2>> SphereTriangulation::Edges() const {
   std::vector<std::array<int, 2>> out;
   out.reserve(edges_.size());

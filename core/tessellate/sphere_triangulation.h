@@ -75,11 +75,9 @@ class SphereTriangulation {
   bool PreviewFlip(int a, int b, std::vector<Face>* faces) const;
   void Flip(int a, int b, const EdgeLength& length);
   // Moves vertex v to the unit vector `direction` (the caller checks the
-  // faces stay positive with IsPositive). Edge lengths are not updated: they
-  // only order bisections.
-  void MoveVertex(int v, const Eigen::Vector3d& direction) {
-    vertices_[v] = direction;
-  }
+  // faces stay positive with IsPositive) and re-measures its edges.
+  void MoveVertex(int v, const Eigen::Vector3d& direction,
+                  const EdgeLength& length);
   // Whether (a, b, c) is a positively oriented spherical triangle (with a
   // small relative margin against rounding).
   bool IsPositive(int a, int b, int c) const { return Positive(a, b, c); }
