@@ -14,6 +14,7 @@
 #include "sdcb/converters/gltf_export.h"
 #include "sdcb/converters/mesh_distance.h"
 #include "sdcb/converters/mesh_export.h"
+#include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/core/tessellate/adaptive_tessellation.h"
 #include "sdcb/core/tessellate/optimal_triangle_count.h"
@@ -226,7 +227,10 @@ int RunExport(const std::vector<std::string>& argv) {
     reference = ReadMesh(args.Get("mesh"));
     if (!reference.ok()) return ReportError(reference.status());
   }
-  const SplineSampler sampler(*spline);
+  // Positions and normals from the per-piece polynomials (fast; equal to
+  // the spline's to rounding), curvature from the spline.
+  const PiecewiseSurface pieces(*spline);
+  const PiecewiseSplineSampler sampler(*spline, pieces);
   const NormalizingTransform& transform = model->transform;
 
   // Tolerances in the normalized frame (largest side 1): PCT / 100.

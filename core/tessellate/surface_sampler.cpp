@@ -1,5 +1,6 @@
 #include "sdcb/core/tessellate/surface_sampler.h"
 
+#include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/spherical_spline.h"
 
 namespace sdcb {
@@ -33,6 +34,12 @@ bool SplineSampler::SampleCurvature(const Eigen::MatrixX3d& directions,
     (*mean)[i] = jets[i].mean_curvature;
   }
   return true;
+}
+
+void PiecewiseSplineSampler::Sample(const Eigen::MatrixX3d& directions,
+                                    Eigen::MatrixX3d* positions,
+                                    Eigen::MatrixX3d* normals) const {
+  pieces_.EvaluateMany(directions, positions, normals);
 }
 
 }  // namespace sdcb

@@ -11,6 +11,7 @@
 namespace sdcb {
 
 class SphericalSpline;
+class PiecewiseSurface;
 
 class SurfaceSampler {
  public:
@@ -46,6 +47,26 @@ class SplineSampler : public SurfaceSampler {
 
  private:
   const SphericalSpline& spline_;
+};
+
+// Samples a SphericalSpline through its PiecewiseSurface (positions and
+// normals; fast) and the spline itself for curvature.
+class PiecewiseSplineSampler : public SurfaceSampler {
+ public:
+  PiecewiseSplineSampler(const SphericalSpline& spline,
+                         const PiecewiseSurface& pieces)
+      : spline_(spline), pieces_(pieces) {}
+  void Sample(const Eigen::MatrixX3d& directions, Eigen::MatrixX3d* positions,
+              Eigen::MatrixX3d* normals) const override;
+  bool SampleCurvature(const Eigen::MatrixX3d& directions,
+                       Eigen::VectorXd* gaussian,
+                       Eigen::VectorXd* mean) const override {
+    return SplineSampler(spline_).SampleCurvature(directions, gaussian, mean);
+  }
+
+ private:
+  const SphericalSpline& spline_;
+  const PiecewiseSurface& pieces_;
 };
 
 }  // namespace sdcb
