@@ -335,7 +335,9 @@ bool SimplexSpline::PiecePolynomial(const Eigen::Vector3d& q,
   if (!LeafValues(q, leaves)) return false;
   constexpr int kSize = PolynomialSize(kMax - 3);
   const int count = static_cast<int>(nodes_.size());
-  std::vector<std::array<double, kSize>> poly(count);
+  // Reused per thread: this runs once per region and basis function.
+  thread_local std::vector<std::array<double, kSize>> poly;
+  if (static_cast<int>(poly.size()) < count) poly.resize(count);
   for (int i = 0; i < num_leaves_; ++i) {
     poly[i].fill(0.0);
     poly[i][0] = leaves[i];
