@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <set>
 #include <shared_mutex>
@@ -17,7 +18,9 @@ namespace sdcb {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kMaxLines = 64;
+constexpr int kMaxLines = 64;    // bits of a region key
+constexpr int kSplitLines = 24;  // cells with more lines are split
+constexpr int kMaxDepth = 8;
 
 // Cube face f: axis a = sign * e_k (f = 2k + (sign < 0)) and e1, e2 with
 // e1 x e2 = a, so the chart (u, v) -> a + u e1 + v e2 is positively oriented.
@@ -38,6 +41,10 @@ double Angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 
 struct PiecewiseSurface::Cell {
   int index = 0;
+  // Quadtree: a cell with more than kMaxLines lines is split into four
+  // children (quadrants of (u, v) around (uc, vc)); leaves hold the regions.
+  std::unique_ptr<Cell> children[4];
+  double uc = 0.0, vc = 0.0, h = 1.0;  // centre and half side in (u, v)
   Eigen::Vector3d origin, e1, e2;        // local chart o + s e1 + t e2
   std::vector<int> lines;                // indices into segments_
   std::vector<Eigen::Vector3d> normals;  // t_a x t_b of each line
@@ -87,68 +94,109 @@ PiecewiseSurface::PiecewiseSurface(const SphericalSpline& spline, int grid)
     set_radius[i] = c <= -1.0 ? kPi : std::acos(std::min(1.0, c));
   }
   cells_.resize(6 * g * g);
+  // Builds the cell of face f centred at (uc, vc) with half side h from the
+  // candidate segments and basis functions of its parent.
+  std::function<std::unique_ptr<Cell>(int, double, double, double,
+                                      const std::vector<int>&,
+                                      const std::vector<int>&, int)>
+      build = [&](int f, double uc, double vc, double h,
+                  const std::vector<int>& segments, const std::vector<int>& sets,
+                  int depth) {
+        auto cell = std::make_unique<Cell>();
+        Eigen::Vector3d a, e1, e2;
+        FaceFrame(f, &a, &e1, &e2);
+        cell->uc = uc;
+        cell->vc = vc;
+        cell->h = h;
+        cell->origin = a + uc * e1 + vc * e2;
+        cell->e1 = h * e1;
+        cell->e2 = h * e2;
+        const Eigen::Vector3d center = cell->origin.normalized();
+        Eigen::Vector3d corner[4];
+        double radius = 0.0;
+        for (int c = 0; c < 4; ++c) {
+          corner[c] = a + (uc + h * ((c & 1) ? 1 : -1)) * e1 +
+                      (vc + h * ((c >> 1) ? 1 : -1)) * e2;
+          radius = std::max(radius, Angle(center, corner[c]));
+        }
+        radius += 1e-9;
+        for (int s : segments) {
+          if (Angle(center, mid[s]) > radius + half[s] + 1e-9) continue;
+          // The great circle misses the (gnomonically convex) cell if all
+          // four corners lie strictly on one side.
+          int pos = 0, neg = 0;
+          for (const Eigen::Vector3d& x : corner) {
+            const double d = x.dot(normal[s]);
+            const double margin = 1e-12 * x.norm() * normal[s].norm();
+            pos += d > margin;
+            neg += d < -margin;
+          }
+          if (pos == 4 || neg == 4) continue;
+          cell->lines.push_back(s);
+        }
+        for (int b : sets) {
+          if (Angle(center, basis.support_cap(b).axis) <=
+              radius + set_radius[b] + 1e-9) {
+            cell->sets.push_back(b);
+          }
+        }
+        if (cell->lines.size() > kSplitLines && depth < kMaxDepth) {
+          for (int q = 0; q < 4; ++q) {
+            cell->children[q] =
+                build(f, uc + 0.5 * h * ((q & 1) ? 1 : -1),
+                      vc + 0.5 * h * ((q >> 1) ? 1 : -1), 0.5 * h, cell->lines,
+                      cell->sets, depth + 1);
+          }
+          cell->lines.clear();
+          cell->sets.clear();
+          return cell;
+        }
+        cell->slow = cell->lines.size() > kMaxLines;
+        for (int s : cell->lines) {
+          const Eigen::Vector3d ka = knots.row(segments_[s][0]).transpose();
+          const Eigen::Vector3d kb = knots.row(segments_[s][1]).transpose();
+          cell->normals.push_back(ka.cross(kb));
+          // Twice PerturbedDetSign's filter: beyond it the float sign is the
+          // exact one; within it PerturbedDetSign decides.
+          cell->bounds.push_back(2e-13 * ka.cwiseAbs().sum() *
+                                 kb.cwiseAbs().sum());
+        }
+        return cell;
+      };
+  std::vector<int> all_segments(ns), all_sets(basis.size());
+  for (int s = 0; s < ns; ++s) all_segments[s] = s;
+  for (int b = 0; b < basis.size(); ++b) all_sets[b] = b;
   tbb::parallel_for(0, 6 * g * g, [&](int index) {
-    auto cell = std::make_unique<Cell>();
-    cell->index = index;
     const int f = index / (g * g), i = (index / g) % g, j = index % g;
-    Eigen::Vector3d a, e1, e2;
-    FaceFrame(f, &a, &e1, &e2);
     const double h = 1.0 / g;
-    const double u0 = -1.0 + 2.0 * h * i, v0 = -1.0 + 2.0 * h * j;
-    const double uc = u0 + h, vc = v0 + h;
-    cell->origin = a + uc * e1 + vc * e2;
-    cell->e1 = h * e1;
-    cell->e2 = h * e2;
-    const Eigen::Vector3d center = cell->origin.normalized();
-    Eigen::Vector3d corner[4];
-    double radius = 0.0;
-    for (int c = 0; c < 4; ++c) {
-      corner[c] =
-          a + (u0 + 2 * h * (c & 1)) * e1 + (v0 + 2 * h * (c >> 1)) * e2;
-      radius = std::max(radius, Angle(center, corner[c]));
-    }
-    radius += 1e-9;
-    for (int s = 0; s < ns; ++s) {
-      if (Angle(center, mid[s]) > radius + half[s] + 1e-9) continue;
-      // The great circle misses the (gnomonically convex) cell if all four
-      // corners lie strictly on one side.
-      int pos = 0, neg = 0;
-      for (const Eigen::Vector3d& x : corner) {
-        const double d = x.dot(normal[s]);
-        const double margin = 1e-12 * x.norm() * normal[s].norm();
-        pos += d > margin;
-        neg += d < -margin;
-      }
-      if (pos == 4 || neg == 4) continue;
-      cell->lines.push_back(s);
-    }
-    cell->slow = cell->lines.size() > kMaxLines;
-    for (int s : cell->lines) {
-      const Eigen::Vector3d ka = knots.row(segments_[s][0]).transpose();
-      const Eigen::Vector3d kb = knots.row(segments_[s][1]).transpose();
-      cell->normals.push_back(ka.cross(kb));
-      // Twice PerturbedDetSign's filter: beyond it the float sign is the
-      // exact one; within it PerturbedDetSign decides.
-      cell->bounds.push_back(2e-13 * ka.cwiseAbs().sum() * kb.cwiseAbs().sum());
-    }
-    for (int b = 0; b < basis.size(); ++b) {
-      if (Angle(center, basis.support_cap(b).axis) <=
-          radius + set_radius[b] + 1e-9) {
-        cell->sets.push_back(b);
-      }
-    }
-    cells_[index] = std::move(cell);
+    cells_[index] = build(f, -1.0 + h * (2 * i + 1), -1.0 + h * (2 * j + 1),
+                          h, all_segments, all_sets, 0);
   });
+  // Number the leaves (the order EvaluateMany sorts by).
+  int next = 0;
+  std::function<void(Cell*)> number = [&](Cell* cell) {
+    if (cell->children[0]) {
+      for (auto& child : cell->children) number(child.get());
+    } else {
+      cell->index = next++;
+    }
+  };
+  for (auto& root : cells_) number(root.get());
 }
 
 PiecewiseSurface::~PiecewiseSurface() = default;
 
 int64_t PiecewiseSurface::num_regions() const {
   int64_t n = 0;
-  for (const auto& c : cells_) {
-    std::shared_lock<std::shared_mutex> lock(c->mutex);
-    n += static_cast<int64_t>(c->regions.size());
-  }
+  std::function<void(const Cell&)> count = [&](const Cell& cell) {
+    if (cell.children[0]) {
+      for (const auto& child : cell.children) count(*child);
+      return;
+    }
+    std::shared_lock<std::shared_mutex> lock(cell.mutex);
+    n += static_cast<int64_t>(cell.regions.size());
+  };
+  for (const auto& c : cells_) count(*c);
   return n;
 }
 
@@ -167,10 +215,13 @@ const PiecewiseSurface::Cell& PiecewiseSurface::Locate(const Eigen::Vector3d& p,
       std::clamp(static_cast<int>(std::floor((u + 1.0) * 0.5 * g)), 0, g - 1);
   const int j =
       std::clamp(static_cast<int>(std::floor((v + 1.0) * 0.5 * g)), 0, g - 1);
-  const double h = 1.0 / g;
-  *s = (u - (-1.0 + h * (2 * i + 1))) / h;
-  *t = (v - (-1.0 + h * (2 * j + 1))) / h;
-  return *cells_[(f * g + i) * g + j];
+  const Cell* cell = cells_[(f * g + i) * g + j].get();
+  while (cell->children[0]) {
+    cell = cell->children[(u >= cell->uc ? 1 : 0) + (v >= cell->vc ? 2 : 0)].get();
+  }
+  *s = (u - cell->uc) / cell->h;
+  *t = (v - cell->vc) / cell->h;
+  return *cell;
 }
 
 const double* PiecewiseSurface::Region(const Cell& cell,

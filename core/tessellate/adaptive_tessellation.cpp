@@ -54,10 +54,11 @@ class Tessellator {
 
  private:
   double EdgeLength(int a, int b) const {
-    // Chord on the surface; the domain angle (scaled to be negligible)
-    // keeps edges of folded or singular parts ordered by domain size.
-    return (positions_[a] - positions_[b]).norm() +
-           1e-6 * (triangulation_.vertex(a) - triangulation_.vertex(b)).norm();
+    // The domain (chord) length orders bisections: a median is shorter than
+    // the longest edge, so LEPP paths end. A surface length would not: where
+    // the surface spikes, a midpoint's image can be farther from the
+    // opposite corner than the split edge was long, and the path never ends.
+    return (triangulation_.vertex(a) - triangulation_.vertex(b)).norm();
   }
   void AddVertex(int v) {
     Eigen::MatrixX3d d(1, 3), p, n;
