@@ -3,6 +3,8 @@
 //   [--meshopt] [--colors none|error|curvature|gaussian] [--mesh MESH]
 //   [--json FILE] [--quiet]
 #include <Eigen/Dense>
+#include <OpenMesh/Core/System/omstream.hh>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -172,6 +174,10 @@ double Percentile(Eigen::VectorXd values, double q) {
 
 int RunExport(const std::vector<std::string>& argv) {
   const Clock::time_point start = Clock::now();
+  // OpenMesh's writers log to stderr ("[OBJWriter] : write file"); the
+  // command line owns the process, so it silences them.
+  omlog().disable();
+  omout().disable();
   const Args args(argv,
                   {"output", "tolerance", "angle", "uniform", "qp", "cl",
                    "colors", "mesh", "json", "measure-samples"},
