@@ -4,7 +4,6 @@
 //   [--json FILE] [--quiet]
 #include <Eigen/Dense>
 #include <OpenMesh/Core/System/omstream.hh>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
