@@ -45,19 +45,24 @@ StatusOr<CurvatureIntegrals> IntegrateCurvature(
               .transpose();
     }
   }
+  // Curvature (the expensive part) at the centroids only.
+  const Eigen::Index count = points.rows() / 4;
+  Eigen::MatrixX3d centroids(count, 3);
+  for (Eigen::Index t = 0; t < count; ++t)
+    centroids.row(t) = points.row(4 * t + 3);
   Eigen::VectorXd gaussian, mean;
-  if (!surface.SampleCurvature(points, &gaussian, &mean)) {
+  if (!surface.SampleCurvature(centroids, &gaussian, &mean)) {
     return InvalidArgumentError("the surface sampler has no curvature");
   }
   Eigen::MatrixX3d positions;
   surface.Sample(points, &positions, nullptr);
   CurvatureIntegrals out;
-  for (Eigen::Index t = 0; t < points.rows() / 4; ++t) {
+  for (Eigen::Index t = 0; t < count; ++t) {
     const Eigen::Vector3d p0 = positions.row(4 * t).transpose();
     const Eigen::Vector3d p1 = positions.row(4 * t + 1).transpose();
     const Eigen::Vector3d p2 = positions.row(4 * t + 2).transpose();
     const double area = 0.5 * (p1 - p0).cross(p2 - p0).norm();
-    const double k = gaussian[4 * t + 3];
+    const double k = gaussian[t];
     out.area += area;
     if (!std::isfinite(k)) continue;
     if (k > 0) out.convex += area * std::sqrt(k);
