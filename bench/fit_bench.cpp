@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "sdcb/core/fit/adaptive_fit.h"
+#include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/io/mesh_reader.h"
 
 int main(int argc, char** argv) {
@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", fit.status().message().c_str());
     return 1;
   }
-  const auto& s = fit->statistics;
+  const auto& s = fit->model.statistics;
   std::printf("%s: %d vertices, degree %d, target rmse %.4f%%\n", path.c_str(),
               mesh->num_vertices(), options.degree, options.rmse_percent);
   std::printf(
@@ -42,12 +42,12 @@ int main(int argc, char** argv) {
         d.timings.solve, d.timings.total, d.cvt_initial_energy,
         d.cvt_final_energy, d.cvt_iterations, d.reused_basis_functions);
   }
-  const auto& t = s.timings;
+  const auto& t = fit->timings;
   std::printf(
       "timings (s): parameterization %.3f, knot placement %.3f, "
       "configurations %.3f, basis %.3f, solve %.3f, total %.3f\n",
       t.parameterization, t.knot_placement, t.configurations, t.basis, t.solve,
       t.total);
-  std::printf("reached target: %s\n", fit->reached_target ? "yes" : "no");
+  std::printf("reached target: %s\n", fit->reached_target() ? "yes" : "no");
   return 0;
 }

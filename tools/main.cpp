@@ -25,12 +25,17 @@ commands:
                              distortion; --colors angle|area needs .ply.
   fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
       [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
-      [--regularization R] [--json FILE] [--plot FILE.svg] [--quiet]
+      [--regularization R] [--store-parameters] [--quantize BITS]
+      [--json FILE] [--plot FILE.svg] [--quiet]
                              Fit one smooth spherical DCB-spline (defaults:
                              degree 4, rmse 0.05 %, 100 knots per round, 30
-                             rounds); --plot draws the error per round.
+                             rounds); --plot draws the error per round;
+                             --store-parameters keeps each vertex's sphere
+                             point; --quantize BITS (8..30) stores the control
+                             points in BITS bits, the error bound reported.
   info MODEL.sdcb [--json FILE]
-                             Summary of a model.
+                             Summary of a model (format version, size,
+                             quantization bound).
   dump MODEL.sdcb -o MODEL.json
                              Everything in a model, as JSON.
   eval MODEL.sdcb -i POINTS.txt -o VALUES.txt [--derivatives]

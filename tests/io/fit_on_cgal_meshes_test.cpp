@@ -4,7 +4,8 @@
 
 #include <cmath>
 
-#include "sdcb/core/fit/adaptive_fit.h"
+#include "sdcb/core/fit/spline_fitter.h"
+#include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/temp_dir.h"
@@ -49,12 +50,12 @@ TEST(AdaptiveFitTest, CowAndBlobbyReachPointOnePercentAtDegreesThreeToFive) {
       options.max_rounds = 12;
       auto fit = FitSphericalSpline(mesh, options);
       ASSERT_TRUE(fit.ok()) << fit.status().message();
-      EXPECT_TRUE(fit->reached_target);
+      EXPECT_TRUE(fit->reached_target());
       EXPECT_LE(fit->model.statistics.final_result.rmse_percent, 0.1);
       // The vertex fits' RMSE falls from round to round (Algorithm 2 only
       // adds knots); rounds refitted with the centroid rows are compared
       // among themselves.
-      const auto& rounds = fit->statistics.rounds;
+      const auto& rounds = fit->model.statistics.rounds;
       const auto& details = fit->round_details;
       ASSERT_EQ(details.size(), rounds.size());
       EXPECT_TRUE(details.back().face_samples);
@@ -150,6 +151,42 @@ TEST(AdaptiveFitTest, WriteReadEvaluateIsBitIdentical) {
     EXPECT_EQ(ja[i].normal, jb[i].normal);
     EXPECT_EQ(ja[i].mean_curvature, jb[i].mean_curvature);
   }
+}
+
+// tests/data/cow_round0_v1.sdcb was written by the code before the fitter
+// became a steppable class (format version 1, `sdcb fit cow.off --max-rounds
+// 1`): the same fit today gives the same knots, configurations, control
+// points and vertex errors, bit for bit.
+TEST(AdaptiveFitTest, SameModelAsTheVersionOneFitOfTheCow) {
+  auto before = ReadSdcbFile(testing::TestDataPath("cow_round0_v1.sdcb"));
+  ASSERT_TRUE(before.ok()) << before.status().message();
+  FitOptions options;
+  options.max_rounds = 1;
+  auto fit = FitSphericalSpline(Load("cow.off"), options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  const SplineModel& now = fit->model;
+  EXPECT_EQ(now.source.hash, before->source.hash);
+  ASSERT_EQ(now.knots.rows(), before->knots.rows());
+  EXPECT_TRUE((now.knots.array() == before->knots.array()).all());
+  ASSERT_EQ(now.configurations.sets.size(), before->configurations.sets.size());
+  for (size_t i = 0; i < now.configurations.sets.size(); ++i) {
+    EXPECT_EQ(now.configurations.sets[i].knots,
+              before->configurations.sets[i].knots);
+    EXPECT_EQ(now.configurations.sets[i].boundaries,
+              before->configurations.sets[i].boundaries);
+  }
+  ASSERT_EQ(now.control_points.rows(), before->control_points.rows());
+  EXPECT_TRUE(
+      (now.control_points.array() == before->control_points.array()).all());
+  EXPECT_TRUE((now.parameters.array() == before->parameters.array()).all());
+  const RoundStatistics& a = now.statistics.final_result;
+  const RoundStatistics& b = before->statistics.final_result;
+  EXPECT_EQ(a.vertex_rmse_percent, b.rmse_percent);
+  EXPECT_EQ(a.vertex_max_error_percent, b.max_error_percent);
+  // What version 1 did not record reads as "not recorded".
+  EXPECT_EQ(before->statistics.error_measure, ErrorMeasure::kVertices);
+  EXPECT_EQ(before->statistics.options.regularization, 0.0);
+  EXPECT_EQ(now.statistics.options.regularization, 1e-6);
 }
 
 TEST(AdaptiveFitTest, RefusesHigherGenusAndBadOptions) {
