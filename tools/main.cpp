@@ -46,6 +46,20 @@ commands:
                              Two-sided distance between the surface and a
                              mesh (dense samples of both), folded area.
 
+  export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb} [--tolerance PCT]
+      [--angle DEG] [--uniform N] [--draco [--qp BITS] [--cl LEVEL]]
+      [--meshopt [--qp BITS]] [--colors none|error|curvature|gaussian]
+      [--mesh MESH] [--json FILE] [--quiet]
+                             Triangulate the surface: adaptive (every
+                             triangle within PCT, default 0.1, of the
+                             surface and its normals within DEG, default
+                             20) or --uniform (icosahedral, about N
+                             vertices); glTF optionally Draco- or
+                             meshopt-compressed (quantization from PCT
+                             unless --qp); per-vertex colors (.ply/.gltf/
+                             .glb): distance to --mesh, mean or Gaussian
+                             curvature. docs/EXPORT.md.
+
 PCT values are percent of the largest side of the input's bounding box.
 
 Meshes: .obj .off .ply .stl (ascii or binary). '--json -' writes to stdout.
@@ -80,6 +94,7 @@ int main(int argc, char** argv) {
     if (command == "dump") return RunDump(args);
     if (command == "eval") return RunEval(args);
     if (command == "compare") return RunCompare(args);
+    if (command == "export") return RunExport(args);
     std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;
   } catch (const UsageError& e) {
