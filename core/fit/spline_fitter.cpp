@@ -51,6 +51,8 @@ constexpr double kRoundStageStart[] = {
     0.55,  // solve
     0.75,  // measure
 };
+// Rounds before a fit may stop because its error falls too slowly.
+constexpr int kMinRoundsBeforeRateStop = 5;
 // Knots of a round that only removes folds: at least this many.
 constexpr int kMinFoldKnots = 10;
 // Rounds assumed before two rounds show the error's decay.
@@ -304,7 +306,9 @@ struct SplineFitter::State {
   void NextDensity(const Problem& problem, const Eigen::MatrixX3d& fitted,
                    const Eigen::VectorXd& vertex_errors,
                    const SurfaceDeviation& deviation);
-  void EstimateRounds(const RoundStatistics& rs);
+  // Rounds still needed at the recent rate of decay (updating
+  // estimated_rounds), or -1 if the error does not fall.
+  int EstimateRounds();
 };
 
 StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
@@ -521,16 +525,21 @@ void SplineFitter::State::NextDensity(const Problem& p,
   if (values.ok()) density.values = std::move(values).value();
 }
 
-void SplineFitter::State::EstimateRounds(const RoundStatistics& rs) {
+int SplineFitter::State::EstimateRounds() {
+  // The decay per round of the rms over the last (up to) three rounds.
   const auto& rounds = result.model.statistics.rounds;
-  if (rounds.size() < 2) return;
-  const double decay = rs.rmse_percent / rounds[rounds.size() - 2].rmse_percent;
-  if (!(decay > 0 && decay < 1)) return;
-  const double more = std::ceil(
-      std::log(options.rmse_percent / rs.rmse_percent) / std::log(decay));
-  estimated_rounds = std::min<int>(
-      options.max_rounds,
-      static_cast<int>(rounds.size()) + static_cast<int>(std::max(1.0, more)));
+  const int n = static_cast<int>(rounds.size());
+  if (n < 2) return -1;
+  const int window = std::min(3, n - 1);
+  const double now = rounds[n - 1].rmse_percent;
+  const double decay =
+      std::pow(now / rounds[n - 1 - window].rmse_percent, 1.0 / window);
+  if (!(decay > 0 && decay < 1)) return -1;
+  const double more =
+      std::ceil(std::log(options.rmse_percent / now) / std::log(decay));
+  const int needed = static_cast<int>(std::clamp(more, 1.0, 1e6));
+  estimated_rounds = std::min(options.max_rounds, n + needed);
+  return needed;
 }
 
 Status SplineFitter::State::RunRound() {
@@ -673,7 +682,20 @@ Status SplineFitter::State::RunRound() {
   }
   fold_round = only_folds;
   if (only_folds) ++fold_rounds;
-  EstimateRounds(rs);
+  // A fit whose error falls too slowly to reach the target within the
+  // rounds left (judged after six rounds) stops now rather than later.
+  const int needed = EstimateRounds();
+  const int left = o.max_rounds - round - 1;
+  if (!only_folds && round >= kMinRoundsBeforeRateStop &&
+      (needed < 0 || needed > left)) {
+    Finish(false, needed < 0
+                      ? "the error stopped falling"
+                      : "at its current rate the error needs about " +
+                            std::to_string(needed) +
+                            " more rounds, more than --max-rounds leaves (" +
+                            std::to_string(left) + ")");
+    return Status::Ok();
+  }
   NextDensity(problem, fitted, vertex_errors, deviation);
   return Status::Ok();
 }
