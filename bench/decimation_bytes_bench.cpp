@@ -17,7 +17,7 @@
 #include <filesystem>
 
 #include "sdcb/converters/gltf_export.h"
-#include "sdcb/converters/mesh_distance.h"
+#include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/tessellate/adaptive_tessellation.h"
 #include "sdcb/io/mesh_reader.h"
@@ -67,7 +67,7 @@ sdcb::TriangleMesh Decimate(const sdcb::TriangleMesh& input, int faces) {
 // Two-sided distance between `a` and the input (see the header comment).
 double Distance(const sdcb::TriangleMesh& a, const sdcb::TriangleMesh& input,
                 const sdcb::MeshDistance& to_input) {
-  const sdcb::MeshDistance to_a(a);
+  const sdcb::MeshDistance to_a = sdcb::MeshDistance::Create(a).value();
   double d = to_a.Distances(input.vertices).maxCoeff();
   Eigen::MatrixX3d probes(a.vertices.rows() + a.faces.rows(), 3);
   probes.topRows(a.vertices.rows()) = a.vertices;
@@ -129,7 +129,8 @@ int main(int argc, char** argv) {
   sdcb::TriangleMesh tess;
   tess.vertices = model->transform.ToInput(t->positions);
   tess.faces = t->faces;
-  const sdcb::MeshDistance to_input(*input);
+  const sdcb::MeshDistance to_input =
+      sdcb::MeshDistance::Create(*input).value();
   const double target = Distance(tess, *input, to_input);
   // The decimation with the fewest faces within the same distance.
   int lo = 4, hi = static_cast<int>(input->faces.rows());

@@ -125,8 +125,11 @@ json FitStatisticsToJson(const FitStatistics& s) {
                 {"lambda", o.lambda},
                 {"alpha", o.alpha},
                 {"regularization", o.regularization},
-                {"face_samples", o.face_samples},
-                {"face_weight", o.face_weight}}},
+                {"fairness", o.fairness},
+                {"samples_per_spacing", o.samples_per_spacing},
+                {"max_fold_rounds", o.max_fold_rounds},
+                {"round_samples_per_knot", o.round_samples_per_knot},
+                {"final_surface_samples", o.final_surface_samples}}},
               {"error_measure", ErrorMeasureName(s.error_measure)},
               {"reached_target", s.reached_target}};
 }
@@ -164,9 +167,15 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
   SDCB_RETURN_IF_ERROR(
       GetOptional(*o, "regularization", ow, &so.regularization, GetDouble));
   SDCB_RETURN_IF_ERROR(
-      GetOptional(*o, "face_samples", ow, &so.face_samples, GetBool));
+      GetOptional(*o, "fairness", ow, &so.fairness, GetDouble));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "samples_per_spacing", ow,
+                                   &so.samples_per_spacing, GetDouble));
   SDCB_RETURN_IF_ERROR(
-      GetOptional(*o, "face_weight", ow, &so.face_weight, GetDouble));
+      GetOptional(*o, "max_fold_rounds", ow, &so.max_fold_rounds, GetInt));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "round_samples_per_knot", ow,
+                                   &so.round_samples_per_knot, GetInt));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "final_surface_samples", ow,
+                                   &so.final_surface_samples, GetInt));
 
   // Version 1 measured at the vertices and did not store the outcome.
   s.error_measure = ErrorMeasure::kVertices;
@@ -192,6 +201,9 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
   const json record = FitStatisticsToJson(stats);
   ojson report;
   report["reached_target"] = stats.reached_target;
+  if (!fit.shortfall.empty()) report["shortfall"] = fit.shortfall;
+  report["basis_form"] =
+      fit.model.basis_form == BasisForm::kRaw ? "raw" : "normalized";
   report["error_measure"] = record["error_measure"];
   ojson rounds = ojson::array();
   for (size_t i = 0; i < stats.rounds.size(); ++i) {
@@ -200,7 +212,15 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
         i < fit.round_details.size() ? fit.round_details[i].timings.total : 0.0;
     rounds.push_back(std::move(r));
   }
-  report["final"] = rounds.empty() ? ojson::object() : rounds.back();
+  // The returned round (the last one, or the best when the target was
+  // missed), with its seconds.
+  ojson final_round = record["final"];
+  const int returned = stats.final_result.round;
+  final_round["seconds"] =
+      returned >= 0 && returned < static_cast<int>(fit.round_details.size())
+          ? fit.round_details[returned].timings.total
+          : 0.0;
+  report["final"] = std::move(final_round);
   report["rounds"] = std::move(rounds);
   report["options"] = record["options"];
   const StageTimings& t = fit.timings;
@@ -209,6 +229,7 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
                        {"configurations", t.configurations},
                        {"basis", t.basis},
                        {"solve", t.solve},
+                       {"measure", t.measure},
                        {"total", t.total}};
   ojson details = ojson::array();
   for (size_t i = 0; i < fit.round_details.size(); ++i) {
@@ -218,12 +239,16 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
                        {"configurations", d.timings.configurations},
                        {"basis", d.timings.basis},
                        {"solve", d.timings.solve},
+                       {"measure", d.timings.measure},
                        {"cvt_initial_energy", d.cvt_initial_energy},
                        {"cvt_final_energy", d.cvt_final_energy},
                        {"cvt_iterations", d.cvt_iterations},
                        {"min_knot_separation_radians", d.min_knot_separation},
-                       {"reused_basis_functions", d.reused_basis_functions},
-                       {"face_samples", d.face_samples}});
+                       {"data_samples", d.data_samples},
+                       {"split_triangles", d.split_triangles},
+                       {"min_samples_per_basis", d.min_samples_per_basis},
+                       {"surface_samples", d.surface_samples},
+                       {"closest_points", d.closest_points}});
   }
   report["round_details"] = std::move(details);
   return report;

@@ -10,7 +10,8 @@
 //            "vertex_max_error_percent", "folded_area_percent"}
 // The report adds "seconds" to every ROUND, "timings": {"parameterization",
 // "knot_placement", "configurations", "basis", "solve", "total"} and
-// "round_details". Doubles are written with the shortest representation that
+// "round_details", "basis_form" and, when the target was missed,
+// "shortfall". Doubles are written with the shortest representation that
 // parses back to the same bits.
 #ifndef SDCB_IO_FIT_STATISTICS_JSON_H_
 #define SDCB_IO_FIT_STATISTICS_JSON_H_

@@ -9,12 +9,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
 
+#include "sdcb/converters/color_ramp.h"
 #include "sdcb/converters/gltf_export.h"
-#include "sdcb/converters/mesh_distance.h"
 #include "sdcb/converters/mesh_export.h"
+#include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/core/tessellate/adaptive_tessellation.h"
@@ -81,9 +83,13 @@ Measured MeasureDistance(const SurfaceSampler& surface, const Tessellation& t,
   TriangleMesh mesh;
   mesh.vertices = t.positions;
   mesh.faces = t.faces;
-  const MeshDistance distance(mesh);
-  if (points.rows() > 0)
-    m.spline_to_mesh = distance.Distances(points).maxCoeff();
+  // A tessellation without a usable triangle cannot be measured: infinite.
+  const StatusOr<MeshDistance> distance = MeshDistance::Create(mesh);
+  if (!distance.ok()) {
+    m.spline_to_mesh = std::numeric_limits<double>::infinity();
+  } else if (points.rows() > 0) {
+    m.spline_to_mesh = distance->Distances(points).maxCoeff();
+  }
 
   // Mesh -> spline: Gauss-Newton on |S(u) - x|^2 over the tangent plane.
   Eigen::MatrixX3d x(nf, 3), u(nf, 3);
@@ -295,8 +301,11 @@ int RunExport(const std::vector<std::string>& argv) {
     color_report["max"] = range;
     color_report["scale_rule"] = "symmetric, 95th percentile of |value|";
   } else if (colors == "error") {
-    const MeshDistance distance(*reference);
-    const Eigen::VectorXd d = distance.Distances(mesh.positions);
+    const StatusOr<MeshDistance> distance = MeshDistance::Create(*reference);
+    if (!distance.ok()) {
+      return ReportError(distance.status().WithPrefix(args.Get("mesh")));
+    }
+    const Eigen::VectorXd d = distance->Distances(mesh.positions);
     const double top = d.size() ? d.maxCoeff() : 0.0;
     mesh.colors = ColorRamp(d, 0.0, top, /*diverging=*/false);
     color_report["quantity"] = "distance_to_mesh";

@@ -42,6 +42,9 @@ commands:
                              Evaluate the surface at directions (x y z per
                              line, normalized onto the sphere); writes x y z
                              in the input's coordinates (+ unit normal).
+  compare MODEL.sdcb MESH [--json FILE] [--samples N]
+                             Two-sided distance between the surface and a
+                             mesh (dense samples of both), folded area.
 
   export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb} [--tolerance PCT]
       [--angle DEG] [--uniform N] [--draco [--qp BITS] [--cl LEVEL]]
@@ -90,6 +93,7 @@ int main(int argc, char** argv) {
     if (command == "info") return RunInfo(args);
     if (command == "dump") return RunDump(args);
     if (command == "eval") return RunEval(args);
+    if (command == "compare") return RunCompare(args);
     if (command == "export") return RunExport(args);
     std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;

@@ -29,6 +29,8 @@ int RunInfo(const std::vector<std::string>& argv) {
   for (const auto& set : m.configurations.sets)
     configurations += set.boundaries.size();
   const RoundStatistics& f = m.statistics.final_result;
+  const bool dense =
+      m.statistics.error_measure == ErrorMeasure::kDenseTwoSided;
   if (args.Has("json")) {
     nlohmann::ordered_json j;
     j["file"] = path;
@@ -40,6 +42,9 @@ int RunInfo(const std::vector<std::string>& argv) {
     j["configurations"] = configurations;
     j["rmse_percent"] = f.rmse_percent;
     j["max_error_percent"] = f.max_error_percent;
+    j["error_measure"] = dense ? "dense_two_sided" : "vertices";
+    j["folded_area_percent"] = f.folded_area_percent;
+    j["reached_target"] = m.statistics.reached_target;
     j["rounds"] = m.statistics.rounds.size();
     j["source"] = {{"file_name", m.source.file_name},
                    {"vertices", m.source.num_vertices},
@@ -66,8 +71,14 @@ int RunInfo(const std::vector<std::string>& argv) {
     std::printf("  %-22s %lld\n", "control points",
                 static_cast<long long>(m.control_points.rows()));
     std::printf("  %-22s %zu\n", "configurations", configurations);
-    std::printf("  %-22s %.5f%%\n", "rmse", f.rmse_percent);
+    std::printf("  %-22s %.5f%% (%s)\n", "rmse", f.rmse_percent,
+                dense ? "two-sided, dense" : "at the vertices");
     std::printf("  %-22s %.5f%%\n", "max error", f.max_error_percent);
+    if (dense) {
+      std::printf("  %-22s %.5f%%\n", "folded area", f.folded_area_percent);
+    }
+    std::printf("  %-22s %s\n", "reached target",
+                m.statistics.reached_target ? "yes" : "no");
     std::printf("  %-22s %zu\n", "rounds", m.statistics.rounds.size());
     std::printf("  %-22s %s (%lld vertices, %lld faces)\n", "source",
                 m.source.file_name.c_str(),

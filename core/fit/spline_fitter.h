@@ -25,19 +25,20 @@
 
 namespace sdcb {
 
-// The named stages of a fit, in the order they run (the last five once per
-// round).
+// The named stages of a fit, in the order they run (knot placement to
+// measure once per round).
 enum class FitStage {
   kParameterization,
   kKnotPlacement,
   kConfigurations,
   kBasis,
   kSolve,
+  kMeasure,
   kDone,
 };
 
 // "parameterization", "knot placement", "configurations", "basis", "solve",
-// "done".
+// "measure", "done".
 const char* FitStageName(FitStage stage);
 
 // What the progress callback receives.
@@ -53,8 +54,11 @@ struct FitProgress {
 };
 
 struct FitOptions {
-  int degree = 4;                  // k, 2..5
-  double rmse_percent = 0.05;      // stop when the RMSE is at most this
+  int degree = 4;  // k, 2..5
+  // Stop when the two-sided rms distance between the surface and the mesh
+  // (dense samples of both, core/fit/surface_deviation.h) is at most this,
+  // with no folded area; percent of the largest bounding-box side.
+  double rmse_percent = 0.05;
   int knots_per_round = 100;       // K: new knots per round (paper: 100)
   int initial_knots = 0;           // knots of round 0; 0 = knots_per_round
   int max_rounds = 30;             // rounds at most (round 0 included)
@@ -62,21 +66,29 @@ struct FitOptions {
   double lambda = 1.0;             // parameterization, eq. (12)
   double alpha = 4.0;              // density exponent (Sec. 4.4)
   double regularization = 1e-6;    // core/fit/least_squares.h
+  // The basis the control points multiply (docs/FITTING.md compares them).
+  BasisForm basis_form = BasisForm::kNormalized;
+  // Weight of the bending energy, integral over S^2 of |Hess F|^2 (the
+  // chart's second derivatives) divided by 4 pi, against the data term,
+  // integral over the mesh of |F(u(x)) - x|^2 divided by the mesh's area
+  // (both lengths squared, so the weight is scale-free). Keeps regions with
+  // few samples smooth instead of oscillating.
+  double fairness = 0.0;
+  // Samples of the data term per knot spacing (core/fit/fit_samples.h).
+  double samples_per_spacing = 2.0;
+  // When a round meets the RMSE target but its surface folds, up to this
+  // many rounds follow that place a quarter of knots_per_round, only where
+  // it folds.
+  int max_fold_rounds = 5;
+  // Surface samples of the error measurement: per knot in every round, and
+  // at least this many for the returned model.
+  int round_samples_per_knot = 12;
+  int final_surface_samples = 100000;
   // Worker threads of the fit's own TBB arena; 0 = as many as the calling
   // context allows. The results do not depend on it, and the process-wide
   // TBB settings of the program are never changed.
   int threads = 0;
   bool store_parameters = true;  // keep the sphere point of every vertex
-  // Fit the mesh's piecewise-linear surface, not only its vertices: the
-  // least squares also samples every triangle's centroid (at the normalized
-  // sum of its corners' sphere points). Without it, basis functions seen by
-  // few vertices make the surface wave between them while the vertex errors
-  // stay small. Intermediate rounds fit the vertices only (they just steer
-  // the next knots); the round that reaches the target (or the last) is
-  // refitted with the centroids.
-  bool face_samples = true;
-  // Least-squares weight of a centroid row relative to a vertex row.
-  double face_weight = 0.3;
   // Called at the start of every stage (from the calling thread).
   std::function<void(const FitProgress&)> progress;
 };
@@ -89,8 +101,9 @@ struct StageTimings {
   double parameterization = 0.0;
   double knot_placement = 0.0;
   double configurations = 0.0;
-  double basis = 0.0;
-  double solve = 0.0;
+  double basis = 0.0;    // basis, design matrix and bending rows
+  double solve = 0.0;    // least squares (all solves of the round)
+  double measure = 0.0;  // error measurement
   double total = 0.0;
 };
 
@@ -101,12 +114,14 @@ struct RoundDetails {
   double cvt_final_energy = 0;
   int cvt_iterations = 0;
   double min_knot_separation = 0;  // radians
-  // Basis functions identical to one of the previous round, whose values
-  // were reused rather than evaluated.
-  int reused_basis_functions = 0;
-  // Whether this round's solution includes the triangle-centroid rows
-  // (FitOptions::face_samples): the returned round always does.
-  bool face_samples = false;
+  int data_samples = 0;            // rows of the data term
+  int split_triangles = 0;         // mesh triangles with interior samples
+  int min_samples_per_basis = 0;   // fewest data samples in one support
+  int min_vertices_per_basis = 0;  // fewest input vertices in one support
+  // The measurement of this round (surface samples; mesh -> surface as the
+  // parametric bound |F(u_i) - x_i| unless `closest_points`).
+  int64_t surface_samples = 0;
+  bool closest_points = false;
 };
 
 struct FitResult {
@@ -119,6 +134,8 @@ struct FitResult {
   std::vector<RoundDetails> round_details;
   // Per input vertex: |x_i - F(u_i)| in percent of the largest side.
   Eigen::VectorXd vertex_errors_percent;
+  // Why the target was not reached (empty when it was).
+  std::string shortfall;
   // model.statistics.reached_target: the target was met.
   bool reached_target() const { return model.statistics.reached_target; }
 };
@@ -137,13 +154,14 @@ class SplineFitter {
   ~SplineFitter();
 
   // Runs one round: places the round's knots with the existing ones fixed,
-  // builds the basis on their configurations and solves for the control
-  // points. When the round reaches the target, or is the last one allowed,
-  // its solution becomes final (refitted with the centroid rows when
-  // FitOptions::face_samples). When the round would exceed
-  // max_control_points, it is not added: the previous round is finalized
-  // instead. Either way finished() is then true. kFailedPrecondition-like
-  // kInvalidArgument when called after finished().
+  // builds the basis on their configurations, solves for the control points
+  // and measures the surface against the mesh. The fit is finished when a round
+  // meets the target with no fold (confirmed by the denser final measurement),
+  // after max_rounds, or when a round would exceed max_control_points (that
+  // round is not added). A fit that misses the target returns the round with
+  // the smallest rms among those without folds (or, if every round folds,
+  // among all), with FitResult::shortfall saying why. kInvalidArgument
+  // when called after finished().
   Status AddRound();
 
   // No further round will run: the target is reached or a limit is hit.

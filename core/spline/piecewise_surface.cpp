@@ -44,7 +44,7 @@ struct PiecewiseSurface::Cell {
   // Quadtree: a cell with more than kMaxLines lines is split into four
   // children (quadrants of (u, v) around (uc, vc)); leaves hold the regions.
   std::unique_ptr<Cell> children[4];
-  double uc = 0.0, vc = 0.0, h = 1.0;  // centre and half side in (u, v)
+  double uc = 0.0, vc = 0.0, h = 1.0;    // centre and half side in (u, v)
   Eigen::Vector3d origin, e1, e2;        // local chart o + s e1 + t e2
   std::vector<int> lines;                // indices into segments_
   std::vector<Eigen::Vector3d> normals;  // t_a x t_b of each line
@@ -100,8 +100,8 @@ PiecewiseSurface::PiecewiseSurface(const SphericalSpline& spline, int grid)
                                       const std::vector<int>&,
                                       const std::vector<int>&, int)>
       build = [&](int f, double uc, double vc, double h,
-                  const std::vector<int>& segments, const std::vector<int>& sets,
-                  int depth) {
+                  const std::vector<int>& segments,
+                  const std::vector<int>& sets, int depth) {
         auto cell = std::make_unique<Cell>();
         Eigen::Vector3d a, e1, e2;
         FaceFrame(f, &a, &e1, &e2);
@@ -169,8 +169,8 @@ PiecewiseSurface::PiecewiseSurface(const SphericalSpline& spline, int grid)
   tbb::parallel_for(0, 6 * g * g, [&](int index) {
     const int f = index / (g * g), i = (index / g) % g, j = index % g;
     const double h = 1.0 / g;
-    cells_[index] = build(f, -1.0 + h * (2 * i + 1), -1.0 + h * (2 * j + 1),
-                          h, all_segments, all_sets, 0);
+    cells_[index] = build(f, -1.0 + h * (2 * i + 1), -1.0 + h * (2 * j + 1), h,
+                          all_segments, all_sets, 0);
   });
   // Number the leaves (the order EvaluateMany sorts by).
   int next = 0;
@@ -217,7 +217,8 @@ const PiecewiseSurface::Cell& PiecewiseSurface::Locate(const Eigen::Vector3d& p,
       std::clamp(static_cast<int>(std::floor((v + 1.0) * 0.5 * g)), 0, g - 1);
   const Cell* cell = cells_[(f * g + i) * g + j].get();
   while (cell->children[0]) {
-    cell = cell->children[(u >= cell->uc ? 1 : 0) + (v >= cell->vc ? 2 : 0)].get();
+    cell =
+        cell->children[(u >= cell->uc ? 1 : 0) + (v >= cell->vc ? 2 : 0)].get();
   }
   *s = (u - cell->uc) / cell->h;
   *t = (v - cell->vc) / cell->h;
@@ -312,6 +313,16 @@ void PiecewiseSurface::Eval(const Eigen::Vector3d& p, Eigen::Vector3d* position,
         vt[d] += cd[m] * dt[m];
       }
     }
+  }
+  if (spline_.basis_form() == BasisForm::kRaw) {
+    // F = N / |x|^k (the raw basis extended homogeneously of degree 0) at
+    // the point x of the cell's plane, with its derivatives in s and t.
+    const Eigen::Vector3d x = cell.origin + s * cell.e1 + t * cell.e2;
+    const double r2 = x.squaredNorm();
+    const double rk = std::pow(r2, 0.5 * k);
+    v[3] = rk;
+    vs[3] = k * rk / r2 * x.dot(cell.e1);
+    vt[3] = k * rk / r2 * x.dot(cell.e2);
   }
   const double inv = 1.0 / v[3];
   *position = Eigen::Vector3d(v[0], v[1], v[2]) * inv;

@@ -1,12 +1,12 @@
 // A fast evaluator of a SphericalSpline: its pieces as polynomials.
 //
-// The surface F = N / I (eq. 6 with eq. 5) is a ratio of piecewise
-// homogeneous polynomials of degree k whose pieces are the cells of the
-// arrangement of the knot segments [t_a, t_b] of every configuration set.
-// The sphere is covered by a cube map: each face a G x G grid of cells in
-// gnomonic coordinates (great circles are straight lines there), each cell
-// split into quadrants while more than 24 segments cross it. A cell
-// keeps the knot segments that cross it and the basis functions whose
+// The surface F = N / I (eq. 6 with eq. 5; N / |x|^k for the raw basis of
+// eq. 4) is a ratio of piecewise homogeneous polynomials of degree k whose
+// pieces are the cells of the arrangement of the knot segments [t_a, t_b] of
+// every configuration set. The sphere is covered by a cube map: each face a G x
+// G grid of cells in gnomonic coordinates (great circles are straight lines
+// there), each cell split into quadrants while more than 24 segments cross it.
+// A cell keeps the knot segments that cross it and the basis functions whose
 // support meets it; a point's exact, perturbed signs against those segments'
 // great circles (the predicate SimplexSpline uses) name its region, and each
 // region gets, the first time a point falls in it, the bivariate
@@ -15,8 +15,9 @@
 // then a few sign tests and two polynomial evaluations (Horner-free, on
 // shared monomials); positions agree with SphericalSpline::Evaluate to
 // rounding (~1e-13 relative). Cells still crossed by more than 64 segments
-// after 8 splits fall back to SphericalSpline. Thread-safe (regions are added under a per-cell
-// lock); results do not depend on the evaluation order or thread count.
+// after 8 splits fall back to SphericalSpline. Thread-safe (regions are added
+// under a per-cell lock); results do not depend on the evaluation order or
+// thread count.
 #ifndef SDCB_CORE_SPLINE_PIECEWISE_SURFACE_H_
 #define SDCB_CORE_SPLINE_PIECEWISE_SURFACE_H_
 

@@ -63,7 +63,8 @@ Status ValidateStatistics(const FitStatistics& s) {
   SDCB_RETURN_IF_ERROR(ValidateRound(s.final_result, "final fit statistics"));
   const RecordedFitOptions& o = s.options;
   for (double v :
-       {o.rmse_percent, o.lambda, o.alpha, o.regularization, o.face_weight}) {
+       {o.rmse_percent, o.lambda, o.alpha, o.regularization, o.fairness,
+        o.samples_per_spacing}) {
     if (!std::isfinite(v)) {
       return InvalidArgumentError("a recorded fit option is not finite");
     }

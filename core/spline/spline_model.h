@@ -79,8 +79,11 @@ struct RecordedFitOptions {
   double lambda = 0.0;  // Parameterization area weight, paper eq. (12).
   double alpha = 0.0;   // Knot density exponent (Sec. 4.4).
   double regularization = 0.0;
-  bool face_samples = false;
-  double face_weight = 0.0;
+  double fairness = 0.0;
+  double samples_per_spacing = 0.0;
+  int max_fold_rounds = 0;
+  int round_samples_per_knot = 0;
+  int final_surface_samples = 0;
 };
 
 // How the fit went, without wall-clock times (they would make the model's

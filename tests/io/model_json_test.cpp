@@ -100,8 +100,9 @@ TEST(ModelJsonTest, KeysAndValues) {
   EXPECT_EQ(st["options"].at("max_control_points"), 5000);
   EXPECT_EQ(st["options"].at("alpha"), 4.0);
   EXPECT_EQ(st["options"].at("regularization"), 12.5);
-  EXPECT_EQ(st["options"].at("face_samples"), true);
-  EXPECT_TRUE(std::signbit(st["options"].at("face_weight").get<double>()));
+  EXPECT_TRUE(std::signbit(st["options"].at("fairness").get<double>()));
+  EXPECT_EQ(st["options"].at("samples_per_spacing"), 3.0);
+  EXPECT_EQ(st["options"].at("final_surface_samples"), 100000);
   EXPECT_EQ(st.at("options").at("degree"), 2);
   EXPECT_EQ(st["options"].at("rmse_percent"), 0.05);
   EXPECT_EQ(st["options"].at("knots_per_round"), 100);

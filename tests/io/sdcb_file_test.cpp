@@ -143,7 +143,7 @@ TEST(SdcbFileTest, SpecialDoublesSurviveBitForBit) {
   EXPECT_EQ(back->transform.translation[1], 1e-320);
   EXPECT_EQ(back->statistics.rounds[0].folded_area_percent,
             std::numeric_limits<double>::denorm_min());
-  EXPECT_TRUE(std::signbit(back->statistics.options.face_weight));  // -0.0
+  EXPECT_TRUE(std::signbit(back->statistics.options.fairness));  // -0.0
   EXPECT_EQ(back->source.file_name, "meshes/bunny \xc3\xa9.off");
 }
 

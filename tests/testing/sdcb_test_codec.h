@@ -317,8 +317,11 @@ inline ::testing::AssertionResult BitIdentical(const SplineModel& a,
       oa.max_control_points != ob.max_control_points ||
       !SameBits(oa.lambda, ob.lambda) || !SameBits(oa.alpha, ob.alpha) ||
       !SameBits(oa.regularization, ob.regularization) ||
-      oa.face_samples != ob.face_samples ||
-      !SameBits(oa.face_weight, ob.face_weight)) {
+      !SameBits(oa.fairness, ob.fairness) ||
+      !SameBits(oa.samples_per_spacing, ob.samples_per_spacing) ||
+      oa.max_fold_rounds != ob.max_fold_rounds ||
+      oa.round_samples_per_knot != ob.round_samples_per_knot ||
+      oa.final_surface_samples != ob.final_surface_samples) {
     return fail("options");
   }
   if (a.basis_form != b.basis_form) return fail("basis form");

@@ -65,11 +65,16 @@ TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
   ASSERT_TRUE(j.contains("rounds") && j.contains("final") &&
               j.contains("timings"));
   for (const auto& round : j["rounds"]) {
-    for (const char* key : {"round", "knots", "control_points", "rmse_percent",
-                            "max_error_percent", "seconds"}) {
+    for (const char* key :
+         {"round", "knots", "control_points", "rmse_percent",
+          "max_error_percent", "vertex_rmse_percent",
+          "vertex_max_error_percent", "folded_area_percent", "seconds"}) {
       EXPECT_TRUE(round.contains(key)) << key;
     }
   }
+  EXPECT_EQ(j["error_measure"], "dense_two_sided");
+  EXPECT_EQ(j["basis_form"], "normalized");
+  EXPECT_TRUE(j.contains("reached_target"));
   for (const char* key : {"parameterization", "knot_placement",
                           "configurations", "basis", "solve", "total"}) {
     EXPECT_TRUE(j["timings"].contains(key)) << key;
@@ -114,8 +119,67 @@ TEST(FitCliTest, EvalAtTheStoredParametersReproducesTheReportedErrors) {
   }
   const auto report = nlohmann::json::parse(ReadBytes(dir + "/report.json"));
   const double rmse = std::sqrt(sum / mesh->num_vertices());
-  EXPECT_NEAR(rmse, report["final"]["rmse_percent"].get<double>(), 1e-7);
-  EXPECT_NEAR(max, report["final"]["max_error_percent"].get<double>(), 1e-7);
+  EXPECT_NEAR(rmse, report["final"]["vertex_rmse_percent"].get<double>(), 1e-7);
+  EXPECT_NEAR(max, report["final"]["vertex_max_error_percent"].get<double>(),
+              1e-7);
+}
+
+// `sdcb compare` measures the fitted model against its mesh as the fit's
+// final measurement did (same method, its own lattice and closest points),
+// and the numbers are consistent with each other.
+TEST(FitCliTest, CompareAgreesWithTheFitReport) {
+  const std::string dir = FreshTestDir();
+  const std::string model = FitBlobby(dir, "3");
+  const RunResult r =
+      RunSdcb({"compare", model, MeshPath("blobby.off"), "--json", "-"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto c = nlohmann::json::parse(r.out);
+  const auto report = nlohmann::json::parse(ReadBytes(dir + "/report.json"));
+  ASSERT_EQ(report["reached_target"], true);
+  const double fit_rms = report["final"]["rmse_percent"].get<double>();
+  const double fit_max = report["final"]["max_error_percent"].get<double>();
+  EXPECT_NEAR(c["rmse_percent"].get<double>(), fit_rms, 0.05 * fit_rms);
+  EXPECT_NEAR(c["hausdorff_percent"].get<double>(), fit_max, 0.05 * fit_max);
+  EXPECT_EQ(c["folded_area_percent"].get<double>(), 0.0);
+  EXPECT_GE(c["surface_samples"].get<int>(), 100000);
+  EXPECT_EQ(c["mesh_samples"].get<int>(), 2027);
+  // Two-sided: the larger of the one-sided maxima, rms between them.
+  const double s2m = c["surface_to_mesh_max_percent"].get<double>();
+  const double m2s = c["mesh_to_surface_max_percent"].get<double>();
+  EXPECT_EQ(c["hausdorff_percent"].get<double>(), std::max(s2m, m2s));
+  // A mesh moved by 1 % of its largest side along x: the distance grows.
+  auto mesh = ReadMesh(MeshPath("blobby.off"));
+  ASSERT_TRUE(mesh.ok());
+  const double side = (mesh->vertices.colwise().maxCoeff() -
+                       mesh->vertices.colwise().minCoeff())
+                          .maxCoeff();
+  std::ostringstream off;
+  off.precision(17);
+  off << "OFF\n" << mesh->num_vertices() << " " << mesh->num_faces() << " 0\n";
+  for (int v = 0; v < mesh->num_vertices(); ++v) {
+    off << mesh->vertices(v, 0) + 0.01 * side << " " << mesh->vertices(v, 1)
+        << " " << mesh->vertices(v, 2) << "\n";
+  }
+  for (int f = 0; f < mesh->num_faces(); ++f) {
+    off << "3 " << mesh->faces(f, 0) << " " << mesh->faces(f, 1) << " "
+        << mesh->faces(f, 2) << "\n";
+  }
+  WriteBytes(dir + "/moved.off", off.str());
+  const RunResult moved =
+      RunSdcb({"compare", model, dir + "/moved.off", "--json", "-"}, dir);
+  ASSERT_EQ(moved.exit_code, 0) << moved.err;
+  const auto cm = nlohmann::json::parse(moved.out);
+  EXPECT_GT(cm["hausdorff_percent"].get<double>(), 0.5);
+  EXPECT_LT(cm["hausdorff_percent"].get<double>(), 1.0 + fit_max);
+  // Bad input: exit 1, one line naming the file, no output.
+  const RunResult missing =
+      RunSdcb({"compare", dir + "/none.sdcb", MeshPath("blobby.off"), "--json",
+               dir + "/c.json"},
+              dir);
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("none.sdcb"), std::string::npos) << missing.err;
+  EXPECT_FALSE(fs::exists(dir + "/c.json"));
+  EXPECT_EQ(RunSdcb({"compare", model}, dir).exit_code, 2);
 }
 
 TEST(FitCliTest, DumpedConfigurationsAreConfirmedByBruteForce) {

@@ -12,7 +12,8 @@ namespace {
 
 // A spline on random knots with random control points (the fit is not the
 // point: any valid spline, folds included).
-SphericalSpline RandomSpline(int degree, int knots, unsigned seed) {
+SphericalSpline RandomSpline(int degree, int knots, unsigned seed,
+                             BasisForm form = BasisForm::kNormalized) {
   const Eigen::MatrixX3d k = testing::RandomUnitVectors(knots, seed);
   StatusOr<DelaunayConfigurations> c = ComputeDelaunayConfigurations(k, degree);
   EXPECT_TRUE(c.ok());
@@ -27,13 +28,18 @@ SphericalSpline RandomSpline(int degree, int knots, unsigned seed) {
     cp.row(i) =
         (dir + 0.2 * Eigen::Vector3d(g(rng), g(rng), g(rng))).transpose();
   }
-  return std::move(SphericalSpline::Create(std::move(*basis), cp)).value();
+  return std::move(SphericalSpline::Create(std::move(*basis), cp, form))
+      .value();
 }
 
 TEST(PiecewiseSurfaceTest, AgreesWithTheReferenceEvaluator) {
-  for (int degree : {2, 3, 4}) {
+  for (int degree : {2, 3, 4, -4}) {
+    // -4: degree 4 with the raw basis of eq. 4 (F = N / |x|^k).
     SCOPED_TRACE(degree);
-    const SphericalSpline spline = RandomSpline(degree, 60, 5 + degree);
+    const BasisForm form =
+        degree < 0 ? BasisForm::kRaw : BasisForm::kNormalized;
+    degree = std::abs(degree);
+    const SphericalSpline spline = RandomSpline(degree, 60, 5 + degree, form);
     const PiecewiseSurface fast(spline);
     const Eigen::MatrixX3d points = testing::RandomUnitVectors(4000, 99);
     Eigen::MatrixX3d positions, normals;
