@@ -1,20 +1,53 @@
-// Fits sample meshes and prints per-round statistics and per-stage times.
-//   fit_bench [MESH [DEGREE [RMSE_PERCENT [KNOTS_PER_ROUND [MAX_ROUNDS]]]]]
+// Fits a mesh and prints per-round statistics (honest two-sided errors and
+// the paper's vertex errors) and per-stage times.
+//   fit_bench MESH [--degree K] [--rmse PCT] [--knots-per-round N]
+//             [--max-rounds R] [--raw] [--fairness F] [--samples S]
+//             [--lambda L] [--threads T] [--initial-knots N]
+//             [--max-control-points M] [-o MODEL.sdcb]
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
-#include "sdcb/core/fit/adaptive_fit.h"
+#include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/sdcb_file.h"
 
 int main(int argc, char** argv) {
-  const std::string path =
-      argc > 1 ? argv[1] : std::string(SDCB_MESH_DIR) + "/bunny00.off";
+  std::string path = std::string(SDCB_MESH_DIR) + "/bunny00.off";
   sdcb::FitOptions options;
-  if (argc > 2) options.degree = std::atoi(argv[2]);
-  if (argc > 3) options.rmse_percent = std::atof(argv[3]);
-  if (argc > 4) options.knots_per_round = std::atoi(argv[4]);
-  if (argc > 5) options.max_rounds = std::atoi(argv[5]);
+  std::string output;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&] { return i + 1 < argc ? argv[++i] : "0"; };
+    if (a == "--degree") {
+      options.degree = std::atoi(next());
+    } else if (a == "--rmse") {
+      options.rmse_percent = std::atof(next());
+    } else if (a == "--knots-per-round") {
+      options.knots_per_round = std::atoi(next());
+    } else if (a == "--initial-knots") {
+      options.initial_knots = std::atoi(next());
+    } else if (a == "--max-rounds") {
+      options.max_rounds = std::atoi(next());
+    } else if (a == "--max-control-points") {
+      options.max_control_points = std::atoi(next());
+    } else if (a == "--raw") {
+      options.basis_form = sdcb::BasisForm::kRaw;
+    } else if (a == "--fairness") {
+      options.fairness = std::atof(next());
+    } else if (a == "--lambda") {
+      options.lambda = std::atof(next());
+    } else if (a == "--samples") {
+      options.samples_per_spacing = std::atof(next());
+    } else if (a == "-o") {
+      output = next();
+    } else if (a == "--threads") {
+      options.threads = std::atoi(next());
+    } else {
+      path = a;
+    }
+  }
   auto mesh = sdcb::ReadMesh(path);
   if (!mesh.ok()) {
     std::fprintf(stderr, "%s\n", mesh.status().message().c_str());
@@ -25,29 +58,48 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", fit.status().message().c_str());
     return 1;
   }
-  const auto& s = fit->statistics;
-  std::printf("%s: %d vertices, degree %d, target rmse %.4f%%\n", path.c_str(),
-              mesh->num_vertices(), options.degree, options.rmse_percent);
+  const auto& s = fit->model.statistics;
   std::printf(
-      "round  knots  ctrl_pts   rmse%%     max%%  | seconds: knots  configs  "
-      "basis   solve   round | cvt energy (iters) | reused basis\n");
+      "%s: %d vertices, degree %d, %s basis, fairness %g, samples/spacing "
+      "%g, target rmse %.4f%%\n",
+      path.c_str(), mesh->num_vertices(), options.degree,
+      options.basis_form == sdcb::BasisForm::kRaw ? "raw" : "normalized",
+      options.fairness, options.samples_per_spacing, options.rmse_percent);
+  std::printf(
+      "round knots ctrl  | rms%%     max%%     fold%% | vrms%%    vmax%%   | "
+      "rows   split minS minV | s: knots  conf  basis  solve measure "
+      "round\n");
   for (size_t i = 0; i < s.rounds.size(); ++i) {
     const auto& r = s.rounds[i];
     const auto& d = fit->round_details[i];
     std::printf(
-        "%5d %6d %9d  %.5f  %.5f |        %6.3f  %6.3f  %6.3f  %6.3f  %6.3f | "
-        "%.4g -> %.4g (%d) | %d\n",
+        "%4d %5d %5d | %.5f %.5f %.4f | %.5f %.5f | %6d %5d %4d %4d%s | "
+        "%6.3f %5.3f %6.3f %6.3f %6.3f %6.3f\n",
         r.round, r.knots, r.control_points, r.rmse_percent, r.max_error_percent,
+        r.folded_area_percent, r.vertex_rmse_percent,
+        r.vertex_max_error_percent, d.data_samples, d.split_triangles,
+        d.min_samples_per_basis, d.min_vertices_per_basis, d.closest_points ? "*" : " ",
         d.timings.knot_placement, d.timings.configurations, d.timings.basis,
-        d.timings.solve, d.timings.total, d.cvt_initial_energy,
-        d.cvt_final_energy, d.cvt_iterations, d.reused_basis_functions);
+        d.timings.solve, d.timings.measure, d.timings.total);
   }
-  const auto& t = s.timings;
+  const auto& f = s.final_result;
+  const auto& t = fit->timings;
+  std::printf(
+      "final: %d control points, rms %.5f%%, max %.5f%%, folded %.4f%%, "
+      "vertex rms %.5f%% max %.5f%%, reached %s%s%s\n",
+      f.control_points, f.rmse_percent, f.max_error_percent,
+      f.folded_area_percent, f.vertex_rmse_percent, f.vertex_max_error_percent,
+      fit->reached_target() ? "yes" : "no", fit->shortfall.empty() ? "" : ": ",
+      fit->shortfall.c_str());
   std::printf(
       "timings (s): parameterization %.3f, knot placement %.3f, "
-      "configurations %.3f, basis %.3f, solve %.3f, total %.3f\n",
+      "configurations %.3f, basis %.3f, solve %.3f, measure %.3f, total "
+      "%.3f\n",
       t.parameterization, t.knot_placement, t.configurations, t.basis, t.solve,
-      t.total);
-  std::printf("reached target: %s\n", fit->reached_target ? "yes" : "no");
+      t.measure, t.total);
+  if (!output.empty()) {
+    const sdcb::Status w = sdcb::WriteSdcbFile(fit->model, output);
+    if (!w.ok()) std::fprintf(stderr, "%s\n", w.message().c_str());
+  }
   return 0;
 }

@@ -1,17 +1,25 @@
-// Prints the size and the serialize / parse / write / read / JSON-dump times
-// of a synthetic model at the scale of the paper's results (Table 2: ~5000
-// control points; here more, to bound real models from above). Not run by
-// CI. Usage: sdcb_file_bench [knots] [basis_functions] [parameters]
+// Times reading and writing `.sdcb` files (format version 2) and prints
+// their sizes. Not run by CI.
+//
+// Usage: sdcb_file_bench [MODEL.sdcb ...]
+// With files (e.g. written by `sdcb fit`): per file, the median and minimum
+// of 11 reads (ReadSdcbFile: read, check, inflate, recompute the
+// configurations from the knots, validate), the configuration recomputation
+// alone, and the sizes of the model written lossless, with --quantize 16,
+// with and without parameters.
+// Without files: a synthetic degree-4 model at the scale of the paper's
+// results and above (5000 random knots, their configurations, random control
+// points, 50K parameters).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <random>
-#include <set>
 #include <string>
 #include <vector>
 
+#include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/core/spline/spline_model.h"
 #include "sdcb/io/model_json.h"
 #include "sdcb/io/sdcb_file.h"
@@ -30,29 +38,18 @@ Eigen::MatrixX3d RandomUnit(int n, std::mt19937* rng) {
   return m;
 }
 
-// Structurally valid (not geometrically meaningful) degree-4 model: random
-// distinct knot sets, three boundary triples each.
-SplineModel SyntheticModel(int knots, int sets, int parameters) {
+SplineModel SyntheticModel(int knots, int parameters) {
   constexpr int kDegree = 4;
   std::mt19937 rng(1);
   SplineModel m;
   m.degree = kDegree;
   m.knots = RandomUnit(knots, &rng);
-  m.configurations.degree = kDegree;
-  std::set<std::vector<int>> unique;
-  std::uniform_int_distribution<int> pick(0, knots - 1);
-  while (static_cast<int>(unique.size()) < sets) {
-    std::set<int> s;
-    while (static_cast<int>(s.size()) < kDegree + 3) s.insert(pick(rng));
-    unique.insert(std::vector<int>(s.begin(), s.end()));
-  }
-  for (const std::vector<int>& k : unique) {
-    m.configurations.sets.push_back(
-        {k, {{k[0], k[1], k[2]}, {k[0], k[1], k[3]}, {k[1], k[4], k[6]}}});
-  }
+  m.configurations =
+      sdcb::ComputeDelaunayConfigurations(m.knots, kDegree).value();
   std::uniform_real_distribution<double> u(-0.5, 0.5);
+  const auto sets = static_cast<Eigen::Index>(m.configurations.sets.size());
   m.control_points.resize(sets, 3);
-  for (int i = 0; i < sets; ++i) {
+  for (Eigen::Index i = 0; i < sets; ++i) {
     m.control_points.row(i) << u(rng), u(rng), u(rng);
   }
   m.transform.scale = 2.5;
@@ -64,9 +61,13 @@ SplineModel SyntheticModel(int knots, int sets, int parameters) {
   return m;
 }
 
-// Median wall time of `runs` calls, in milliseconds.
+struct Timing {
+  double median_ms = 0;
+  double min_ms = 0;
+};
+
 template <typename F>
-double MedianMs(int runs, F&& f) {
+Timing Time(int runs, F&& f) {
   std::vector<double> t;
   for (int r = 0; r < runs; ++r) {
     const auto start = std::chrono::steady_clock::now();
@@ -76,44 +77,98 @@ double MedianMs(int runs, F&& f) {
                     .count());
   }
   std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  return {t[t.size() / 2], t.front()};
 }
 
-}  // namespace
+size_t SizeOf(const SplineModel& m, const sdcb::SdcbWriteOptions& o) {
+  return sdcb::SerializeSdcb(m, o).value().size();
+}
 
-int main(int argc, char** argv) {
-  const int knots = argc > 1 ? std::atoi(argv[1]) : 5000;
-  const int sets = argc > 2 ? std::atoi(argv[2]) : 20000;
-  const int parameters = argc > 3 ? std::atoi(argv[3]) : 50000;
-  const SplineModel model = SyntheticModel(knots, sets, parameters);
+int BenchFile(const std::string& path) {
+  constexpr int kRuns = 11;
+  sdcb::SdcbFileInfo info;
+  sdcb::StatusOr<SplineModel> model = sdcb::ReadSdcbFile(path, &info);
+  if (!model.ok()) {
+    std::fprintf(stderr, "%s\n", model.status().message().c_str());
+    return 1;
+  }
+  bool ok = true;
+  const Timing read = Time(kRuns, [&] { ok &= sdcb::ReadSdcbFile(path).ok(); });
+  const Timing configurations = Time(kRuns, [&] {
+    ok &= sdcb::ComputeDelaunayConfigurations(model->knots, model->degree).ok();
+  });
+  std::string bytes;
+  const Timing serialize = Time(
+      kRuns, [&] { bytes = std::move(sdcb::SerializeSdcb(*model).value()); });
+  if (!ok) {
+    std::fprintf(stderr, "%s: a read failed\n", path.c_str());
+    return 1;
+  }
+  std::printf(
+      "%s: format version %u, %llu bytes; degree %d, %lld knots, %zu control "
+      "points, %lld parameters stored\n"
+      "  read (ReadSdcbFile, %d runs): median %.1f ms, min %.1f ms; of "
+      "which recomputing the configurations: median %.1f ms\n"
+      "  serialize (lossless): median %.1f ms\n"
+      "  sizes written now: lossless %zu bytes, --quantize 16 %zu bytes",
+      path.c_str(), info.format_version,
+      static_cast<unsigned long long>(info.file_bytes), model->degree,
+      static_cast<long long>(model->knots.rows()),
+      model->configurations.sets.size(),
+      static_cast<long long>(model->parameters.rows()), kRuns, read.median_ms,
+      read.min_ms, configurations.median_ms, serialize.median_ms,
+      SizeOf(*model, {false, 0}), SizeOf(*model, {false, 16}));
+  if (model->parameters.rows() > 0) {
+    std::printf(", lossless with parameters %zu bytes",
+                SizeOf(*model, {true, 0}));
+  }
+  std::printf("\n");
+  return 0;
+}
+
+int BenchSynthetic() {
+  constexpr int kKnots = 5000, kParameters = 50000, kRuns = 5;
+  const SplineModel model = SyntheticModel(kKnots, kParameters);
   const std::string path =
       (std::filesystem::temp_directory_path() / "sdcb_file_bench.sdcb")
           .string();
-  constexpr int kRuns = 5;
-
   std::string bytes;
-  const double serialize = MedianMs(
+  const Timing serialize = Time(
       kRuns, [&] { bytes = std::move(sdcb::SerializeSdcb(model).value()); });
   bool ok = true;
-  const double parse =
-      MedianMs(kRuns, [&] { ok &= sdcb::ParseSdcb(bytes).ok(); });
-  const double write =
-      MedianMs(kRuns, [&] { ok &= sdcb::WriteSdcbFile(model, path).ok(); });
-  const double read =
-      MedianMs(kRuns, [&] { ok &= sdcb::ReadSdcbFile(path).ok(); });
+  const Timing parse = Time(kRuns, [&] { ok &= sdcb::ParseSdcb(bytes).ok(); });
+  const Timing write =
+      Time(kRuns, [&] { ok &= sdcb::WriteSdcbFile(model, path).ok(); });
+  const Timing read = Time(kRuns, [&] { ok &= sdcb::ReadSdcbFile(path).ok(); });
+  const Timing configurations = Time(kRuns, [&] {
+    ok &= sdcb::ComputeDelaunayConfigurations(model.knots, model.degree).ok();
+  });
   std::string json;
-  const double dump = MedianMs(kRuns, [&] { json = sdcb::ModelToJson(model); });
+  const Timing dump = Time(kRuns, [&] { json = sdcb::ModelToJson(model); });
   std::filesystem::remove(path);
   if (!ok) {
     std::fprintf(stderr, "a round trip failed\n");
     return 1;
   }
   std::printf(
-      "model: degree 4, %d knots, %d basis functions, %d parameters\n"
-      ".sdcb size: %zu bytes; JSON dump: %zu bytes\n"
-      "median of %d runs (ms): serialize %.2f, parse %.2f, write file %.2f, "
-      "read file %.2f, ModelToJson %.2f\n",
-      knots, sets, parameters, bytes.size(), json.size(), kRuns, serialize,
-      parse, write, read, dump);
+      "synthetic model: degree 4, %d random knots, %zu basis functions, %d "
+      "parameters\n"
+      ".sdcb size: %zu bytes (without parameters %zu, --quantize 16 %zu); "
+      "JSON dump: %zu bytes\n"
+      "median of %d runs (ms): serialize %.1f, parse %.1f (configurations "
+      "%.1f), write file %.1f, read file %.1f, ModelToJson %.1f\n",
+      kKnots, model.configurations.sets.size(), kParameters, bytes.size(),
+      SizeOf(model, {false, 0}), SizeOf(model, {false, 16}), json.size(), kRuns,
+      serialize.median_ms, parse.median_ms, configurations.median_ms,
+      write.median_ms, read.median_ms, dump.median_ms);
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) return BenchSynthetic();
+  int status = 0;
+  for (int i = 1; i < argc; ++i) status |= BenchFile(argv[i]);
+  return status;
 }

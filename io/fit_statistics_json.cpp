@@ -14,7 +14,13 @@ json RoundToJson(const RoundStatistics& r) {
               {"control_points", r.control_points},
               {"rmse_percent", r.rmse_percent},
               {"max_error_percent", r.max_error_percent},
-              {"seconds", r.seconds}};
+              {"vertex_rmse_percent", r.vertex_rmse_percent},
+              {"vertex_max_error_percent", r.vertex_max_error_percent},
+              {"folded_area_percent", r.folded_area_percent}};
+}
+
+const char* ErrorMeasureName(ErrorMeasure m) {
+  return m == ErrorMeasure::kVertices ? "vertices" : "dense_two_sided";
 }
 
 // Looks up `key` in the object `obj`; `where` names obj in messages.
@@ -63,6 +69,24 @@ Status GetDouble(const json& obj, const char* key, const std::string& where,
   return Status::Ok();
 }
 
+Status GetBool(const json& obj, const char* key, const std::string& where,
+               bool* out) {
+  SDCB_ASSIGN_OR_RETURN(const json* v, Member(obj, key, where));
+  if (!v->is_boolean()) {
+    return InvalidInputError(where + "." + key + " is not true or false");
+  }
+  *out = v->get<bool>();
+  return Status::Ok();
+}
+
+// Getters for keys that older files lack: absent leaves *out unchanged.
+template <typename T, typename Getter>
+Status GetOptional(const json& obj, const char* key, const std::string& where,
+                   T* out, Getter get) {
+  if (!obj.is_object() || !obj.contains(key)) return Status::Ok();
+  return get(obj, key, where, out);
+}
+
 Status RoundFromJson(const json& obj, const std::string& where,
                      RoundStatistics* r) {
   SDCB_RETURN_IF_ERROR(GetInt(obj, "round", where, &r->round));
@@ -72,7 +96,15 @@ Status RoundFromJson(const json& obj, const std::string& where,
   SDCB_RETURN_IF_ERROR(GetDouble(obj, "rmse_percent", where, &r->rmse_percent));
   SDCB_RETURN_IF_ERROR(
       GetDouble(obj, "max_error_percent", where, &r->max_error_percent));
-  return GetDouble(obj, "seconds", where, &r->seconds);
+  // Version 1 measured at the vertices only.
+  r->vertex_rmse_percent = r->rmse_percent;
+  r->vertex_max_error_percent = r->max_error_percent;
+  SDCB_RETURN_IF_ERROR(GetOptional(obj, "vertex_rmse_percent", where,
+                                   &r->vertex_rmse_percent, GetDouble));
+  SDCB_RETURN_IF_ERROR(GetOptional(obj, "vertex_max_error_percent", where,
+                                   &r->vertex_max_error_percent, GetDouble));
+  return GetOptional(obj, "folded_area_percent", where, &r->folded_area_percent,
+                     GetDouble);
 }
 
 }  // namespace
@@ -80,23 +112,26 @@ Status RoundFromJson(const json& obj, const std::string& where,
 json FitStatisticsToJson(const FitStatistics& s) {
   json rounds = json::array();
   for (const RoundStatistics& r : s.rounds) rounds.push_back(RoundToJson(r));
-  const StageTimings& t = s.timings;
   const RecordedFitOptions& o = s.options;
   return json{{"rounds", std::move(rounds)},
               {"final", RoundToJson(s.final_result)},
-              {"timings",
-               {{"parameterization", t.parameterization},
-                {"knot_placement", t.knot_placement},
-                {"configurations", t.configurations},
-                {"basis", t.basis},
-                {"solve", t.solve},
-                {"total", t.total}}},
               {"options",
                {{"degree", o.degree},
                 {"rmse_percent", o.rmse_percent},
                 {"knots_per_round", o.knots_per_round},
+                {"initial_knots", o.initial_knots},
                 {"max_rounds", o.max_rounds},
-                {"lambda", o.lambda}}}};
+                {"max_control_points", o.max_control_points},
+                {"lambda", o.lambda},
+                {"alpha", o.alpha},
+                {"regularization", o.regularization},
+                {"fairness", o.fairness},
+                {"samples_per_spacing", o.samples_per_spacing},
+                {"max_fold_rounds", o.max_fold_rounds},
+                {"round_samples_per_knot", o.round_samples_per_knot},
+                {"final_surface_samples", o.final_surface_samples}}},
+              {"error_measure", ErrorMeasureName(s.error_measure)},
+              {"reached_target", s.reached_target}};
 }
 
 StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
@@ -116,17 +151,6 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
   SDCB_RETURN_IF_ERROR(
       RoundFromJson(*final_json, "statistics.final", &s.final_result));
 
-  SDCB_ASSIGN_OR_RETURN(const json* t, Member(j, "timings", where));
-  const std::string tw = "statistics.timings";
-  StageTimings& st = s.timings;
-  SDCB_RETURN_IF_ERROR(
-      GetDouble(*t, "parameterization", tw, &st.parameterization));
-  SDCB_RETURN_IF_ERROR(GetDouble(*t, "knot_placement", tw, &st.knot_placement));
-  SDCB_RETURN_IF_ERROR(GetDouble(*t, "configurations", tw, &st.configurations));
-  SDCB_RETURN_IF_ERROR(GetDouble(*t, "basis", tw, &st.basis));
-  SDCB_RETURN_IF_ERROR(GetDouble(*t, "solve", tw, &st.solve));
-  SDCB_RETURN_IF_ERROR(GetDouble(*t, "total", tw, &st.total));
-
   SDCB_ASSIGN_OR_RETURN(const json* o, Member(j, "options", where));
   const std::string ow = "statistics.options";
   RecordedFitOptions& so = s.options;
@@ -135,7 +159,99 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
   SDCB_RETURN_IF_ERROR(GetInt(*o, "knots_per_round", ow, &so.knots_per_round));
   SDCB_RETURN_IF_ERROR(GetInt(*o, "max_rounds", ow, &so.max_rounds));
   SDCB_RETURN_IF_ERROR(GetDouble(*o, "lambda", ow, &so.lambda));
+  SDCB_RETURN_IF_ERROR(
+      GetOptional(*o, "initial_knots", ow, &so.initial_knots, GetInt));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "max_control_points", ow,
+                                   &so.max_control_points, GetInt));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "alpha", ow, &so.alpha, GetDouble));
+  SDCB_RETURN_IF_ERROR(
+      GetOptional(*o, "regularization", ow, &so.regularization, GetDouble));
+  SDCB_RETURN_IF_ERROR(
+      GetOptional(*o, "fairness", ow, &so.fairness, GetDouble));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "samples_per_spacing", ow,
+                                   &so.samples_per_spacing, GetDouble));
+  SDCB_RETURN_IF_ERROR(
+      GetOptional(*o, "max_fold_rounds", ow, &so.max_fold_rounds, GetInt));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "round_samples_per_knot", ow,
+                                   &so.round_samples_per_knot, GetInt));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "final_surface_samples", ow,
+                                   &so.final_surface_samples, GetInt));
+
+  // Version 1 measured at the vertices and did not store the outcome.
+  s.error_measure = ErrorMeasure::kVertices;
+  if (j.contains("error_measure")) {
+    const json& m = j["error_measure"];
+    if (m == "dense_two_sided") {
+      s.error_measure = ErrorMeasure::kDenseTwoSided;
+    } else if (m != "vertices") {
+      return InvalidInputError(
+          "statistics.error_measure is not \"vertices\" or "
+          "\"dense_two_sided\"");
+    }
+  }
+  s.reached_target = s.final_result.rmse_percent <= so.rmse_percent;
+  SDCB_RETURN_IF_ERROR(
+      GetOptional(j, "reached_target", where, &s.reached_target, GetBool));
   return s;
+}
+
+nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
+  using ojson = nlohmann::ordered_json;
+  const FitStatistics& stats = fit.model.statistics;
+  const json record = FitStatisticsToJson(stats);
+  ojson report;
+  report["reached_target"] = stats.reached_target;
+  if (!fit.shortfall.empty()) report["shortfall"] = fit.shortfall;
+  report["basis_form"] =
+      fit.model.basis_form == BasisForm::kRaw ? "raw" : "normalized";
+  report["error_measure"] = record["error_measure"];
+  ojson rounds = ojson::array();
+  for (size_t i = 0; i < stats.rounds.size(); ++i) {
+    ojson r = record["rounds"][i];
+    r["seconds"] =
+        i < fit.round_details.size() ? fit.round_details[i].timings.total : 0.0;
+    rounds.push_back(std::move(r));
+  }
+  // The returned round (the last one, or the best when the target was
+  // missed), with its seconds.
+  ojson final_round = record["final"];
+  const int returned = stats.final_result.round;
+  final_round["seconds"] =
+      returned >= 0 && returned < static_cast<int>(fit.round_details.size())
+          ? fit.round_details[returned].timings.total
+          : 0.0;
+  report["final"] = std::move(final_round);
+  report["rounds"] = std::move(rounds);
+  report["options"] = record["options"];
+  const StageTimings& t = fit.timings;
+  report["timings"] = {{"parameterization", t.parameterization},
+                       {"knot_placement", t.knot_placement},
+                       {"configurations", t.configurations},
+                       {"basis", t.basis},
+                       {"solve", t.solve},
+                       {"measure", t.measure},
+                       {"total", t.total}};
+  ojson details = ojson::array();
+  for (size_t i = 0; i < fit.round_details.size(); ++i) {
+    const RoundDetails& d = fit.round_details[i];
+    details.push_back({{"round", static_cast<int>(i)},
+                       {"knot_placement", d.timings.knot_placement},
+                       {"configurations", d.timings.configurations},
+                       {"basis", d.timings.basis},
+                       {"solve", d.timings.solve},
+                       {"measure", d.timings.measure},
+                       {"cvt_initial_energy", d.cvt_initial_energy},
+                       {"cvt_final_energy", d.cvt_final_energy},
+                       {"cvt_iterations", d.cvt_iterations},
+                       {"min_knot_separation_radians", d.min_knot_separation},
+                       {"data_samples", d.data_samples},
+                       {"split_triangles", d.split_triangles},
+                       {"min_samples_per_basis", d.min_samples_per_basis},
+                       {"surface_samples", d.surface_samples},
+                       {"closest_points", d.closest_points}});
+  }
+  report["round_details"] = std::move(details);
+  return report;
 }
 
 }  // namespace sdcb

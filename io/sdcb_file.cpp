@@ -1,468 +1,297 @@
 #include "sdcb/io/sdcb_file.h"
 
 #include <algorithm>
-#include <array>
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 
+#include "sdcb/core/sphere/sphere_geometry.h"
+#include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/io/atomic_file.h"
-#include "sdcb/io/crc32.h"
+#include "sdcb/io/byte_packing.h"
 #include "sdcb/io/fit_statistics_json.h"
+#include "sdcb/io/sdcb_chunks.h"
 
 namespace sdcb {
 namespace {
 
-using ChunkType = std::array<char, 4>;
+using namespace sdcb_internal;  // NOLINT: the chunk codec of this file
 
-// Chunk types of format version 1, in the order they are written.
-constexpr ChunkType kHead = {'H', 'E', 'A', 'D'};
-constexpr ChunkType kKnot = {'K', 'N', 'O', 'T'};
-constexpr ChunkType kBsis = {'B', 'S', 'I', 'S'};
-constexpr ChunkType kCtrl = {'C', 'T', 'R', 'L'};
-constexpr ChunkType kXfrm = {'X', 'F', 'R', 'M'};
-constexpr ChunkType kStat = {'S', 'T', 'A', 'T'};
-constexpr ChunkType kSrcm = {'S', 'R', 'C', 'M'};
-constexpr ChunkType kParm = {'P', 'A', 'R', 'M'};
-constexpr ChunkType kEnd = {'E', 'N', 'D', ' '};
+// Version 2 (docs/FORMAT.md).
+constexpr size_t kHeadPayloadBytes = 40;
+constexpr size_t kPackedLengthBytes = 8;  // u64 inflated length
+// QCTL before its packed codes: u32 bits, 3 f64 origin, 3 f64 step, f64 D,
+// f64 max basis sum.
+constexpr size_t kQctlFixedBytes = 4 + 24 + 24 + 8 + 8;
+constexpr uint64_t kCodeRowBytes = 12;  // three u32 codes
 
-constexpr size_t kHeaderBytes = 12;      // magic + version
-constexpr size_t kChunkFrameBytes = 16;  // type + length + CRC
-constexpr size_t kHeadPayloadBytes = 28;
-constexpr size_t kXfrmPayloadBytes = 32;
-constexpr size_t kSrcmFixedBytes = 24;
-constexpr size_t kPointBytes = 24;  // three f64
-// Counts must also be valid `int` indices.
-constexpr uint64_t kMaxCount = std::numeric_limits<int32_t>::max();
-
-std::string Str(uint64_t x) { return std::to_string(x); }
-
-// Printable form of a chunk type for messages.
-std::string TypeName(const ChunkType& t) {
-  std::string s = "'";
-  for (char c : t) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u >= 0x20 && u < 0x7F) {
-      s += c;
-    } else {
-      static const char* kHex = "0123456789abcdef";
-      s += "\\x";
-      s += kHex[u >> 4];
-      s += kHex[u & 15];
-    }
-  }
-  return s + "'";
+std::string Hex64(uint64_t v) {
+  char buffer[19];
+  std::snprintf(buffer, sizeof buffer, "0x%016llx",
+                static_cast<unsigned long long>(v));
+  return buffer;
 }
 
 // ---------------------------------------------------------------------------
-// Writing.
+// Packed payloads: u64 inflated length L, then a zlib stream of L bytes.
 
-class ByteWriter {
- public:
-  void U32(uint32_t v) {
-    for (int i = 0; i < 4; ++i) out_ += static_cast<char>(v >> (8 * i));
+std::string Packed(const std::string& inflated) {
+  ByteWriter w;
+  w.U64(inflated.size());
+  w.Bytes(ZlibCompress(inflated));
+  return std::move(w.str());
+}
+
+// Inflates a packed payload; `expected` (if >= 0) is the length the counts
+// imply.
+StatusOr<std::string> Unpacked(std::string_view payload, int64_t expected,
+                               const char* chunk) {
+  ByteReader r(payload);
+  uint64_t length = 0;
+  if (!r.U64(&length)) {
+    return Corrupt(std::string("the ") + chunk + " chunk has " +
+                   Str(payload.size()) +
+                   " bytes, too few for its inflated length");
   }
-  void U64(uint64_t v) {
-    for (int i = 0; i < 8; ++i) out_ += static_cast<char>(v >> (8 * i));
+  if (expected >= 0 && length != static_cast<uint64_t>(expected)) {
+    return Corrupt(std::string("the ") + chunk + " chunk declares " +
+                   Str(length) + " inflated bytes; HEAD's counts need " +
+                   Str(expected));
   }
-  void F64(double d) {
-    uint64_t bits;
-    std::memcpy(&bits, &d, sizeof bits);
-    U64(bits);
+  StatusOr<std::string> inflated = ZlibDecompress(r.Rest(), length);
+  if (!inflated.ok()) {
+    return Corrupt(std::string("the ") + chunk +
+                   " chunk: " + inflated.status().message());
   }
-  void Points(const Eigen::MatrixX3d& m) {
-    for (Eigen::Index i = 0; i < m.rows(); ++i) {
-      for (int c = 0; c < 3; ++c) F64(m(i, c));
+  return inflated;
+}
+
+// Points as doubles by coordinate (all x, then all y, then all z), in byte
+// planes.
+std::string PackPoints(const Eigen::MatrixX3d& points) {
+  ByteWriter w;
+  for (int c = 0; c < 3; ++c) {
+    for (Eigen::Index i = 0; i < points.rows(); ++i) w.F64(points(i, c));
+  }
+  return Packed(ToBytePlanes(w.str(), 8));
+}
+
+StatusOr<Eigen::MatrixX3d> UnpackPoints(std::string_view payload, uint64_t rows,
+                                        const char* chunk) {
+  SDCB_ASSIGN_OR_RETURN(
+      const std::string planes,
+      Unpacked(payload, static_cast<int64_t>(rows * kPointBytes), chunk));
+  const std::string values = FromBytePlanes(planes, 8);
+  ByteReader r(values);
+  Eigen::MatrixX3d m(static_cast<Eigen::Index>(rows), 3);
+  for (int c = 0; c < 3; ++c) {
+    for (Eigen::Index i = 0; i < m.rows(); ++i) (void)r.F64(&m(i, c));
+  }
+  return m;
+}
+
+// Zigzag code of a difference taken modulo 2^32 (read as int32): small
+// differences of either sign give small codes.
+uint32_t Zigzag(uint32_t difference) {
+  return (difference << 1) ^ (0u - (difference >> 31));
+}
+uint32_t Unzigzag(uint32_t z) { return (z >> 1) ^ (0u - (z & 1u)); }
+
+// QCTL: the grid, then the codes of each coordinate as zigzag differences
+// from the previous control point's (control points of neighbouring sets
+// share knots and lie close), u32 in byte planes.
+std::string QuantizedPayload(const QuantizedControlPoints& q) {
+  ByteWriter w;
+  const ControlPointQuantization& g = q.quantization;
+  w.U32(static_cast<uint32_t>(g.bits));
+  for (int c = 0; c < 3; ++c) w.F64(g.origin[c]);
+  for (int c = 0; c < 3; ++c) w.F64(g.step[c]);
+  w.F64(g.max_displacement);
+  w.F64(g.max_basis_sum);
+  ByteWriter codes;
+  const size_t rows = q.codes.size() / 3;
+  for (int c = 0; c < 3; ++c) {
+    uint32_t previous = 0;
+    for (size_t i = 0; i < rows; ++i) {
+      const uint32_t code = q.codes[c * rows + i];
+      codes.U32(Zigzag(code - previous));
+      previous = code;
     }
   }
-  void Bytes(std::string_view s) { out_.append(s.data(), s.size()); }
-  std::string& str() { return out_; }
-
- private:
-  std::string out_;
-};
-
-// Appends type, u64 length, payload and CRC-32 of (type, length, payload).
-void AppendChunk(const ChunkType& type, const std::string& payload,
-                 ByteWriter* file) {
-  ByteWriter frame;
-  frame.Bytes(std::string_view(type.data(), type.size()));
-  frame.U64(payload.size());
-  uint32_t crc = Crc32(frame.str());
-  crc = Crc32Update(crc, payload.data(), payload.size());
-  file->Bytes(frame.str());
-  file->Bytes(payload);
-  file->U32(crc);
-}
-
-std::string HeadPayload(const SplineModel& m) {
-  ByteWriter w;
-  w.U32(static_cast<uint32_t>(m.degree));
-  w.U64(static_cast<uint64_t>(m.knots.rows()));
-  w.U64(m.configurations.sets.size());
-  w.U64(static_cast<uint64_t>(m.parameters.rows()));
+  w.Bytes(Packed(ToBytePlanes(codes.str(), 4)));
   return std::move(w.str());
 }
 
-std::string BasisPayload(const DelaunayConfigurations& configurations) {
-  ByteWriter w;
-  for (const ConfigurationSet& set : configurations.sets) {
-    w.U32(static_cast<uint32_t>(set.boundaries.size()));
-    for (int knot : set.knots) w.U32(static_cast<uint32_t>(knot));
-    for (const std::array<int, 3>& triple : set.boundaries) {
-      for (int knot : triple) w.U32(static_cast<uint32_t>(knot));
+StatusOr<Eigen::MatrixX3d> ParseQuantized(std::string_view payload,
+                                          uint64_t rows, BasisForm form,
+                                          ControlPointQuantization* g) {
+  if (payload.size() < kQctlFixedBytes) {
+    return Corrupt("the QCTL chunk has " + Str(payload.size()) +
+                   " bytes; it needs at least " + Str(kQctlFixedBytes));
+  }
+  ByteReader r(payload);
+  uint32_t bits = 0;
+  (void)r.U32(&bits);
+  for (int c = 0; c < 3; ++c) (void)r.F64(&g->origin[c]);
+  for (int c = 0; c < 3; ++c) (void)r.F64(&g->step[c]);
+  (void)r.F64(&g->max_displacement);
+  (void)r.F64(&g->max_basis_sum);
+  if (bits < kMinQuantizationBits || bits > kMaxQuantizationBits) {
+    return Corrupt("the QCTL chunk declares " + Str(bits) + " bits; " +
+                   Str(kMinQuantizationBits) + ".." +
+                   Str(kMaxQuantizationBits) + " are valid");
+  }
+  g->bits = static_cast<int>(bits);
+  if (!g->origin.allFinite() || !g->step.allFinite() ||
+      (g->step.array() < 0).any()) {
+    return Corrupt(
+        "the QCTL chunk's grid needs a finite origin and finite steps >= 0");
+  }
+  g->basis_sum_measured = form == BasisForm::kRaw;
+  if (!std::isfinite(g->max_displacement) || !(g->max_displacement >= 0) ||
+      !std::isfinite(g->max_basis_sum) ||
+      (form == BasisForm::kNormalized ? g->max_basis_sum != 1.0
+                                      : !(g->max_basis_sum > 0))) {
+    return Corrupt(
+        "the QCTL chunk's error bound is invalid (the displacement must be "
+        "finite and >= 0, the basis sum 1 for the normalized basis, finite "
+        "and > 0 for the raw one)");
+  }
+  SDCB_ASSIGN_OR_RETURN(
+      const std::string planes,
+      Unpacked(r.Rest(), static_cast<int64_t>(rows * kCodeRowBytes), "QCTL"));
+  const std::string zigzags = FromBytePlanes(planes, 4);
+  ByteReader codes_reader(zigzags);
+  std::vector<uint32_t> codes(3 * rows);
+  const uint64_t top = (uint64_t{1} << bits) - 1;
+  for (int c = 0; c < 3; ++c) {
+    uint32_t previous = 0;
+    for (uint64_t i = 0; i < rows; ++i) {
+      uint32_t z = 0;
+      (void)codes_reader.U32(&z);
+      const uint32_t code = previous + Unzigzag(z);
+      if (code > top) {
+        return Corrupt("the QCTL chunk's code " + Str(code) +
+                       " of control point " + Str(i) + " exceeds " + Str(bits) +
+                       " bits");
+      }
+      codes[c * rows + i] = code;
+      previous = code;
     }
   }
-  return std::move(w.str());
-}
-
-std::string PointsPayload(const Eigen::MatrixX3d& points) {
-  ByteWriter w;
-  w.Points(points);
-  return std::move(w.str());
-}
-
-std::string TransformPayload(const NormalizingTransform& t) {
-  ByteWriter w;
-  w.F64(t.scale);
-  for (int c = 0; c < 3; ++c) w.F64(t.translation[c]);
-  return std::move(w.str());
-}
-
-std::string SourcePayload(const SourceMeshInfo& s) {
-  ByteWriter w;
-  w.U64(static_cast<uint64_t>(s.num_vertices));
-  w.U64(static_cast<uint64_t>(s.num_faces));
-  w.U64(s.hash);
-  w.Bytes(s.file_name);
-  return std::move(w.str());
+  return DequantizeControlPoints(g->origin, g->step, codes);
 }
 
 // ---------------------------------------------------------------------------
-// Reading.
-
-// Bounds-checked little-endian reads from a byte range. Every read checks the
-// bytes left; callers check lengths up front too, so a failed read here means
-// a length rule was broken.
-class ByteReader {
- public:
-  explicit ByteReader(std::string_view data) : data_(data) {}
-  size_t remaining() const { return data_.size() - pos_; }
-  bool U32(uint32_t* v) {
-    if (remaining() < 4) return false;
-    *v = 0;
-    for (int i = 0; i < 4; ++i) *v |= uint32_t{Byte(i)} << (8 * i);
-    pos_ += 4;
-    return true;
-  }
-  bool U64(uint64_t* v) {
-    if (remaining() < 8) return false;
-    *v = 0;
-    for (int i = 0; i < 8; ++i) *v |= uint64_t{Byte(i)} << (8 * i);
-    pos_ += 8;
-    return true;
-  }
-  bool F64(double* d) {
-    uint64_t bits;
-    if (!U64(&bits)) return false;
-    std::memcpy(d, &bits, sizeof bits);
-    return true;
-  }
-  std::string_view Rest() {
-    std::string_view rest = data_.substr(pos_);
-    pos_ = data_.size();
-    return rest;
-  }
-
- private:
-  uint8_t Byte(int i) const { return static_cast<uint8_t>(data_[pos_ + i]); }
-  std::string_view data_;
-  size_t pos_ = 0;
-};
-
-Status Corrupt(const std::string& message) { return CorruptFileError(message); }
-
-// The payloads of the chunk types version 1 knows, after framing and CRC
-// checks; unknown types are dropped.
-struct Chunks {
-  static constexpr int kNumKnown = 9;
-  static constexpr std::array<ChunkType, kNumKnown> kKnown = {
-      kHead, kKnot, kBsis, kCtrl, kXfrm, kStat, kSrcm, kParm, kEnd};
-  std::array<bool, kNumKnown> present{};
-  std::array<std::string_view, kNumKnown> payload{};
-
-  static int IndexOf(const ChunkType& t) {
-    for (int i = 0; i < kNumKnown; ++i) {
-      if (kKnown[i] == t) return i;
-    }
-    return -1;
-  }
-  bool Has(const ChunkType& t) const { return present[IndexOf(t)]; }
-  std::string_view Get(const ChunkType& t) const { return payload[IndexOf(t)]; }
-};
-
-bool ValidTypeChar(char c) {
-  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') ||
-         (c >= '0' && c <= '9') || c == ' ' || c == '_';
-}
-
-// Splits the chunk sequence after the 12-byte header, checking framing and
-// CRCs: every chunk lies inside the file, has a valid type and CRC, a known
-// type occurs at most once, HEAD comes first, END comes last with nothing
-// after it.
-StatusOr<Chunks> SplitChunks(std::string_view bytes) {
-  Chunks chunks;
-  size_t pos = kHeaderBytes;
-  bool first = true;
-  while (true) {
-    const size_t left = bytes.size() - pos;
-    if (left < kChunkFrameBytes) {
-      return Corrupt("truncated: the file ends at byte " + Str(bytes.size()) +
-                     " inside a chunk header, before the END chunk");
-    }
-    ChunkType type;
-    std::memcpy(type.data(), bytes.data() + pos, 4);
-    ByteReader length_reader(bytes.substr(pos + 4, 8));
-    uint64_t length = 0;
-    (void)length_reader.U64(&length);
-    if (length > left - kChunkFrameBytes) {
-      return Corrupt("chunk " + TypeName(type) + " at byte " + Str(pos) +
-                     " declares " + Str(length) + " payload bytes but only " +
-                     Str(left - kChunkFrameBytes) +
-                     " remain (truncated or corrupt)");
-    }
-    const std::string_view framed = bytes.substr(pos, 12 + length);
-    ByteReader crc_reader(bytes.substr(pos + 12 + length, 4));
-    uint32_t stored_crc = 0;
-    (void)crc_reader.U32(&stored_crc);
-    const uint32_t crc = Crc32(framed);
-    if (crc != stored_crc) {
-      return Corrupt("chunk " + TypeName(type) + " at byte " + Str(pos) +
-                     " fails its CRC-32 check (the data is corrupt)");
-    }
-    for (char c : type) {
-      if (!ValidTypeChar(c)) {
-        return Corrupt("chunk at byte " + Str(pos) + " has an invalid type " +
-                       TypeName(type));
-      }
-    }
-    if (first && type != kHead) {
-      return Corrupt("the first chunk is " + TypeName(type) +
-                     ", not the required 'HEAD'");
-    }
-    first = false;
-    const int known = Chunks::IndexOf(type);
-    if (known >= 0) {
-      if (chunks.present[known]) {
-        return Corrupt("chunk " + TypeName(type) + " occurs twice");
-      }
-      chunks.present[known] = true;
-      chunks.payload[known] = framed.substr(12);
-    }
-    pos += kChunkFrameBytes + length;
-    if (type == kEnd) {
-      if (length != 0) return Corrupt("the END chunk is not empty");
-      if (pos != bytes.size()) {
-        return Corrupt(Str(bytes.size() - pos) +
-                       " unexpected bytes follow the END chunk");
-      }
-      return chunks;
-    }
-  }
-}
+// Version 2.
 
 struct Head {
   int degree = 0;
+  BasisForm basis_form = BasisForm::kNormalized;
   uint64_t num_knots = 0;
   uint64_t num_basis = 0;
   uint64_t num_parameters = 0;
+  uint64_t configuration_hash = 0;
 };
 
-// Bytes of one BSIS record with `boundaries` triples.
-uint64_t BasisRecordBytes(int degree, uint64_t boundaries) {
-  return 4 + 4 * static_cast<uint64_t>(degree + 3) + 12 * boundaries;
+std::string HeadPayload(const Head& h) {
+  ByteWriter w;
+  w.U32(static_cast<uint32_t>(h.degree));
+  w.U32(static_cast<uint32_t>(h.basis_form));
+  w.U64(h.num_knots);
+  w.U64(h.num_basis);
+  w.U64(h.num_parameters);
+  w.U64(h.configuration_hash);
+  return std::move(w.str());
 }
 
 StatusOr<Head> ParseHead(std::string_view payload, size_t file_size) {
   if (payload.size() != kHeadPayloadBytes) {
     return Corrupt("the HEAD chunk has " + Str(payload.size()) +
-                   " bytes; version 1 needs " + Str(kHeadPayloadBytes));
+                   " bytes; version 2 needs " + Str(kHeadPayloadBytes));
   }
   ByteReader r(payload);
-  uint32_t degree = 0;
+  uint32_t degree = 0, form = 0;
   Head h;
   (void)r.U32(&degree);
+  (void)r.U32(&form);
   (void)r.U64(&h.num_knots);
   (void)r.U64(&h.num_basis);
   (void)r.U64(&h.num_parameters);
-  if (degree > static_cast<uint32_t>(kMaxSplineDegree)) {
-    return Corrupt("HEAD declares degree " + Str(degree) + ", outside 0.." +
-                   Str(kMaxSplineDegree));
+  (void)r.U64(&h.configuration_hash);
+  SDCB_ASSIGN_OR_RETURN(h.degree, CheckDegree(degree));
+  if (form != static_cast<uint32_t>(BasisForm::kNormalized) &&
+      form != static_cast<uint32_t>(BasisForm::kRaw)) {
+    return Corrupt("HEAD declares the unknown basis form " + Str(form));
   }
-  h.degree = static_cast<int>(degree);
-  // Each count must be payable by the bytes of the file before anything is
-  // allocated for it.
-  const struct {
-    const char* what;
-    uint64_t count;
-    uint64_t bytes_each;
-  } counts[] = {
-      {"knots", h.num_knots, kPointBytes},
-      {"basis functions", h.num_basis,
-       BasisRecordBytes(h.degree, 1) + kPointBytes},
-      {"sphere parameters", h.num_parameters, kPointBytes},
-  };
-  for (const auto& c : counts) {
-    if (c.count > kMaxCount || c.count > file_size / c.bytes_each) {
-      return Corrupt("HEAD declares " + Str(c.count) + " " + c.what +
-                     ", more than the file's " + Str(file_size) +
-                     " bytes can hold");
-    }
-  }
+  h.basis_form = static_cast<BasisForm>(form);
+  // Packed data inflates at most kMaxDeflateRatio-fold.
+  SDCB_RETURN_IF_ERROR(CheckCount(h.num_knots, kPointBytes, kMaxDeflateRatio,
+                                  file_size, "knots"));
+  SDCB_RETURN_IF_ERROR(CheckCount(h.num_basis, kCodeRowBytes, kMaxDeflateRatio,
+                                  file_size, "basis functions"));
+  SDCB_RETURN_IF_ERROR(CheckCount(h.num_parameters, kPointBytes,
+                                  kMaxDeflateRatio, file_size,
+                                  "sphere parameters"));
   return h;
 }
 
-// Reads exactly `rows` points from a chunk whose size must match.
-StatusOr<Eigen::MatrixX3d> ParsePoints(std::string_view payload, uint64_t rows,
-                                       const char* chunk, const char* what) {
-  if (payload.size() != rows * kPointBytes) {
-    return Corrupt(std::string("the ") + chunk + " chunk has " +
-                   Str(payload.size()) + " bytes; HEAD's " + Str(rows) + " " +
-                   what + " need " + Str(rows * kPointBytes));
+// Describes the first difference between two configuration lists, or "".
+std::string ConfigurationDifference(const DelaunayConfigurations& a,
+                                    const DelaunayConfigurations& b) {
+  if (a.degree != b.degree) return "their degrees differ";
+  if (a.sets.size() != b.sets.size()) {
+    return Str(a.sets.size()) + " basis functions instead of " +
+           Str(b.sets.size());
   }
-  Eigen::MatrixX3d m(static_cast<Eigen::Index>(rows), 3);
-  ByteReader r(payload);
-  for (Eigen::Index i = 0; i < m.rows(); ++i) {
-    for (int c = 0; c < 3; ++c) (void)r.F64(&m(i, c));
+  for (size_t i = 0; i < a.sets.size(); ++i) {
+    if (a.sets[i].knots != b.sets[i].knots ||
+        a.sets[i].boundaries != b.sets[i].boundaries) {
+      return "basis function " + Str(i) + " differs";
+    }
   }
-  return m;
+  return "";
 }
 
-StatusOr<DelaunayConfigurations> ParseBasis(std::string_view payload,
-                                            const Head& head) {
-  const uint64_t max_boundaries = static_cast<uint64_t>(head.degree + 3) *
-                                  (head.degree + 2) * (head.degree + 1) / 6;
-  if (head.num_basis > payload.size() / BasisRecordBytes(head.degree, 1)) {
-    return Corrupt("the BSIS chunk's " + Str(payload.size()) +
-                   " bytes cannot hold HEAD's " + Str(head.num_basis) +
-                   " basis functions");
-  }
-  DelaunayConfigurations out;
-  out.degree = head.degree;
-  out.sets.resize(head.num_basis);
-  ByteReader r(payload);
-  const auto knot_index = [&](uint64_t i, uint32_t v, int* out_index) {
-    if (v >= head.num_knots) {
-      return Corrupt("basis function " + Str(i) + " refers to knot " + Str(v) +
-                     ", but the file has " + Str(head.num_knots) + " knots");
-    }
-    *out_index = static_cast<int>(v);
-    return Status::Ok();
-  };
-  for (uint64_t i = 0; i < head.num_basis; ++i) {
-    uint32_t boundaries = 0;
-    if (!r.U32(&boundaries)) {
-      return Corrupt("the BSIS chunk ends inside basis function " + Str(i));
-    }
-    if (boundaries == 0 || boundaries > max_boundaries) {
-      return Corrupt("basis function " + Str(i) + " declares " +
-                     Str(boundaries) + " boundary triples; degree " +
-                     Str(head.degree) + " allows 1.." + Str(max_boundaries));
-    }
-    if (BasisRecordBytes(head.degree, boundaries) - 4 > r.remaining()) {
-      return Corrupt("the BSIS chunk ends inside basis function " + Str(i));
-    }
-    ConfigurationSet& set = out.sets[i];
-    set.knots.resize(head.degree + 3);
-    for (int& knot : set.knots) {
-      uint32_t v = 0;
-      (void)r.U32(&v);
-      SDCB_RETURN_IF_ERROR(knot_index(i, v, &knot));
-    }
-    set.boundaries.resize(boundaries);
-    for (std::array<int, 3>& triple : set.boundaries) {
-      for (int& knot : triple) {
-        uint32_t v = 0;
-        (void)r.U32(&v);
-        SDCB_RETURN_IF_ERROR(knot_index(i, v, &knot));
-      }
-    }
-  }
-  if (r.remaining() != 0) {
-    return Corrupt("the BSIS chunk has " + Str(r.remaining()) +
-                   " bytes after its last basis function");
-  }
-  return out;
-}
-
-StatusOr<NormalizingTransform> ParseTransform(std::string_view payload) {
-  if (payload.size() != kXfrmPayloadBytes) {
-    return Corrupt("the XFRM chunk has " + Str(payload.size()) +
-                   " bytes; version 1 needs " + Str(kXfrmPayloadBytes));
-  }
-  NormalizingTransform t;
-  ByteReader r(payload);
-  (void)r.F64(&t.scale);
-  for (int c = 0; c < 3; ++c) (void)r.F64(&t.translation[c]);
-  return t;
-}
-
-StatusOr<SourceMeshInfo> ParseSource(std::string_view payload) {
-  if (payload.size() < kSrcmFixedBytes) {
-    return Corrupt("the SRCM chunk has " + Str(payload.size()) +
-                   " bytes; it needs at least " + Str(kSrcmFixedBytes));
-  }
-  ByteReader r(payload);
-  uint64_t vertices = 0, faces = 0;
-  SourceMeshInfo s;
-  (void)r.U64(&vertices);
-  (void)r.U64(&faces);
-  (void)r.U64(&s.hash);
-  constexpr auto kMax =
-      static_cast<uint64_t>(std::numeric_limits<int64_t>::max());
-  if (vertices > kMax || faces > kMax) {
-    return Corrupt("the SRCM chunk has an impossible vertex or face count");
-  }
-  s.num_vertices = static_cast<int64_t>(vertices);
-  s.num_faces = static_cast<int64_t>(faces);
-  s.file_name = std::string(r.Rest());
-  return s;
-}
-
-StatusOr<FitStatistics> ParseStatistics(std::string_view payload) {
-  const nlohmann::json j =
-      nlohmann::json::parse(payload.begin(), payload.end(), /*cb=*/nullptr,
-                            /*allow_exceptions=*/false);
-  if (j.is_discarded()) {
-    return Corrupt("the STAT chunk is not valid JSON");
-  }
-  StatusOr<FitStatistics> s = FitStatisticsFromJson(j);
-  if (!s.ok()) return Corrupt("the STAT chunk: " + s.status().message());
-  return s;
-}
-
-StatusOr<SplineModel> DecodeChunks(const Chunks& chunks, size_t file_size) {
-  for (const ChunkType& required : {kKnot, kBsis, kCtrl, kXfrm, kSrcm, kEnd}) {
+StatusOr<SplineModel> DecodeVersion2(std::string_view bytes,
+                                     ControlPointQuantization* quantization) {
+  Chunks chunks({kHead, kKnot, kCtrl, kQctl, kXfrm, kStat, kSrcm, kParm, kEnd});
+  SDCB_RETURN_IF_ERROR(SplitChunks(bytes, &chunks));
+  for (const ChunkType& required : {kKnot, kXfrm, kSrcm, kEnd}) {
     if (!chunks.Has(required)) {
       return Corrupt("the required chunk " + TypeName(required) +
                      " is missing");
     }
   }
+  if (chunks.Has(kCtrl) == chunks.Has(kQctl)) {
+    return Corrupt(chunks.Has(kCtrl)
+                       ? "the file has both a 'CTRL' and a 'QCTL' chunk"
+                       : "the required chunk 'CTRL' (or 'QCTL') is missing");
+  }
   SDCB_ASSIGN_OR_RETURN(const Head head,
-                        ParseHead(chunks.Get(kHead), file_size));
+                        ParseHead(chunks.Get(kHead), bytes.size()));
   SplineModel m;
   m.degree = head.degree;
+  m.basis_form = head.basis_form;
   SDCB_ASSIGN_OR_RETURN(
-      m.knots, ParsePoints(chunks.Get(kKnot), head.num_knots, "KNOT", "knots"));
-  SDCB_ASSIGN_OR_RETURN(m.configurations, ParseBasis(chunks.Get(kBsis), head));
-  SDCB_ASSIGN_OR_RETURN(m.control_points,
-                        ParsePoints(chunks.Get(kCtrl), head.num_basis, "CTRL",
-                                    "basis functions"));
+      m.knots, UnpackPoints(chunks.Get(kKnot), head.num_knots, "KNOT"));
+  if (chunks.Has(kCtrl)) {
+    SDCB_ASSIGN_OR_RETURN(
+        m.control_points,
+        UnpackPoints(chunks.Get(kCtrl), head.num_basis, "CTRL"));
+  } else {
+    SDCB_ASSIGN_OR_RETURN(m.control_points,
+                          ParseQuantized(chunks.Get(kQctl), head.num_basis,
+                                         head.basis_form, quantization));
+  }
   SDCB_ASSIGN_OR_RETURN(m.transform, ParseTransform(chunks.Get(kXfrm)));
   if (chunks.Has(kStat)) {
-    SDCB_ASSIGN_OR_RETURN(m.statistics, ParseStatistics(chunks.Get(kStat)));
+    SDCB_ASSIGN_OR_RETURN(const std::string json,
+                          Unpacked(chunks.Get(kStat), -1, "STAT"));
+    SDCB_ASSIGN_OR_RETURN(m.statistics, ParseStatistics(json));
   }
   SDCB_ASSIGN_OR_RETURN(m.source, ParseSource(chunks.Get(kSrcm)));
   if (chunks.Has(kParm) != (head.num_parameters > 0)) {
@@ -471,9 +300,37 @@ StatusOr<SplineModel> DecodeChunks(const Chunks& chunks, size_t file_size) {
                    (chunks.Has(kParm) ? "present" : "missing"));
   }
   if (chunks.Has(kParm)) {
-    SDCB_ASSIGN_OR_RETURN(m.parameters,
-                          ParsePoints(chunks.Get(kParm), head.num_parameters,
-                                      "PARM", "sphere parameters"));
+    SDCB_ASSIGN_OR_RETURN(
+        m.parameters,
+        UnpackPoints(chunks.Get(kParm), head.num_parameters, "PARM"));
+  }
+
+  // The configurations: recomputed from the knots (the costly step, last).
+  if (m.knots.rows() < m.degree + 4) {
+    return Corrupt("invalid model: the model has " + Str(m.knots.rows()) +
+                   " knots; degree " + Str(m.degree) + " needs at least " +
+                   Str(m.degree + 4));
+  }
+  if (const Eigen::Index bad = FirstNonUnitRow(m.knots); bad >= 0) {
+    return Corrupt("invalid model: knot " + Str(bad) + " is not a unit vector");
+  }
+  StatusOr<DelaunayConfigurations> configurations =
+      ComputeDelaunayConfigurations(m.knots, m.degree);
+  if (!configurations.ok()) {
+    return Corrupt("the configurations cannot be recomputed from the knots: " +
+                   configurations.status().message());
+  }
+  m.configurations = std::move(*configurations);
+  if (m.configurations.sets.size() != head.num_basis) {
+    return Corrupt("the knots define " + Str(m.configurations.sets.size()) +
+                   " basis functions but HEAD declares " + Str(head.num_basis));
+  }
+  const uint64_t hash = HashConfigurations(m.configurations);
+  if (hash != head.configuration_hash) {
+    return Corrupt("the configurations recomputed from the knots have hash " +
+                   Hex64(hash) + ", not the file's " +
+                   Hex64(head.configuration_hash) +
+                   " (corrupt file, or written with other configurations)");
   }
   const Status valid = ValidateSplineModel(m);
   if (!valid.ok()) return Corrupt("invalid model: " + valid.message());
@@ -482,30 +339,87 @@ StatusOr<SplineModel> DecodeChunks(const Chunks& chunks, size_t file_size) {
 
 }  // namespace
 
-StatusOr<std::string> SerializeSdcb(const SplineModel& model) {
+uint64_t HashConfigurations(const DelaunayConfigurations& configurations) {
+  const std::string bytes = BasisPayload(configurations);
+  return Fnv1a64(bytes.data(), bytes.size());
+}
+
+StatusOr<std::string> SerializeSdcb(const SplineModel& model,
+                                    const SdcbWriteOptions& options,
+                                    SdcbFileInfo* info) {
   const Status valid = ValidateSplineModel(model);
   if (!valid.ok()) {
     return InvalidArgumentError("cannot write an invalid model: " +
                                 valid.message());
   }
+  if (options.quantize_bits != 0 &&
+      (options.quantize_bits < kMinQuantizationBits ||
+       options.quantize_bits > kMaxQuantizationBits)) {
+    return InvalidArgumentError("cannot quantize control points to " +
+                                std::to_string(options.quantize_bits) +
+                                " bits; 0 (exact) or " +
+                                Str(kMinQuantizationBits) + ".." +
+                                Str(kMaxQuantizationBits) + " are supported");
+  }
+  // Version 2 stores only what the reader cannot recompute: refuse a model
+  // whose configurations the reader would not reproduce.
+  StatusOr<DelaunayConfigurations> recomputed =
+      ComputeDelaunayConfigurations(model.knots, model.degree);
+  if (!recomputed.ok()) {
+    return InvalidArgumentError(
+        "cannot write the model: its knots do not define configurations: " +
+        recomputed.status().message());
+  }
+  const std::string difference =
+      ConfigurationDifference(model.configurations, *recomputed);
+  if (!difference.empty()) {
+    return InvalidArgumentError(
+        "cannot write the model: its configurations are not those of its "
+        "knots (the model has " +
+        difference + ")");
+  }
+  ControlPointQuantization quantization;
+  std::string control_points;
+  if (options.quantize_bits == 0) {
+    control_points = PackPoints(model.control_points);
+  } else {
+    SDCB_ASSIGN_OR_RETURN(const QuantizedControlPoints q,
+                          QuantizeControlPoints(model, options.quantize_bits));
+    control_points = QuantizedPayload(q);
+    quantization = q.quantization;
+  }
+  const bool parameters =
+      options.store_parameters && model.parameters.rows() > 0;
+  Head head;
+  head.degree = model.degree;
+  head.basis_form = model.basis_form;
+  head.num_knots = static_cast<uint64_t>(model.knots.rows());
+  head.num_basis = model.configurations.sets.size();
+  head.num_parameters =
+      parameters ? static_cast<uint64_t>(model.parameters.rows()) : 0;
+  head.configuration_hash = HashConfigurations(model.configurations);
+
   ByteWriter file;
   file.Bytes(std::string_view(kSdcbMagic, sizeof kSdcbMagic));
   file.U32(kSdcbFormatVersion);
-  AppendChunk(kHead, HeadPayload(model), &file);
-  AppendChunk(kKnot, PointsPayload(model.knots), &file);
-  AppendChunk(kBsis, BasisPayload(model.configurations), &file);
-  AppendChunk(kCtrl, PointsPayload(model.control_points), &file);
+  AppendChunk(kHead, HeadPayload(head), &file);
+  AppendChunk(kKnot, PackPoints(model.knots), &file);
+  AppendChunk(quantization.lossless() ? kCtrl : kQctl, control_points, &file);
   AppendChunk(kXfrm, TransformPayload(model.transform), &file);
-  AppendChunk(kStat, FitStatisticsToJson(model.statistics).dump(), &file);
+  AppendChunk(kStat, Packed(FitStatisticsToJson(model.statistics).dump()),
+              &file);
   AppendChunk(kSrcm, SourcePayload(model.source), &file);
-  if (model.parameters.rows() > 0) {
-    AppendChunk(kParm, PointsPayload(model.parameters), &file);
+  if (parameters) AppendChunk(kParm, PackPoints(model.parameters), &file);
+  AppendChunk(kEnd, std::string_view(), &file);
+  if (info != nullptr) {
+    info->format_version = kSdcbFormatVersion;
+    info->file_bytes = file.str().size();
+    info->quantization = quantization;
   }
-  AppendChunk(kEnd, std::string(), &file);
   return std::move(file.str());
 }
 
-StatusOr<SplineModel> ParseSdcb(std::string_view bytes) {
+StatusOr<SplineModel> ParseSdcb(std::string_view bytes, SdcbFileInfo* info) {
   const size_t magic_bytes = std::min(bytes.size(), sizeof kSdcbMagic);
   if (bytes.empty()) return Corrupt("the file is empty");
   if (std::memcmp(bytes.data(), kSdcbMagic, magic_bytes) == 0 &&
@@ -528,17 +442,27 @@ StatusOr<SplineModel> ParseSdcb(std::string_view bytes) {
                             Str(version) + "; this sdcb reads versions up to " +
                             Str(kSdcbFormatVersion));
   }
-  SDCB_ASSIGN_OR_RETURN(const Chunks chunks, SplitChunks(bytes));
-  return DecodeChunks(chunks, bytes.size());
+  ControlPointQuantization quantization;
+  StatusOr<SplineModel> model = version == 1
+                                    ? DecodeVersion1(bytes)
+                                    : DecodeVersion2(bytes, &quantization);
+  if (model.ok() && info != nullptr) {
+    info->format_version = version;
+    info->file_bytes = bytes.size();
+    info->quantization = quantization;
+  }
+  return model;
 }
 
-Status WriteSdcbFile(const SplineModel& model, const std::string& path) {
-  StatusOr<std::string> bytes = SerializeSdcb(model);
+Status WriteSdcbFile(const SplineModel& model, const std::string& path,
+                     const SdcbWriteOptions& options, SdcbFileInfo* info) {
+  StatusOr<std::string> bytes = SerializeSdcb(model, options, info);
   if (!bytes.ok()) return bytes.status().WithPrefix(path);
   return WriteFileAtomically(*bytes, path);
 }
 
-StatusOr<SplineModel> ReadSdcbFile(const std::string& path) {
+StatusOr<SplineModel> ReadSdcbFile(const std::string& path,
+                                   SdcbFileInfo* info) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     return IoError(path + ": is a directory, not an .sdcb model");
@@ -551,7 +475,7 @@ StatusOr<SplineModel> ReadSdcbFile(const std::string& path) {
   std::string bytes((std::istreambuf_iterator<char>(in)),
                     std::istreambuf_iterator<char>());
   if (in.bad()) return IoError(path + ": reading the file failed");
-  StatusOr<SplineModel> model = ParseSdcb(bytes);
+  StatusOr<SplineModel> model = ParseSdcb(bytes, info);
   if (!model.ok()) return model.status().WithPrefix(path);
   return model;
 }

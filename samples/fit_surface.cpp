@@ -1,7 +1,8 @@
 // Sample: fit a spherical DCB-spline to a mesh with the installed sdcb
 // package, then evaluate the surface, its normal and curvature.
 //   fit_surface MESH [RMSE_PERCENT]
-#include <sdcb/core/fit/adaptive_fit.h>
+#include <sdcb/core/fit/spline_fitter.h>
+#include <sdcb/core/spline/spherical_spline.h>
 #include <sdcb/io/mesh_reader.h>
 
 #include <cstdio>
@@ -25,7 +26,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s: %s\n", argv[1], fit.status().message().c_str());
     return 1;
   }
-  const sdcb::RoundStatistics& final_round = fit->statistics.final_result;
+  const sdcb::RoundStatistics& final_round = fit->model.statistics.final_result;
   std::printf("%d control points, rmse %.4f%%, max error %.4f%%\n",
               final_round.control_points, final_round.rmse_percent,
               final_round.max_error_percent);

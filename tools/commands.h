@@ -14,6 +14,8 @@ int RunFit(const std::vector<std::string>& args);
 int RunInfo(const std::vector<std::string>& args);
 int RunDump(const std::vector<std::string>& args);
 int RunEval(const std::vector<std::string>& args);
+int RunCompare(const std::vector<std::string>& args);
+int RunExport(const std::vector<std::string>& args);
 
 }  // namespace sdcb::cli
 

@@ -1,14 +1,15 @@
 // sdcb fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
 //          [--max-rounds R] [--max-control-points M] [--lambda L]
-//          [--threads T] [--json FILE] [--plot FILE.svg] [--quiet] [--repair]
-//          [--max-file-mb N] [--max-memory-mb N]
+//          [--threads T] [--regularization R] [--store-parameters]
+//          [--quantize BITS] [--json FILE] [--plot FILE.svg] [--quiet]
+//          [--repair] [--max-file-mb N] [--max-memory-mb N]
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "sdcb/converters/convergence_plot.h"
-#include "sdcb/core/fit/adaptive_fit.h"
+#include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/io/fit_statistics_json.h"
 #include "sdcb/io/mesh_reader.h"
@@ -20,12 +21,13 @@
 namespace sdcb::cli {
 
 int RunFit(const std::vector<std::string>& argv) {
-  const Args args(argv,
-                  Concat({"output", "degree", "rmse", "knots-per-round",
-                          "max-rounds", "max-control-points", "lambda",
-                          "threads", "json", "plot", "regularization"},
-                         kMeshValueOptions),
-                  Concat({"quiet"}, kMeshFlagOptions));
+  const Args args(
+      argv,
+      Concat({"output", "degree", "rmse", "knots-per-round", "max-rounds",
+              "max-control-points", "lambda", "threads", "json", "plot",
+              "regularization", "quantize"},
+             kMeshValueOptions),
+      Concat({"quiet", "store-parameters"}, kMeshFlagOptions));
   args.RequirePositionals(
       1, "MESH (usage: sdcb fit MESH -o MODEL.sdcb [options])");
   const std::string& path = args.positionals()[0];
@@ -44,6 +46,12 @@ int RunFit(const std::vector<std::string>& argv) {
   options.threads = args.GetInt("threads", 0, 0, 1024);
   options.regularization =
       args.GetDouble("regularization", options.regularization, 1e-12, 1e3);
+  // The sphere point of every input vertex is kept only on request: it is
+  // most of a file's bytes and needed only to check the vertex errors.
+  options.store_parameters = args.Has("store-parameters");
+  SdcbWriteOptions write_options;
+  write_options.store_parameters = options.store_parameters;
+  write_options.quantize_bits = args.GetInt("quantize", 0, 8, 30);
 
   // Outputs are checked before the work; the mesh is read, repaired if
   // asked, checked (tools/cli.h).
@@ -54,39 +62,36 @@ int RunFit(const std::vector<std::string>& argv) {
   if (!mesh.ok()) return ReportError(mesh.status());
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
-  options.progress = progress.Callback();
+  options.progress = [bar = progress.Callback()](const FitProgress& p) {
+    bar(FitStageName(p.stage), p.fraction);
+  };
   StatusOr<FitResult> fit = FitSphericalSpline(*mesh, options);
   progress.Finish();
   if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));
   fit->model.source.file_name = std::filesystem::path(path).filename().string();
 
-  Status written = WriteSdcbFile(fit->model, output);
+  SdcbFileInfo file_info;
+  Status written = WriteSdcbFile(fit->model, output, write_options, &file_info);
   if (!written.ok()) return ReportError(written);
-  const FitStatistics& stats = fit->statistics;
+  const ControlPointQuantization& quantization = file_info.quantization;
+  const FitStatistics& stats = fit->model.statistics;
   if (args.Has("json")) {
     nlohmann::ordered_json report;
     report["input"] = path;
     report["output"] = output;
     report["vertices"] = mesh->num_vertices();
     report["faces"] = mesh->num_faces();
-    report["reached_target"] = fit->reached_target;
-    const nlohmann::json s = FitStatisticsToJson(stats);
-    for (const auto& [key, value] : s.items()) report[key] = value;
-    nlohmann::ordered_json details = nlohmann::ordered_json::array();
-    for (size_t i = 0; i < fit->round_details.size(); ++i) {
-      const RoundDetails& d = fit->round_details[i];
-      details.push_back(
-          {{"round", stats.rounds[i].round},
-           {"knot_placement", d.timings.knot_placement},
-           {"configurations", d.timings.configurations},
-           {"basis", d.timings.basis},
-           {"solve", d.timings.solve},
-           {"cvt_initial_energy", d.cvt_initial_energy},
-           {"cvt_final_energy", d.cvt_final_energy},
-           {"cvt_iterations", d.cvt_iterations},
-           {"min_knot_separation_radians", d.min_knot_separation}});
+    report["output_bytes"] = file_info.file_bytes;
+    if (!quantization.lossless()) {
+      // The stored surface is within this of the fitted one everywhere
+      // (io/control_point_quantization.h); the errors below are the fit's.
+      report["quantization_bits"] = quantization.bits;
+      report["quantization_error_bound_percent"] =
+          quantization.surface_error_bound_percent();
+      report["quantization_bound_measured"] = quantization.basis_sum_measured;
     }
-    report["round_details"] = details;
+    const nlohmann::ordered_json fit_report = FitReportToJson(*fit);
+    for (const auto& [key, value] : fit_report.items()) report[key] = value;
     written = WriteTextOutput(args.Get("json"), report.dump(2) + "\n");
     if (!written.ok()) return ReportError(written);
   }
@@ -106,9 +111,16 @@ int RunFit(const std::vector<std::string>& argv) {
     std::printf(
         "  rmse %.4f%%  max error %.4f%%  (target rmse %.4f%%)  %.2f s\n",
         f.rmse_percent, f.max_error_percent, options.rmse_percent,
-        stats.timings.total);
+        fit->timings.total);
+    if (!quantization.lossless()) {
+      std::printf(
+          "  control points quantized to %d bits: the stored surface is "
+          "within %.3g%% of the fitted one%s\n",
+          quantization.bits, quantization.surface_error_bound_percent(),
+          quantization.basis_sum_measured ? " (bound measured)" : "");
+    }
   }
-  if (!fit->reached_target) {
+  if (!fit->reached_target()) {
     std::fprintf(
         stderr,
         "sdcb: %s: warning: rmse %.4f%% did not reach the target %.4f%% "

@@ -31,13 +31,18 @@ commands:
                              distortion; --colors angle|area needs .ply.
   fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
       [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
-      [--regularization R] [--json FILE] [--plot FILE.svg] [--quiet]
-      [--repair]             Fit one smooth spherical DCB-spline (defaults:
+      [--regularization R] [--store-parameters] [--quantize BITS]
+      [--json FILE] [--plot FILE.svg] [--quiet] [--repair]
+                             Fit one smooth spherical DCB-spline (defaults:
                              degree 4, rmse 0.05 %, 100 knots per round, 30
                              rounds); --plot draws the error per round;
+                             --store-parameters keeps each vertex's sphere
+                             point; --quantize BITS (8..30) stores the control
+                             points in BITS bits, the error bound reported;
                              --repair as for check.
   info MODEL.sdcb [--json FILE]
-                             Summary of a model.
+                             Summary of a model (format version, size,
+                             quantization bound).
   dump MODEL.sdcb -o MODEL.json
                              Everything in a model, as JSON.
   eval MODEL.sdcb -i POINTS.txt -o VALUES.txt [--derivatives]
@@ -46,6 +51,23 @@ commands:
                              in the input's coordinates (+ unit normal).
                              A zero direction, or a model whose values are
                              not finite there, is an error: nothing written.
+  compare MODEL.sdcb MESH [--json FILE] [--samples N]
+                             Two-sided distance between the surface and a
+                             mesh (dense samples of both), folded area.
+
+  export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb} [--tolerance PCT]
+      [--angle DEG] [--uniform N] [--draco [--qp BITS] [--cl LEVEL]]
+      [--meshopt [--qp BITS]] [--colors none|error|curvature|gaussian]
+      [--mesh MESH] [--json FILE] [--quiet]
+                             Triangulate the surface: adaptive (every
+                             triangle within PCT, default 0.1, of the
+                             surface and its normals within DEG, default
+                             20) or --uniform (icosahedral, about N
+                             vertices); glTF optionally Draco- or
+                             meshopt-compressed (quantization from PCT
+                             unless --qp); per-vertex colors (.ply/.gltf/
+                             .glb): distance to --mesh, mean or Gaussian
+                             curvature. docs/EXPORT.md.
 
 PCT values are percent of the largest side of the input's bounding box.
 
@@ -88,6 +110,8 @@ int main(int argc, char** argv) {
     if (command == "info") return RunInfo(args);
     if (command == "dump") return RunDump(args);
     if (command == "eval") return RunEval(args);
+    if (command == "compare") return RunCompare(args);
+    if (command == "export") return RunExport(args);
     std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;
   } catch (const UsageError& e) {

@@ -22,42 +22,64 @@ int RunInfo(const std::vector<std::string>& argv) {
   const std::string& path = args.positionals()[0];
   const Status outputs = PrepareOutputs({args.Get("json")});
   if (!outputs.ok()) return ReportError(outputs);
-  StatusOr<SplineModel> model = ReadSdcbFile(path);
+  SdcbFileInfo file;
+  StatusOr<SplineModel> model = ReadSdcbFile(path, &file);
   if (!model.ok()) return ReportError(model.status());
   const SplineModel& m = *model;
+  const ControlPointQuantization& q = file.quantization;
   size_t configurations = 0;
   for (const auto& set : m.configurations.sets)
     configurations += set.boundaries.size();
   const RoundStatistics& f = m.statistics.final_result;
+  const bool dense = m.statistics.error_measure == ErrorMeasure::kDenseTwoSided;
   if (args.Has("json")) {
     nlohmann::ordered_json j;
     j["file"] = path;
-    j["format_version"] = kSdcbFormatVersion;
+    j["format_version"] = file.format_version;
+    j["file_bytes"] = file.file_bytes;
     j["degree"] = m.degree;
     j["knots"] = m.knots.rows();
     j["control_points"] = m.control_points.rows();
     j["configurations"] = configurations;
     j["rmse_percent"] = f.rmse_percent;
     j["max_error_percent"] = f.max_error_percent;
+    j["error_measure"] = dense ? "dense_two_sided" : "vertices";
+    j["folded_area_percent"] = f.folded_area_percent;
+    j["reached_target"] = m.statistics.reached_target;
     j["rounds"] = m.statistics.rounds.size();
     j["source"] = {{"file_name", m.source.file_name},
                    {"vertices", m.source.num_vertices},
                    {"faces", m.source.num_faces},
                    {"hash", m.source.hash}};
     j["has_parameters"] = m.parameters.rows() > 0;
+    j["basis_form"] = m.basis_form == BasisForm::kRaw ? "raw" : "normalized";
+    j["quantization_bits"] = q.bits;  // 0: control points stored exactly
+    if (!q.lossless()) {
+      j["quantization_error_bound_percent"] = q.surface_error_bound_percent();
+      j["quantization_bound_measured"] = q.basis_sum_measured;
+    }
     const Status s = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
     if (!s.ok()) return ReportError(s);
   }
   if (!args.Has("quiet") && args.Get("json") != "-") {
     std::printf("%s\n", path.c_str());
+    std::printf("  %-22s %u (%llu bytes)\n", "format version",
+                file.format_version,
+                static_cast<unsigned long long>(file.file_bytes));
     std::printf("  %-22s %d\n", "degree", m.degree);
     std::printf("  %-22s %lld\n", "knots",
                 static_cast<long long>(m.knots.rows()));
     std::printf("  %-22s %lld\n", "control points",
                 static_cast<long long>(m.control_points.rows()));
     std::printf("  %-22s %zu\n", "configurations", configurations);
-    std::printf("  %-22s %.5f%%\n", "rmse", f.rmse_percent);
+    std::printf("  %-22s %.5f%% (%s)\n", "rmse", f.rmse_percent,
+                dense ? "two-sided, dense" : "at the vertices");
     std::printf("  %-22s %.5f%%\n", "max error", f.max_error_percent);
+    if (dense) {
+      std::printf("  %-22s %.5f%%\n", "folded area", f.folded_area_percent);
+    }
+    std::printf("  %-22s %s\n", "reached target",
+                m.statistics.reached_target ? "yes" : "no");
     std::printf("  %-22s %zu\n", "rounds", m.statistics.rounds.size());
     std::printf("  %-22s %s (%lld vertices, %lld faces)\n", "source",
                 m.source.file_name.c_str(),
@@ -65,6 +87,13 @@ int RunInfo(const std::vector<std::string>& argv) {
                 static_cast<long long>(m.source.num_faces));
     std::printf("  %-22s %s\n", "parameters stored",
                 m.parameters.rows() ? "yes" : "no");
+    if (q.lossless()) {
+      std::printf("  %-22s none (exact control points)\n", "quantization");
+    } else {
+      std::printf("  %-22s %d bits; surface within %.3g%% of the fit%s\n",
+                  "quantization", q.bits, q.surface_error_bound_percent(),
+                  q.basis_sum_measured ? " (bound measured)" : "");
+    }
   }
   return kExitOk;
 }

@@ -347,6 +347,32 @@ ScalarJet DcbBasis::Evaluate(int i, const Eigen::Vector3d& p,
   return jet;
 }
 
+bool DcbBasis::AddPiecePolynomial(int i, const Eigen::Vector3d& q,
+                                  const Eigen::Vector3d& o,
+                                  const Eigen::Vector3d& e1,
+                                  const Eigen::Vector3d& e2,
+                                  double* out) const {
+  constexpr int kSize = PolynomialSize(SimplexSpline::kMaxKnots - 3);
+  double piece[kSize];
+  bool any = false;
+  const int size = PolynomialSize(degree_);
+  if (weights_[i] != 0.0 && splines_[i]->PiecePolynomial(q, o, e1, e2, piece)) {
+    for (int c = 0; c < size; ++c) out[c] += weights_[i] * piece[c];
+    any = true;
+  }
+  for (int t = limit_start_[i]; t < limit_start_[i + 1]; ++t) {
+    // (a . p) M(p | X~ \ x_j), M of degree k - 1.
+    const LimitTerm& term = limit_terms_[t];
+    double child[kSize];
+    if (!term.spline.PiecePolynomial(q, o, e1, e2, child)) continue;
+    const Eigen::Vector3d& a = term.cofactor;
+    AccumulateAffineProduct(a.dot(o), a.dot(e1), a.dot(e2), child, degree_ - 1,
+                            out);
+    any = true;
+  }
+  return any;
+}
+
 void DcbBasis::Candidates(const Eigen::Vector3d& p,
                           std::vector<int>* out) const {
   out->clear();

@@ -89,6 +89,14 @@ class DcbBasis {
   // B_i and its R^3 derivatives up to `order`.
   ScalarJet Evaluate(int i, const Eigen::Vector3d& p, JetOrder order) const;
 
+  // The polynomial piece of B_i containing q in the chart p(s, t) = o +
+  // s e1 + t e2 (SimplexSpline::PiecePolynomial): adds its
+  // PolynomialSize(degree()) coefficients to `out`. Returns false if B_i
+  // vanishes around q.
+  bool AddPiecePolynomial(int i, const Eigen::Vector3d& q,
+                          const Eigen::Vector3d& o, const Eigen::Vector3d& e1,
+                          const Eigen::Vector3d& e2, double* out) const;
+
   // A permutation of the rows of `points` (#P by 3 unit vectors) that visits
   // them support-grid cell by cell (stable within a cell): evaluating in this
   // order reuses the same few basis functions from cache.

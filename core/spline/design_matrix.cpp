@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <vector>
 
+#include "sdcb/core/spline/spherical_spline.h"
+
 namespace sdcb {
 
 namespace {
@@ -88,6 +90,103 @@ DesignMatrix NormalizeRows(const DesignMatrix& raw) {
     for (DesignMatrix::InnerIterator it(a, r); it; ++it) it.valueRef() /= sum;
   }
   return a;
+}
+
+DesignMatrix BuildFormDesignMatrix(const DcbBasis& basis,
+                                   const Eigen::MatrixX3d& points,
+                                   BasisForm form) {
+  return BuildDesignMatrix(basis, points,
+                           {/*normalized=*/form == BasisForm::kNormalized});
+}
+
+namespace {
+
+// The jets of the surface's basis functions b_i = B_i / D at p (unit),
+// D = I (normalized) or |x|^k (raw), in the chart frame (e_u, e_v):
+// visit(i, du, dv, uu, uv, vv) for every basis function nonzero near p.
+template <typename Visit>
+void ForEachChartJet(const DcbBasis& basis, const Eigen::Vector3d& p,
+                     BasisForm form, JetOrder order, Visit visit) {
+  thread_local std::vector<int> candidates;
+  thread_local std::vector<ScalarJet> jets;
+  basis.Candidates(p, &candidates);
+  jets.resize(candidates.size());
+  const double k = basis.degree();
+  ScalarJet d;
+  for (size_t j = 0; j < candidates.size(); ++j) {
+    jets[j] = basis.Evaluate(candidates[j], p, order);
+    if (form == BasisForm::kNormalized) {
+      d.value += jets[j].value;
+      d.gradient += jets[j].gradient;
+      d.hessian += jets[j].hessian;
+    }
+  }
+  if (form == BasisForm::kRaw) {
+    d.value = 1.0;
+    d.gradient = k * p;
+    d.hessian =
+        k * Eigen::Matrix3d::Identity() + k * (k - 2) * p * p.transpose();
+  }
+  Eigen::Vector3d e_u, e_v;
+  TangentFrame(p, &e_u, &e_v);
+  const double inv = 1.0 / d.value;
+  for (size_t j = 0; j < candidates.size(); ++j) {
+    const ScalarJet& b = jets[j];
+    if (b.value == 0.0 && b.gradient.isZero(0.0) && b.hessian.isZero(0.0)) {
+      continue;
+    }
+    // Quotient rule for b / D.
+    const double q = b.value * inv;
+    const Eigen::Vector3d g = (b.gradient - q * d.gradient) * inv;
+    const Eigen::Matrix3d h =
+        (b.hessian - q * d.hessian - g * d.gradient.transpose() -
+         d.gradient * g.transpose()) *
+        inv;
+    visit(candidates[j], e_u.dot(g), e_v.dot(g), e_u.dot(h * e_u),
+          e_u.dot(h * e_v), e_v.dot(h * e_v));
+  }
+}
+
+}  // namespace
+
+ChartHessianRows BuildChartHessianRows(const DcbBasis& basis,
+                                       const Eigen::MatrixX3d& points,
+                                       BasisForm form) {
+  const Eigen::Index n = points.rows();
+  std::vector<std::vector<BasisValue>> uu(n), uv(n), vv(n);
+  basis.ParallelForEachPoint(points, [&](Eigen::Index r) {
+    ForEachChartJet(
+        basis, points.row(r).transpose().normalized(), form, JetOrder::kHessian,
+        [&](int i, double, double, double duu, double duv, double dvv) {
+          uu[r].push_back({i, duu});
+          uv[r].push_back({i, duv});
+          vv[r].push_back({i, dvv});
+        });
+  });
+  ChartHessianRows out;
+  out.uu = Assemble(uu, basis.size());
+  out.uv = Assemble(uv, basis.size());
+  out.vv = Assemble(vv, basis.size());
+  return out;
+}
+
+ChartGradientRows BuildChartGradientRows(const DcbBasis& basis,
+                                         const Eigen::MatrixX3d& points,
+                                         BasisForm form) {
+  const Eigen::Index n = points.rows();
+  std::vector<std::vector<BasisValue>> u(n), v(n);
+  basis.ParallelForEachPoint(points, [&](Eigen::Index r) {
+    ForEachChartJet(basis, points.row(r).transpose().normalized(), form,
+                    JetOrder::kGradient,
+                    [&](int i, double du, double dv, double, double, double) {
+                      u[r].push_back({i, du});
+                      v[r].push_back({i, dv});
+                    });
+  });
+  ChartGradientRows out;
+  out.u = Assemble(u, basis.size());
+  out.v = Assemble(v, basis.size());
+  return out;
 }
 
 }  // namespace sdcb

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sdcb/core/spline/dcb_basis.h"
+#include "sdcb/core/spline/spline_model.h"
 
 namespace sdcb {
 
@@ -44,6 +45,36 @@ DesignMatrix BuildRawDesignMatrix(
 // order: NormalizeRows(raw) is bit-identical to the normalized
 // BuildDesignMatrix on the same basis and points.
 DesignMatrix NormalizeRows(const DesignMatrix& raw);
+
+// The design matrix of the surface's basis b_i (BasisForm::kNormalized:
+// Bbar_i, eq. 5; kRaw: B_i, eq. 4) at `points` (#P by 3 unit vectors).
+DesignMatrix BuildFormDesignMatrix(const DcbBasis& basis,
+                                   const Eigen::MatrixX3d& points,
+                                   BasisForm form);
+
+// Second derivatives of the surface's basis functions in the tangent chart
+// of core/spline/spherical_spline.h (phi(u, v) = b(p + u e_u + v e_v), the
+// basis extended homogeneously of degree 0; at p the chart's second
+// derivatives are the covariant Hessian on S^2): row r of `uu`, `uv`, `vv`
+// holds d2 b_i / du2, d2 b_i / du dv, d2 b_i / dv2 at points.row(r) for every
+// basis function i that is nonzero near it. The fitting's bending energy is
+// assembled from them. Parallel; independent of the thread count.
+struct ChartHessianRows {
+  DesignMatrix uu, uv, vv;
+};
+ChartHessianRows BuildChartHessianRows(const DcbBasis& basis,
+                                       const Eigen::MatrixX3d& points,
+                                       BasisForm form);
+
+// First derivatives in the same chart: row r of `u` and `v` holds
+// d b_i / du and d b_i / dv at points.row(r), in the frame
+// TangentFrame(points.row(r)).
+struct ChartGradientRows {
+  DesignMatrix u, v;
+};
+ChartGradientRows BuildChartGradientRows(const DcbBasis& basis,
+                                         const Eigen::MatrixX3d& points,
+                                         BasisForm form);
 
 }  // namespace sdcb
 

@@ -18,7 +18,7 @@ void TangentFrame(const Eigen::Vector3d& p, Eigen::Vector3d* e_u,
 }
 
 StatusOr<SphericalSpline> SphericalSpline::Create(
-    DcbBasis basis, Eigen::MatrixX3d control_points) {
+    DcbBasis basis, Eigen::MatrixX3d control_points, BasisForm form) {
   if (control_points.rows() != basis.size()) {
     return InvalidArgumentError(
         "spherical spline: " + std::to_string(control_points.rows()) +
@@ -28,20 +28,23 @@ StatusOr<SphericalSpline> SphericalSpline::Create(
   if (!control_points.allFinite()) {
     return InvalidArgumentError("spherical spline: non-finite control point");
   }
-  return SphericalSpline(std::move(basis), std::move(control_points));
+  return SphericalSpline(std::move(basis), std::move(control_points), form);
 }
 
 Eigen::Vector3d SphericalSpline::Evaluate(const Eigen::Vector3d& p) const {
   std::vector<BasisValue> values;
-  basis_.NonzeroValues(p, &values);
-  // Eq. 6 with eq. 5: F = (sum B_i c_i) / (sum B_i), summed in index order.
+  const bool raw = form_ == BasisForm::kRaw;
+  // The raw B_i are homogeneous of degree k: evaluate on the sphere.
+  basis_.NonzeroValues(raw ? Eigen::Vector3d(p.normalized()) : p, &values);
+  // Eq. 6 with eq. 5: F = (sum B_i c_i) / (sum B_i), summed in index order;
+  // with eq. 4, F = sum B_i c_i.
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   double norm = 0.0;
   for (const BasisValue& v : values) {
     sum += v.value * control_points_.row(v.index).transpose();
     norm += v.value;
   }
-  return sum / norm;
+  return raw ? sum : Eigen::Vector3d(sum / norm);
 }
 
 SurfacePoint SphericalSpline::EvaluateDifferential(const Eigen::Vector3d& p,
@@ -52,8 +55,11 @@ SurfacePoint SphericalSpline::EvaluateDifferential(const Eigen::Vector3d& p,
     return out;
   }
   const bool second = order == JetOrder::kHessian;
+  const bool raw = form_ == BasisForm::kRaw;
+  // The raw form's jets below assume |p| = 1.
+  const Eigen::Vector3d q = raw ? Eigen::Vector3d(p.normalized()) : p;
   std::vector<int> candidates;
-  basis_.Candidates(p, &candidates);
+  basis_.Candidates(q, &candidates);
   // Numerator N = sum B_i c_i and denominator I = sum B_i with derivatives.
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
   Eigen::Matrix3d dn = Eigen::Matrix3d::Zero();  // Row c: grad N_c.
@@ -61,7 +67,7 @@ SurfacePoint SphericalSpline::EvaluateDifferential(const Eigen::Vector3d& p,
                            Eigen::Matrix3d::Zero()};
   ScalarJet total;
   for (int i : candidates) {
-    const ScalarJet b = basis_.Evaluate(i, p, order);
+    const ScalarJet b = basis_.Evaluate(i, q, order);
     if (b.value == 0.0 && b.gradient.isZero(0.0)) continue;
     const Eigen::Vector3d c = control_points_.row(i).transpose();
     n += b.value * c;
@@ -73,9 +79,17 @@ SurfacePoint SphericalSpline::EvaluateDifferential(const Eigen::Vector3d& p,
       total.hessian += b.hessian;
     }
   }
+  if (raw) {
+    // D = |x|^k at |q| = 1: value 1, gradient k q, Hessian k I + k(k-2) q q^T.
+    const double k = basis_.degree();
+    total.value = 1.0;
+    total.gradient = k * q;
+    total.hessian =
+        k * Eigen::Matrix3d::Identity() + k * (k - 2) * q * q.transpose();
+  }
   const double inv = 1.0 / total.value;
   out.position = n * inv;
-  // Quotient rule for F = N / I.
+  // Quotient rule for F = N / D.
   Eigen::Matrix3d df;
   for (int k = 0; k < 3; ++k) {
     df.row(k) =
@@ -137,7 +151,8 @@ std::vector<SurfacePoint> SphericalSpline::EvaluateDifferentialMany(
 StatusOr<SphericalSpline> SurfaceFromModel(const SplineModel& model) {
   SDCB_ASSIGN_OR_RETURN(DcbBasis basis,
                         DcbBasis::Create(model.knots, model.configurations));
-  return SphericalSpline::Create(std::move(basis), model.control_points);
+  return SphericalSpline::Create(std::move(basis), model.control_points,
+                                 model.basis_form);
 }
 
 }  // namespace sdcb

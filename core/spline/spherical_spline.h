@@ -1,11 +1,14 @@
 // The spherical DCB-spline surface (paper eq. 6):
 //   F(p) = sum_i Bbar_i(p) c_i,   p in S^2, c_i in R^3,
-// with the normalized basis of eq. 5. Evaluation of position, tangent
-// derivatives, unit normal, mean and Gaussian curvature at one point or, in
-// parallel (TBB), at many; results do not depend on the thread count.
+// with the normalized basis of eq. 5 (BasisForm::kNormalized), or
+//   F(p) = sum_i B_i(p) c_i
+// with the raw basis of eq. 4 (BasisForm::kRaw). Evaluation of position,
+// tangent derivatives, unit normal, mean and Gaussian curvature at one point
+// or, in parallel (TBB), at many; results do not depend on the thread count.
 //
-// Derivatives: B_i and I are homogeneous of degree k, so F = (sum B_i c_i)/I
-// extends to R^3 \ {0} homogeneous of degree 0, F(x) = F(x / |x|). At a
+// Derivatives: B_i and I are homogeneous of degree k, so F = (sum B_i c_i)/D
+// with D = I (normalized) or D = |x|^k (raw) extends to R^3 \ {0}
+// homogeneous of degree 0, F(x) = F(x / |x|). At a
 // point p with the orthonormal tangent frame (e_u, e_v) (e_u x e_v = p) the
 // chart phi(u, v) = F(p + u e_u + v e_v) parameterizes the surface near F(p),
 // and its partial derivatives are the "tangent derivatives" reported here
@@ -46,13 +49,15 @@ class SphericalSpline {
   // `control_points`: basis.size() by 3, one per basis function, in the
   // order of the configuration sets. Fails with kInvalidArgument on a size
   // mismatch or non-finite control points.
-  static StatusOr<SphericalSpline> Create(DcbBasis basis,
-                                          Eigen::MatrixX3d control_points);
+  static StatusOr<SphericalSpline> Create(
+      DcbBasis basis, Eigen::MatrixX3d control_points,
+      BasisForm form = BasisForm::kNormalized);
 
   int degree() const { return basis_.degree(); }
   const Eigen::MatrixX3d& knots() const { return basis_.knots(); }
   const DcbBasis& basis() const { return basis_; }
   const Eigen::MatrixX3d& control_points() const { return control_points_; }
+  BasisForm basis_form() const { return form_; }
 
   // F(p) for a unit vector p.
   Eigen::Vector3d Evaluate(const Eigen::Vector3d& p) const;
@@ -69,16 +74,20 @@ class SphericalSpline {
       JetOrder order = JetOrder::kHessian) const;
 
  private:
-  SphericalSpline(DcbBasis basis, Eigen::MatrixX3d control_points)
-      : basis_(std::move(basis)), control_points_(std::move(control_points)) {}
+  SphericalSpline(DcbBasis basis, Eigen::MatrixX3d control_points,
+                  BasisForm form)
+      : basis_(std::move(basis)),
+        control_points_(std::move(control_points)),
+        form_(form) {}
 
   DcbBasis basis_;
   Eigen::MatrixX3d control_points_;
+  BasisForm form_ = BasisForm::kNormalized;
 };
 
 // The surface of a model in its normalized frame (SplineModel::transform
 // maps it back to input coordinates): its basis built from the model's knots
-// and configurations, and its control points.
+// and configurations, its control points and basis form.
 StatusOr<SphericalSpline> SurfaceFromModel(const SplineModel& model);
 
 // Orthonormal tangent frame (e_u, e_v) of S^2 at the unit vector p, with

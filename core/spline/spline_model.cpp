@@ -46,9 +46,11 @@ Status ValidateRound(const RoundStatistics& r, const std::string& what) {
   if (r.round < 0 || r.knots < 0 || r.control_points < 0) {
     return InvalidArgumentError(what + " has a negative count");
   }
-  if (!std::isfinite(r.rmse_percent) || !std::isfinite(r.max_error_percent) ||
-      !std::isfinite(r.seconds)) {
-    return InvalidArgumentError(what + " has a non-finite value");
+  for (double v : {r.rmse_percent, r.max_error_percent, r.vertex_rmse_percent,
+                   r.vertex_max_error_percent, r.folded_area_percent}) {
+    if (!std::isfinite(v)) {
+      return InvalidArgumentError(what + " has a non-finite value");
+    }
   }
   return Status::Ok();
 }
@@ -59,16 +61,17 @@ Status ValidateStatistics(const FitStatistics& s) {
         ValidateRound(s.rounds[i], "fit statistics round " + Str(i)));
   }
   SDCB_RETURN_IF_ERROR(ValidateRound(s.final_result, "final fit statistics"));
-  const StageTimings& t = s.timings;
-  for (double v : {t.parameterization, t.knot_placement, t.configurations,
-                   t.basis, t.solve, t.total}) {
+  const RecordedFitOptions& o = s.options;
+  for (double v :
+       {o.rmse_percent, o.lambda, o.alpha, o.regularization, o.fairness,
+        o.samples_per_spacing}) {
     if (!std::isfinite(v)) {
-      return InvalidArgumentError("a stage timing is not finite");
+      return InvalidArgumentError("a recorded fit option is not finite");
     }
   }
-  const RecordedFitOptions& o = s.options;
-  if (!std::isfinite(o.rmse_percent) || !std::isfinite(o.lambda)) {
-    return InvalidArgumentError("a recorded fit option is not finite");
+  if (s.error_measure != ErrorMeasure::kVertices &&
+      s.error_measure != ErrorMeasure::kDenseTwoSided) {
+    return InvalidArgumentError("unknown error measure");
   }
   return Status::Ok();
 }
@@ -236,6 +239,10 @@ Status ValidateSplineModel(const SplineModel& model) {
     return InvalidArgumentError(
         "the normalizing transform needs a finite scale > 0 and a finite "
         "translation");
+  }
+  if (model.basis_form != BasisForm::kNormalized &&
+      model.basis_form != BasisForm::kRaw) {
+    return InvalidArgumentError("unknown basis form");
   }
   SDCB_RETURN_IF_ERROR(ValidateStatistics(model.statistics));
   if (model.source.num_vertices < 0 || model.source.num_faces < 0) {

@@ -37,41 +37,63 @@ struct NormalizingTransform {
   Eigen::MatrixX3d ToNormalized(const Eigen::MatrixX3d& input) const;
 };
 
-// One refinement round of the adaptive fit (paper Sec. 4.4, Table 2).
+// One refinement round of the adaptive fit (paper Sec. 4.4, Table 2). Errors
+// are in percent of the largest bounding-box side.
 struct RoundStatistics {
   int round = 0;           // 0 for the initial knots.
   int knots = 0;           // Number of knots after the round.
   int control_points = 0;  // Number of basis functions after the round.
-  // Errors in percent of the largest bounding-box side.
+  // The distance between the surface and the input mesh, as
+  // FitStatistics::error_measure says: two-sided and dense for models of this
+  // code, at the input vertices only for models of format version 1.
   double rmse_percent = 0.0;
   double max_error_percent = 0.0;
-  double seconds = 0.0;  // Wall time of the round.
+  // |x_i - F(u_i)| at the input vertices x_i and their sphere parameters u_i
+  // (the paper's measure).
+  double vertex_rmse_percent = 0.0;
+  double vertex_max_error_percent = 0.0;
+  // Share of the surface's area whose normal opposes the mesh's, percent.
+  double folded_area_percent = 0.0;
 };
 
-// Wall time per pipeline stage, in seconds, summed over the rounds.
-struct StageTimings {
-  double parameterization = 0.0;
-  double knot_placement = 0.0;
-  double configurations = 0.0;
-  double basis = 0.0;
-  double solve = 0.0;
-  double total = 0.0;
+// What rmse_percent / max_error_percent of RoundStatistics measure.
+enum class ErrorMeasure {
+  // |x_i - F(u_i)| at the input vertices (format version 1 models).
+  kVertices = 0,
+  // The two-sided distance between the surface and the input mesh, measured
+  // at dense samples of both (core/fit/surface_deviation.h).
+  kDenseTwoSided = 1,
 };
 
-// The fitting options a model was produced with, recorded for provenance.
+// Every fitting option that changes a model's bytes (core/fit/fit_options.h
+// documents each), recorded so that a model can be reproduced. Options a
+// model's file does not record read as 0 / false (format version 1 recorded
+// only degree, rmse_percent, knots_per_round, max_rounds and lambda).
 struct RecordedFitOptions {
   int degree = 0;
   double rmse_percent = 0.0;  // Target RMSE, percent of the largest side.
   int knots_per_round = 0;
+  int initial_knots = 0;
   int max_rounds = 0;
+  int max_control_points = 0;
   double lambda = 0.0;  // Parameterization area weight, paper eq. (12).
+  double alpha = 0.0;   // Knot density exponent (Sec. 4.4).
+  double regularization = 0.0;
+  double fairness = 0.0;
+  double samples_per_spacing = 0.0;
+  int max_fold_rounds = 0;
+  int round_samples_per_knot = 0;
+  int final_surface_samples = 0;
 };
 
+// How the fit went, without wall-clock times (they would make the model's
+// bytes differ between runs; FitResult carries them).
 struct FitStatistics {
   std::vector<RoundStatistics> rounds;
   RoundStatistics final_result;  // "final" in JSON: the returned model.
-  StageTimings timings;
   RecordedFitOptions options;
+  ErrorMeasure error_measure = ErrorMeasure::kDenseTwoSided;
+  bool reached_target = false;
 };
 
 // What the model was fitted to, so a model can be matched to its mesh.
@@ -80,6 +102,14 @@ struct SourceMeshInfo {
   int64_t num_faces = 0;
   uint64_t hash = 0;      // HashTriangleMesh() of the source mesh.
   std::string file_name;  // As given on the command line; UTF-8, may be "".
+};
+
+// The basis of the surface F(p) = sum_i b_i(p) c_i.
+enum class BasisForm {
+  // b_i = Bbar_i = B_i / I, eq. 5: a partition of unity (the paper's).
+  kNormalized = 0,
+  // b_i = B_i, eq. 4: higher approximation order (docs/BASIS.md).
+  kRaw = 1,
 };
 
 struct SplineModel {
@@ -95,6 +125,8 @@ struct SplineModel {
   NormalizingTransform transform;
   FitStatistics statistics;
   SourceMeshInfo source;
+  // Which basis the control points multiply (eq. 5 normalized, or eq. 4).
+  BasisForm basis_form = BasisForm::kNormalized;
   // Optional: #source vertices by 3, the sphere point (unit vector) of each
   // input vertex (the spherical parameterization, Sec. 4.3). Empty (0 rows)
   // when not stored.

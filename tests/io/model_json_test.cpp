@@ -88,16 +88,21 @@ TEST(ModelJsonTest, KeysAndValues) {
   EXPECT_EQ(st["rounds"][2].at("control_points"), 270);
   EXPECT_EQ(st["rounds"][1].at("rmse_percent"), 1.0 / 4.0);
   EXPECT_EQ(st["rounds"][1].at("max_error_percent"), 2.0 / 3.0 + 1);
-  EXPECT_TRUE(SameBits(st["rounds"][0].at("seconds").get<double>(),
+  EXPECT_TRUE(SameBits(st["rounds"][0].at("folded_area_percent").get<double>(),
                        std::numeric_limits<double>::denorm_min()));
+  EXPECT_EQ(st["rounds"][1].at("vertex_rmse_percent"), 0.5 / 4.0);
+  EXPECT_EQ(st["rounds"][1].at("vertex_max_error_percent"), 1.0 / 3.0 + 1);
   EXPECT_EQ(st.at("final"), st["rounds"][2]);
-  const json& t = st.at("timings");
-  EXPECT_EQ(t.at("parameterization"), 1.25);
-  EXPECT_EQ(t.at("knot_placement"), 2.0 / 3.0);
-  EXPECT_EQ(t.at("configurations"), 0.0);
-  EXPECT_TRUE(std::signbit(t.at("basis").get<double>()));
-  EXPECT_EQ(t.at("solve"), 1e-9);
-  EXPECT_EQ(t.at("total"), 12.5);
+  EXPECT_FALSE(st.contains("timings"));  // the model keeps no wall times
+  EXPECT_EQ(st.at("error_measure"), "dense_two_sided");
+  EXPECT_EQ(st.at("reached_target"), true);
+  EXPECT_EQ(st["options"].at("initial_knots"), 7);
+  EXPECT_EQ(st["options"].at("max_control_points"), 5000);
+  EXPECT_EQ(st["options"].at("alpha"), 4.0);
+  EXPECT_EQ(st["options"].at("regularization"), 12.5);
+  EXPECT_TRUE(std::signbit(st["options"].at("fairness").get<double>()));
+  EXPECT_EQ(st["options"].at("samples_per_spacing"), 3.0);
+  EXPECT_EQ(st["options"].at("final_surface_samples"), 100000);
   EXPECT_EQ(st.at("options").at("degree"), 2);
   EXPECT_EQ(st["options"].at("rmse_percent"), 0.05);
   EXPECT_EQ(st["options"].at("knots_per_round"), 100);

@@ -63,12 +63,14 @@ inline SplineModel MakeTestModel(int degree = 1, int num_knots = 7,
   FitStatistics& st = m.statistics;
   for (int r = 0; r < 3; ++r) {
     st.rounds.push_back({r, 100 * (r + 1), 90 * (r + 1), 1.0 / (r + 3),
-                         2.0 / 3.0 + r,
+                         2.0 / 3.0 + r, 0.5 / (r + 3), 1.0 / 3.0 + r,
                          0.1 * r + std::numeric_limits<double>::denorm_min()});
   }
   st.final_result = st.rounds.back();
-  st.timings = {1.25, 2.0 / 3.0, 0.0, -0.0, 1e-9, 12.5};
-  st.options = {degree, 0.05, 100, 10, 0.2};
+  st.options = {degree, 0.05, 100,  7,   10, 5000, 0.2,
+                4.0,    12.5, -0.0, 3.0, 5,  12,   100000};
+  st.error_measure = ErrorMeasure::kDenseTwoSided;
+  st.reached_target = true;
   m.source.num_vertices = num_parameters > 0 ? num_parameters : 1234;
   m.source.num_faces = 2 * m.source.num_vertices - 4;
   m.source.hash = 0xfedcba9876543210ULL;

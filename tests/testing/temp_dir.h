@@ -35,6 +35,11 @@ inline std::string MeshPath(const std::string& name) {
   return std::string(SDCB_MESH_DIR) + "/" + name;
 }
 
+// A file of tests/data/ (files kept in the repository).
+inline std::string TestDataPath(const std::string& name) {
+  return std::string(SDCB_TEST_DATA_DIR) + "/" + name;
+}
+
 }  // namespace sdcb::testing
 
 #endif  // SDCB_TESTS_TESTING_TEMP_DIR_H_

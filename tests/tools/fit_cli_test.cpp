@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <sstream>
 
 #include "sdcb/io/mesh_reader.h"
@@ -23,17 +24,38 @@ using testing::WriteBytes;
 
 namespace fs = std::filesystem;
 
-// Fits blobby once per test binary run into `dir`; returns the model path.
+// Fits blobby into `dir` (model blobby.sdcb, report.json, plot.svg), with
+// `extra` flags; returns the model path.
 std::string FitBlobby(const std::string& dir,
-                      const std::string& extra_rounds = "1") {
+                      const std::string& extra_rounds = "1",
+                      const std::vector<std::string>& extra = {}) {
   const std::string model = dir + "/blobby.sdcb";
-  const RunResult r =
-      RunSdcb({"fit", MeshPath("blobby.off"), "-o", model, "--rmse", "0.1",
-               "--max-rounds", extra_rounds, "--json", dir + "/report.json",
-               "--plot", dir + "/plot.svg", "--quiet"},
-              dir);
+  std::vector<std::string> args = {"fit",          MeshPath("blobby.off"),
+                                   "-o",           model,
+                                   "--rmse",       "0.1",
+                                   "--max-rounds", extra_rounds,
+                                   "--json",       dir + "/report.json",
+                                   "--plot",       dir + "/plot.svg",
+                                   "--quiet"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  const RunResult r = RunSdcb(args, dir);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return model;
+}
+
+// `sdcb eval` of `model` at `points` (a POINTS.txt); #points by 3.
+Eigen::MatrixX3d Eval(const std::string& model, const std::string& points,
+                      const std::string& dir) {
+  const RunResult r =
+      RunSdcb({"eval", model, "-i", points, "-o", dir + "/values.txt"}, dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream in(ReadBytes(dir + "/values.txt"));
+  std::vector<Eigen::RowVector3d> rows;
+  Eigen::RowVector3d v;
+  while (in >> v[0] >> v[1] >> v[2]) rows.push_back(v);
+  Eigen::MatrixX3d out(rows.size(), 3);
+  for (size_t i = 0; i < rows.size(); ++i) out.row(i) = rows[i];
+  return out;
 }
 
 TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
@@ -43,11 +65,16 @@ TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
   ASSERT_TRUE(j.contains("rounds") && j.contains("final") &&
               j.contains("timings"));
   for (const auto& round : j["rounds"]) {
-    for (const char* key : {"round", "knots", "control_points", "rmse_percent",
-                            "max_error_percent", "seconds"}) {
+    for (const char* key :
+         {"round", "knots", "control_points", "rmse_percent",
+          "max_error_percent", "vertex_rmse_percent",
+          "vertex_max_error_percent", "folded_area_percent", "seconds"}) {
       EXPECT_TRUE(round.contains(key)) << key;
     }
   }
+  EXPECT_EQ(j["error_measure"], "dense_two_sided");
+  EXPECT_EQ(j["basis_form"], "normalized");
+  EXPECT_TRUE(j.contains("reached_target"));
   for (const char* key : {"parameterization", "knot_placement",
                           "configurations", "basis", "solve", "total"}) {
     EXPECT_TRUE(j["timings"].contains(key)) << key;
@@ -60,7 +87,7 @@ TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
 
 TEST(FitCliTest, EvalAtTheStoredParametersReproducesTheReportedErrors) {
   const std::string dir = FreshTestDir();
-  const std::string model = FitBlobby(dir, "2");
+  const std::string model = FitBlobby(dir, "2", {"--store-parameters"});
   ASSERT_EQ(RunSdcb({"dump", model, "-o", dir + "/dump.json"}, dir).exit_code,
             0);
   const auto dump = nlohmann::json::parse(ReadBytes(dir + "/dump.json"));
@@ -92,8 +119,67 @@ TEST(FitCliTest, EvalAtTheStoredParametersReproducesTheReportedErrors) {
   }
   const auto report = nlohmann::json::parse(ReadBytes(dir + "/report.json"));
   const double rmse = std::sqrt(sum / mesh->num_vertices());
-  EXPECT_NEAR(rmse, report["final"]["rmse_percent"].get<double>(), 1e-7);
-  EXPECT_NEAR(max, report["final"]["max_error_percent"].get<double>(), 1e-7);
+  EXPECT_NEAR(rmse, report["final"]["vertex_rmse_percent"].get<double>(), 1e-7);
+  EXPECT_NEAR(max, report["final"]["vertex_max_error_percent"].get<double>(),
+              1e-7);
+}
+
+// `sdcb compare` measures the fitted model against its mesh as the fit's
+// final measurement did (same method, its own lattice and closest points),
+// and the numbers are consistent with each other.
+TEST(FitCliTest, CompareAgreesWithTheFitReport) {
+  const std::string dir = FreshTestDir();
+  const std::string model = FitBlobby(dir, "3");
+  const RunResult r =
+      RunSdcb({"compare", model, MeshPath("blobby.off"), "--json", "-"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto c = nlohmann::json::parse(r.out);
+  const auto report = nlohmann::json::parse(ReadBytes(dir + "/report.json"));
+  ASSERT_EQ(report["reached_target"], true);
+  const double fit_rms = report["final"]["rmse_percent"].get<double>();
+  const double fit_max = report["final"]["max_error_percent"].get<double>();
+  EXPECT_NEAR(c["rmse_percent"].get<double>(), fit_rms, 0.05 * fit_rms);
+  EXPECT_NEAR(c["hausdorff_percent"].get<double>(), fit_max, 0.05 * fit_max);
+  EXPECT_EQ(c["folded_area_percent"].get<double>(), 0.0);
+  EXPECT_GE(c["surface_samples"].get<int>(), 100000);
+  EXPECT_EQ(c["mesh_samples"].get<int>(), 2027);
+  // Two-sided: the larger of the one-sided maxima, rms between them.
+  const double s2m = c["surface_to_mesh_max_percent"].get<double>();
+  const double m2s = c["mesh_to_surface_max_percent"].get<double>();
+  EXPECT_EQ(c["hausdorff_percent"].get<double>(), std::max(s2m, m2s));
+  // A mesh moved by 1 % of its largest side along x: the distance grows.
+  auto mesh = ReadMesh(MeshPath("blobby.off"));
+  ASSERT_TRUE(mesh.ok());
+  const double side = (mesh->vertices.colwise().maxCoeff() -
+                       mesh->vertices.colwise().minCoeff())
+                          .maxCoeff();
+  std::ostringstream off;
+  off.precision(17);
+  off << "OFF\n" << mesh->num_vertices() << " " << mesh->num_faces() << " 0\n";
+  for (int v = 0; v < mesh->num_vertices(); ++v) {
+    off << mesh->vertices(v, 0) + 0.01 * side << " " << mesh->vertices(v, 1)
+        << " " << mesh->vertices(v, 2) << "\n";
+  }
+  for (int f = 0; f < mesh->num_faces(); ++f) {
+    off << "3 " << mesh->faces(f, 0) << " " << mesh->faces(f, 1) << " "
+        << mesh->faces(f, 2) << "\n";
+  }
+  WriteBytes(dir + "/moved.off", off.str());
+  const RunResult moved =
+      RunSdcb({"compare", model, dir + "/moved.off", "--json", "-"}, dir);
+  ASSERT_EQ(moved.exit_code, 0) << moved.err;
+  const auto cm = nlohmann::json::parse(moved.out);
+  EXPECT_GT(cm["hausdorff_percent"].get<double>(), 0.5);
+  EXPECT_LT(cm["hausdorff_percent"].get<double>(), 1.0 + fit_max);
+  // Bad input: exit 1, one line naming the file, no output.
+  const RunResult missing =
+      RunSdcb({"compare", dir + "/none.sdcb", MeshPath("blobby.off"), "--json",
+               dir + "/c.json"},
+              dir);
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("none.sdcb"), std::string::npos) << missing.err;
+  EXPECT_FALSE(fs::exists(dir + "/c.json"));
+  EXPECT_EQ(RunSdcb({"compare", model}, dir).exit_code, 2);
 }
 
 TEST(FitCliTest, DumpedConfigurationsAreConfirmedByBruteForce) {
@@ -138,6 +224,81 @@ TEST(FitCliTest, InfoReadsTheModel) {
   EXPECT_EQ(j["degree"], 4);
   EXPECT_EQ(j["knots"], 100);
   EXPECT_EQ(j["source"]["vertices"], 2027);
+  EXPECT_EQ(j["format_version"], 2);
+  EXPECT_EQ(j["file_bytes"], fs::file_size(model));
+  const auto report = nlohmann::json::parse(ReadBytes(dir + "/report.json"));
+  EXPECT_EQ(report["output_bytes"], fs::file_size(model));
+  // Parameters only on request; lossless by default.
+  EXPECT_EQ(j["has_parameters"], false);
+  EXPECT_EQ(j["quantization_bits"], 0);
+  EXPECT_FALSE(report.contains("quantization_error_bound_percent"));
+  const RunResult text = RunSdcb({"info", model}, dir);
+  EXPECT_NE(text.out.find("format version         2 ("), std::string::npos)
+      << text.out;
+  // A version 1 file reads and says so.
+  const RunResult v1 = RunSdcb(
+      {"info", testing::TestDataPath("cow_round0_v1.sdcb"), "--json", "-"},
+      dir);
+  ASSERT_EQ(v1.exit_code, 0) << v1.err;
+  const auto j1 = nlohmann::json::parse(v1.out);
+  EXPECT_EQ(j1["format_version"], 1);
+  EXPECT_EQ(j1["has_parameters"], true);
+}
+
+TEST(FitCliTest, QuantizedModelStaysWithinTheStatedBound) {
+  const std::string exact_dir = FreshTestDir() + "/exact";
+  const std::string quantized_dir = exact_dir + "_quantized";
+  fs::create_directories(exact_dir);
+  fs::create_directories(quantized_dir);
+  const std::string exact = FitBlobby(exact_dir, "1");
+  const std::string quantized =
+      FitBlobby(quantized_dir, "1", {"--quantize", "10"});
+  const auto report =
+      nlohmann::json::parse(ReadBytes(quantized_dir + "/report.json"));
+  ASSERT_TRUE(report.contains("quantization_error_bound_percent"));
+  EXPECT_EQ(report["quantization_bits"], 10);
+  const double bound_percent =
+      report["quantization_error_bound_percent"].get<double>();
+  EXPECT_GT(bound_percent, 0.0);
+  EXPECT_LT(fs::file_size(quantized), fs::file_size(exact));
+  const RunResult r = RunSdcb({"info", quantized, "--json", "-"}, exact_dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto info = nlohmann::json::parse(r.out);
+  EXPECT_EQ(info["quantization_bits"], 10);
+  EXPECT_EQ(info["quantization_error_bound_percent"].get<double>(),
+            bound_percent);
+  // Both surfaces at 3000 directions: within the bound, in percent of the
+  // largest side of the input's bounding box, and not far below it.
+  std::ostringstream points;
+  points.precision(17);
+  std::mt19937 rng(4);
+  std::normal_distribution<double> gauss;
+  for (int i = 0; i < 3000; ++i) {
+    points << gauss(rng) << " " << gauss(rng) << " " << gauss(rng) << "\n";
+  }
+  WriteBytes(exact_dir + "/points.txt", points.str());
+  const Eigen::MatrixX3d a = Eval(exact, exact_dir + "/points.txt", exact_dir);
+  const Eigen::MatrixX3d b =
+      Eval(quantized, exact_dir + "/points.txt", exact_dir);
+  ASSERT_EQ(a.rows(), 3000);
+  ASSERT_EQ(b.rows(), 3000);
+  auto mesh = ReadMesh(MeshPath("blobby.off"));
+  ASSERT_TRUE(mesh.ok());
+  const double side = (mesh->vertices.colwise().maxCoeff() -
+                       mesh->vertices.colwise().minCoeff())
+                          .maxCoeff();
+  const double moved = 100 * (a - b).rowwise().norm().maxCoeff() / side;
+  EXPECT_LE(moved, bound_percent * (1 + 1e-9));
+  EXPECT_GE(moved, 0.2 * bound_percent);
+  // Bits outside 8..30 are a usage error.
+  for (const char* bits : {"7", "31", "x"}) {
+    EXPECT_EQ(RunSdcb({"fit", MeshPath("blobby.off"), "-o",
+                       exact_dir + "/z.sdcb", "--quantize", bits},
+                      exact_dir)
+                  .exit_code,
+              2)
+        << bits;
+  }
 }
 
 TEST(FitCliTest, BadInputIsExitOneWithoutPartialOutput) {

@@ -306,7 +306,7 @@ TEST(ValidateSplineModelTest, RejectsEachViolation) {
   }
   {
     SplineModel m = good;
-    m.statistics.rounds[1].seconds = std::nan("");
+    m.statistics.rounds[1].folded_area_percent = std::nan("");
     ExpectInvalid(m, "round 1 has a non-finite value");
   }
   {
@@ -316,8 +316,8 @@ TEST(ValidateSplineModelTest, RejectsEachViolation) {
   }
   {
     SplineModel m = good;
-    m.statistics.timings.solve = std::numeric_limits<double>::infinity();
-    ExpectInvalid(m, "stage timing");
+    m.basis_form = static_cast<BasisForm>(7);
+    ExpectInvalid(m, "unknown basis form");
   }
   {
     SplineModel m = good;

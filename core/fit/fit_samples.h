@@ -1,0 +1,60 @@
+// The samples of the fit's data term (docs/FITTING.md): a quadrature of
+//   integral over the mesh M of |F(u(x)) - x|^2 dA,
+// the squared distance between the spline at a point's sphere parameter and
+// the point, over the mesh's piecewise-linear surface (not only its
+// vertices). u maps a mesh triangle onto its spherical triangle by
+// normalized barycentric combination of the corners' sphere points.
+//
+// A triangle whose spherical image is small against the local knot spacing
+// is integrated by the vertex rule (a third of its area to each corner). A
+// larger one is split by longest-edge bisection until no edge of a piece's
+// spherical image is longer than the spacing (of the knot nearest to the
+// piece) over FitSampleOptions::samples_per_spacing, each piece integrated by
+// the rule that gives its corners 1/12 and its centroid 3/4 of its area (exact
+// for quadratics). So every part of the sphere, and every basis support, holds
+// samples about that dense, slivers included, without an m x m lattice.
+#ifndef SDCB_CORE_FIT_FIT_SAMPLES_H_
+#define SDCB_CORE_FIT_FIT_SAMPLES_H_
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "sdcb/core/mesh/triangle_mesh.h"
+
+namespace sdcb {
+
+struct FitSampleOptions {
+  // Samples per knot spacing along a spherical triangle's longest edge.
+  double samples_per_spacing = 2.0;
+  // Bisection depth at most (2^depth pieces per triangle at most).
+  int max_depth = 14;
+};
+
+struct FitSamples {
+  // Rows: the mesh vertices first (row v = vertex v), then the points inside
+  // split triangles. Sphere points (unit vectors), target points (the mesh's
+  // frame), quadrature weights (mesh area), and for the rows after the
+  // vertices the mesh triangle each point lies in.
+  Eigen::MatrixX3d points;
+  Eigen::MatrixX3d targets;
+  Eigen::VectorXd weights;
+  std::vector<int> triangle;  // size points.rows() - num_vertices
+  Eigen::Index num_vertices = 0;
+  int split_triangles = 0;  // triangles split into pieces
+};
+
+// `mesh`: the mesh (any frame); `sphere`: #V by 3 sphere points of its
+// vertices (a bijective parameterization); `knots`: #K by 3 unit vectors,
+// the knots the samples must resolve. Deterministic.
+FitSamples BuildFitSamples(const TriangleMesh& mesh,
+                           const Eigen::MatrixX3d& sphere,
+                           const Eigen::MatrixX3d& knots,
+                           const FitSampleOptions& options = {});
+
+// For every knot, the distance to its nearest other knot (chord length);
+// +inf for a single knot.
+Eigen::VectorXd KnotSpacing(const Eigen::MatrixX3d& knots);
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_FIT_FIT_SAMPLES_H_

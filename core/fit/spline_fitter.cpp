@@ -1,0 +1,721 @@
+#include "sdcb/core/fit/spline_fitter.h"
+
+#include <tbb/task_arena.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <utility>
+
+#include "sdcb/core/fit/fit_samples.h"
+#include "sdcb/core/fit/least_squares.h"
+#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/knots/spherical_cvt.h"
+#include "sdcb/core/mesh/curvature.h"
+#include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/param/spherical_parameterization.h"
+#include "sdcb/core/sphere/point_kd_tree.h"
+#include "sdcb/core/sphere/sphere_geometry.h"
+#include "sdcb/core/spline/dcb_basis.h"
+#include "sdcb/core/spline/delaunay_configurations.h"
+#include "sdcb/core/spline/design_matrix.h"
+#include "sdcb/core/spline/spherical_spline.h"
+
+namespace sdcb {
+namespace {
+
+class Stopwatch {
+ public:
+  Stopwatch() : start_(std::chrono::steady_clock::now()) {}
+  double Seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                         start_)
+        .count();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_;
+};
+
+// Progress model (FitProgress::fraction). The parameterization takes about
+// this share of a typical fit (bunny00: 1.9 s of 4.4 s; smaller meshes less).
+constexpr double kParameterizationShare = 0.3;
+// Where each stage starts within a round, as a share of the round's time
+// (bunny00, degree 4).
+constexpr double kRoundStageStart[] = {
+    0.0,   // knot placement
+    0.2,   // configurations
+    0.25,  // basis
+    0.55,  // solve
+    0.75,  // measure
+};
+// Rounds before a fit may stop because its error falls too slowly.
+constexpr int kMinRoundsBeforeRateStop = 5;
+// Knots of a round that only removes folds: at least this many.
+constexpr int kMinFoldKnots = 10;
+// Rounds assumed before two rounds show the error's decay.
+constexpr int kInitialRoundGuess = 5;
+
+Status CheckOptions(const FitOptions& o) {
+  if (o.degree < 2 || o.degree > kMaxSplineDegree) {
+    return InvalidArgumentError("degree must be 2..5");
+  }
+  if (!(o.rmse_percent > 0) || !std::isfinite(o.rmse_percent)) {
+    return InvalidArgumentError(
+        "the RMSE target must be a positive percentage");
+  }
+  if (o.knots_per_round < 1 || o.initial_knots < 0 || o.max_rounds < 1 ||
+      o.max_control_points < 1 || o.threads < 0 ||
+      o.round_samples_per_knot < 1 || o.final_surface_samples < 1 ||
+      o.max_fold_rounds < 0) {
+    return InvalidArgumentError(
+        "knots per round, rounds, control points and sample counts must be "
+        "positive, threads >= 0");
+  }
+  for (double v :
+       {o.alpha, o.regularization, o.lambda, o.samples_per_spacing}) {
+    if (!(v > 0) || !std::isfinite(v)) {
+      return InvalidArgumentError(
+          "alpha, lambda, regularization and samples per spacing must be "
+          "finite and > 0");
+    }
+  }
+  if (!(o.fairness >= 0) || !std::isfinite(o.fairness)) {
+    return InvalidArgumentError("the fairness weight must be finite and >= 0");
+  }
+  if (o.basis_form != BasisForm::kNormalized &&
+      o.basis_form != BasisForm::kRaw) {
+    return InvalidArgumentError("unknown basis form");
+  }
+  return Status::Ok();
+}
+
+// For every basis function, the sample nearest to the normalized mean of its
+// knots: the prior of basis functions that no sample sees.
+Eigen::MatrixX3d NearestSamplePrior(const DcbBasis& basis,
+                                    const PointKdTree& tree,
+                                    const Eigen::MatrixX3d& targets) {
+  Eigen::MatrixX3d prior(basis.size(), 3);
+  for (int i = 0; i < basis.size(); ++i) {
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();
+    for (int k : basis.configuration_set(i).knots) {
+      center += basis.knots().row(k).transpose();
+    }
+    const PointKdTree::Neighbor n = tree.Nearest(center.normalized());
+    prior.row(i) = targets.row(n.index >= 0 ? n.index : 0);
+  }
+  return prior;
+}
+
+// Stacks row-major sparse matrices, each row of part j scaled by
+// scales[j][row].
+DesignMatrix StackScaledRows(
+    const std::vector<std::pair<const DesignMatrix*, const Eigen::VectorXd*>>&
+        parts) {
+  Eigen::Index rows = 0, nonzeros = 0, cols = 0;
+  for (const auto& [m, s] : parts) {
+    rows += m->rows();
+    nonzeros += m->nonZeros();
+    cols = m->cols();
+  }
+  DesignMatrix out(rows, cols);
+  out.resizeNonZeros(nonzeros);
+  Eigen::Index at = 0, row = 0;
+  for (const auto& [m, s] : parts) {
+    for (Eigen::Index r = 0; r < m->rows(); ++r, ++row) {
+      out.outerIndexPtr()[row] = static_cast<int>(at);
+      const double scale = (*s)[r];
+      for (DesignMatrix::InnerIterator it(*m, r); it; ++it, ++at) {
+        out.innerIndexPtr()[at] = static_cast<int>(it.col());
+        out.valuePtr()[at] = scale * it.value();
+      }
+    }
+  }
+  out.outerIndexPtr()[row] = static_cast<int>(at);
+  return out;
+}
+
+// The bending energy's quadrature: three points per knot triangle (the
+// degree-2 planar rule at barycentric (2/3, 1/6, 1/6) and permutations,
+// mapped onto the sphere), each weighted a third of the spherical area.
+struct BendingQuadrature {
+  Eigen::MatrixX3d points;
+  Eigen::VectorXd weights;
+};
+
+// Spherical area of the triangle (a, b, c) (unit vectors): the solid angle
+// 2 atan(|det| / (1 + a.b + b.c + c.a)).
+double SphericalArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                     const Eigen::Vector3d& c) {
+  return 2.0 * std::atan2(std::abs(a.dot(b.cross(c))),
+                          1.0 + a.dot(b) + b.dot(c) + c.dot(a));
+}
+
+BendingQuadrature MakeBendingQuadrature(const Eigen::MatrixX3d& knots,
+                                        const DelaunayConfigurations& tri) {
+  const Eigen::Index n = static_cast<Eigen::Index>(tri.sets.size());
+  BendingQuadrature q;
+  q.points.resize(3 * n, 3);
+  q.weights.resize(3 * n);
+  for (Eigen::Index t = 0; t < n; ++t) {
+    const std::vector<int>& k = tri.sets[t].knots;
+    const Eigen::Vector3d v[3] = {knots.row(k[0]), knots.row(k[1]),
+                                  knots.row(k[2])};
+    const double area = SphericalArea(v[0], v[1], v[2]);
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Vector3d p = (4.0 * v[j] + v[(j + 1) % 3] + v[(j + 2) % 3])
+                                    .normalized();  // (2/3, 1/6, 1/6)
+      q.points.row(3 * t + j) = p.transpose();
+      q.weights[3 * t + j] = area / 3.0;
+    }
+  }
+  return q;
+}
+
+}  // namespace
+
+const char* FitStageName(FitStage stage) {
+  switch (stage) {
+    case FitStage::kParameterization:
+      return "parameterization";
+    case FitStage::kKnotPlacement:
+      return "knot placement";
+    case FitStage::kConfigurations:
+      return "configurations";
+    case FitStage::kBasis:
+      return "basis";
+    case FitStage::kSolve:
+      return "solve";
+    case FitStage::kMeasure:
+      return "measure";
+    case FitStage::kDone:
+      return "done";
+  }
+  return "?";
+}
+
+RecordedFitOptions RecordFitOptions(const FitOptions& o) {
+  RecordedFitOptions r;
+  r.degree = o.degree;
+  r.rmse_percent = o.rmse_percent;
+  r.knots_per_round = o.knots_per_round;
+  r.initial_knots = o.initial_knots;
+  r.max_rounds = o.max_rounds;
+  r.max_control_points = o.max_control_points;
+  r.lambda = o.lambda;
+  r.alpha = o.alpha;
+  r.regularization = o.regularization;
+  r.fairness = o.fairness;
+  r.samples_per_spacing = o.samples_per_spacing;
+  r.max_fold_rounds = o.max_fold_rounds;
+  r.round_samples_per_knot = o.round_samples_per_knot;
+  r.final_surface_samples = o.final_surface_samples;
+  return r;
+}
+
+// Everything a fit keeps between rounds.
+struct SplineFitter::State {
+  FitOptions options;
+  // The fit's own arena: parallel work runs inside it, so the fit uses at
+  // most options.threads threads without touching process-wide TBB limits.
+  std::unique_ptr<tbb::task_arena> arena;
+  Stopwatch clock;  // since Create
+
+  TriangleMesh mesh;   // in the normalized frame
+  Eigen::MatrixX3d u;  // the vertices' sphere parameters
+  double mesh_area = 0;
+  std::unique_ptr<PointKdTree> parameter_tree;
+  SphericalDensity density;  // of the next round's knots
+
+  FitResult result;
+  // The candidate to return if the target is missed: the round with the
+  // smallest rms among those without folds (else the least folded).
+  std::optional<SplineModel> best;
+  Eigen::VectorXd best_vertex_errors;
+  bool finished = false;
+  int estimated_rounds = kInitialRoundGuess;
+  // The next round places knots only where the surface folds.
+  bool fold_round = false;
+  int fold_rounds = 0;
+
+  template <typename F>
+  auto InArena(F&& f) {
+    return arena->execute(std::forward<F>(f));
+  }
+
+  // `within`: the finished share of the stage (parameterization) or of the
+  // round (round stages).
+  void Report(FitStage stage, int round, double within) {
+    if (!options.progress) return;
+    FitProgress p;
+    p.stage = stage;
+    p.round = round;
+    if (stage == FitStage::kParameterization) {
+      p.fraction = kParameterizationShare * within;
+    } else if (stage == FitStage::kDone) {
+      p.fraction = 1.0;
+    } else {
+      const double rounds = std::max(estimated_rounds, round + 1);
+      p.fraction = kParameterizationShare +
+                   (1.0 - kParameterizationShare) * (round + within) / rounds;
+    }
+    p.fraction = std::clamp(p.fraction, 0.0, 1.0);
+    options.progress(p);
+  }
+
+  // Whether round statistics `a` are a better fallback than `b`: a round
+  // without folds beats one with; otherwise the smaller rms.
+  static bool Better(const RoundStatistics& a, const RoundStatistics& b) {
+    if ((a.folded_area_percent == 0) != (b.folded_area_percent == 0)) {
+      return a.folded_area_percent == 0;
+    }
+    return a.rmse_percent < b.rmse_percent;
+  }
+
+  // Ends the fit: the last round when it met the target, else the best.
+  void Finish(bool reached, std::string shortfall) {
+    finished = true;
+    result.model.statistics.reached_target = reached;
+    if (reached) return;
+    result.shortfall = std::move(shortfall);
+    if (best && Better(best->statistics.final_result,
+                       result.model.statistics.final_result)) {
+      FitStatistics stats = std::move(result.model.statistics);
+      result.model = std::move(*best);
+      stats.final_result = result.model.statistics.final_result;
+      stats.reached_target = false;
+      result.model.statistics = std::move(stats);
+      result.vertex_errors_percent = best_vertex_errors;
+    }
+  }
+
+  Status RunRound();
+
+ private:
+  struct Problem;
+  StatusOr<Problem> BuildProblem(const Eigen::MatrixX3d& knots,
+                                 const DelaunayConfigurations& configurations,
+                                 const DelaunayConfigurations& knot_triangles,
+                                 RoundDetails* details) const;
+  StatusOr<Eigen::MatrixX3d> Solve(const Problem& problem) const;
+  StatusOr<SurfaceDeviation> Measure(const SphericalSpline& surface,
+                                     const Eigen::MatrixX3d& vertex_points,
+                                     bool final_measurement) const;
+  void NextDensity(const Problem& problem, const Eigen::MatrixX3d& fitted,
+                   const Eigen::VectorXd& vertex_errors,
+                   const SurfaceDeviation& deviation);
+  // Rounds still needed at the recent rate of decay (updating
+  // estimated_rounds), or -1 if the error does not fall.
+  int EstimateRounds();
+};
+
+StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
+                                            FitOptions options) {
+  SDCB_RETURN_IF_ERROR(CheckOptions(options));
+  SDCB_RETURN_IF_ERROR(RequireClosedGenusZero(mesh));
+  auto state = std::make_unique<State>();
+  State& s = *state;
+  s.options = std::move(options);
+  const FitOptions& o = s.options;
+  // (`automatic` is copied: binding a reference to it needs a definition
+  // this TBB version does not export.)
+  const int automatic = tbb::task_arena::automatic;
+  s.arena =
+      std::make_unique<tbb::task_arena>(o.threads > 0 ? o.threads : automatic);
+
+  SplineModel& model = s.result.model;
+  model.degree = o.degree;
+  model.basis_form = o.basis_form;
+  SDCB_ASSIGN_OR_RETURN(model.transform, ComputeNormalizingTransform(mesh));
+  s.mesh.faces = mesh.faces;
+  s.mesh.vertices = model.transform.ToNormalized(mesh.vertices);
+  model.source.num_vertices = mesh.num_vertices();
+  model.source.num_faces = mesh.num_faces();
+  model.source.hash = HashTriangleMesh(mesh);
+  model.statistics.options = RecordFitOptions(o);
+  model.statistics.error_measure = ErrorMeasure::kDenseTwoSided;
+  for (Eigen::Index f = 0; f < s.mesh.faces.rows(); ++f) {
+    const Eigen::Vector3d a = s.mesh.vertices.row(s.mesh.faces(f, 0));
+    const Eigen::Vector3d b = s.mesh.vertices.row(s.mesh.faces(f, 1));
+    const Eigen::Vector3d c = s.mesh.vertices.row(s.mesh.faces(f, 2));
+    s.mesh_area += 0.5 * (b - a).cross(c - a).norm();
+  }
+
+  // 1. Spherical parameterization (Sec. 4.3).
+  s.Report(FitStage::kParameterization, 0, 0);
+  Stopwatch stage;
+  SphericalParameterizationOptions param_options;
+  param_options.lambda = o.lambda;
+  param_options.threads = o.threads;
+  param_options.progress = [&s](const std::string&, double f) {
+    s.Report(FitStage::kParameterization, 0, f);
+  };
+  SDCB_ASSIGN_OR_RETURN(const SphericalParameterization param, s.InArena([&] {
+    return ParameterizeOnSphere(mesh, param_options);
+  }));
+  s.u = param.sphere;
+  s.result.timings.parameterization = stage.Seconds();
+  s.parameter_tree = std::make_unique<PointKdTree>(s.u);
+
+  // 2. Round-0 density: curvedness^alpha (Sec. 4.4).
+  stage = Stopwatch();
+  SDCB_ASSIGN_OR_RETURN(Eigen::VectorXd curvedness,
+                        s.InArena([&] { return Curvedness(mesh); }));
+  if (!(curvedness.maxCoeff() > 0)) curvedness.setOnes();  // flat: uniform
+  s.density = SphericalDensity{s.u, mesh.faces, Eigen::VectorXd()};
+  SDCB_ASSIGN_OR_RETURN(s.density.values,
+                        DensityFromValues(curvedness, o.alpha));
+  s.result.timings.knot_placement += stage.Seconds();
+  return SplineFitter(std::move(state));
+}
+
+SplineFitter::SplineFitter(std::unique_ptr<State> state)
+    : state_(std::move(state)) {}
+SplineFitter::SplineFitter(SplineFitter&&) noexcept = default;
+SplineFitter& SplineFitter::operator=(SplineFitter&&) noexcept = default;
+SplineFitter::~SplineFitter() = default;
+
+bool SplineFitter::finished() const { return !state_ || state_->finished; }
+
+int SplineFitter::rounds() const {
+  return state_
+             ? static_cast<int>(state_->result.model.statistics.rounds.size())
+             : 0;
+}
+
+const SplineModel& SplineFitter::model() const { return state_->result.model; }
+
+Status SplineFitter::AddRound() {
+  if (finished()) {
+    return InvalidArgumentError("the fit is finished; no round can be added");
+  }
+  return state_->InArena([&] { return state_->RunRound(); });
+}
+
+// The round's least-squares problem: the basis on the round's knots, the data
+// term's samples and design matrix, and the bending rows.
+struct SplineFitter::State::Problem {
+  DcbBasis basis;
+  FitSamples samples;
+  DesignMatrix data;
+  BendingQuadrature bending;
+  ChartHessianRows hessian;
+};
+
+StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
+    const Eigen::MatrixX3d& knots, const DelaunayConfigurations& configurations,
+    const DelaunayConfigurations& knot_triangles, RoundDetails* details) const {
+  const FitOptions& o = options;
+  SDCB_ASSIGN_OR_RETURN(DcbBasis basis,
+                        DcbBasis::Create(knots, configurations));
+  FitSampleOptions sample_options;
+  sample_options.samples_per_spacing = o.samples_per_spacing;
+  FitSamples samples = BuildFitSamples(mesh, u, knots, sample_options);
+  DesignMatrix data =
+      BuildFormDesignMatrix(basis, samples.points, o.basis_form);
+  BendingQuadrature bending = MakeBendingQuadrature(knots, knot_triangles);
+  ChartHessianRows hessian =
+      o.fairness > 0
+          ? BuildChartHessianRows(basis, bending.points, o.basis_form)
+          : ChartHessianRows{};
+  details->data_samples = static_cast<int>(samples.points.rows());
+  details->split_triangles = samples.split_triangles;
+  // Samples, and input vertices (the first rows), in each basis function's
+  // support.
+  std::vector<int> per_column(basis.size(), 0), vertices(basis.size(), 0);
+  const int vertex_nonzeros = data.outerIndexPtr()[samples.num_vertices];
+  for (int k = 0; k < data.nonZeros(); ++k) {
+    ++per_column[data.innerIndexPtr()[k]];
+    if (k < vertex_nonzeros) ++vertices[data.innerIndexPtr()[k]];
+  }
+  if (!per_column.empty()) {
+    details->min_samples_per_basis =
+        *std::min_element(per_column.begin(), per_column.end());
+    details->min_vertices_per_basis =
+        *std::min_element(vertices.begin(), vertices.end());
+  }
+  return Problem{std::move(basis), std::move(samples), std::move(data),
+                 std::move(bending), std::move(hessian)};
+}
+
+StatusOr<Eigen::MatrixX3d> SplineFitter::State::Solve(const Problem& p) const {
+  // sqrt(w) rows of the data term, sqrt(fairness * area / 4 pi * weight)
+  // rows of the bending energy (uv counted twice) with zero targets.
+  const FitOptions& o = options;
+  const Eigen::VectorXd data_scale = p.samples.weights.cwiseSqrt();
+  std::vector<std::pair<const DesignMatrix*, const Eigen::VectorXd*>> parts = {
+      {&p.data, &data_scale}};
+  Eigen::VectorXd bend_scale, bend_scale_uv;
+  if (o.fairness > 0) {
+    bend_scale =
+        (o.fairness * mesh_area / (4.0 * M_PI) * p.bending.weights).cwiseSqrt();
+    bend_scale_uv = std::sqrt(2.0) * bend_scale;
+    parts.push_back({&p.hessian.uu, &bend_scale});
+    parts.push_back({&p.hessian.uv, &bend_scale_uv});
+    parts.push_back({&p.hessian.vv, &bend_scale});
+  }
+  const DesignMatrix design = StackScaledRows(parts);
+  Eigen::MatrixX3d targets = Eigen::MatrixX3d::Zero(design.rows(), 3);
+  targets.topRows(p.data.rows()) = data_scale.asDiagonal() * p.samples.targets;
+  const Eigen::MatrixX3d prior = GrevillePrior(
+      p.data, p.samples.targets,
+      NearestSamplePrior(p.basis, *parameter_tree, mesh.vertices));
+  LeastSquaresOptions ls;
+  ls.regularization = o.regularization;
+  return SolveRegularizedLeastSquares(design, targets, prior, ls);
+}
+
+StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
+    const SphericalSpline& surface, const Eigen::MatrixX3d& vertex_points,
+    bool final_measurement) const {
+  // Rounds: a lattice with round_samples_per_knot samples per knot, mesh ->
+  // surface bounded by |F(u_i) - x_i|. The final one: at least
+  // final_surface_samples, and the closest points on the spline.
+  DeviationOptions measure;
+  const int per_knot =
+      options.round_samples_per_knot * static_cast<int>(surface.knots().rows());
+  measure.min_surface_samples =
+      final_measurement ? std::max(options.final_surface_samples, per_knot)
+                        : per_knot;
+  measure.closest_points = final_measurement;
+  return MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points);
+}
+
+void SplineFitter::State::NextDensity(const Problem& p,
+                                      const Eigen::MatrixX3d& fitted,
+                                      const Eigen::VectorXd& vertex_errors,
+                                      const SurfaceDeviation& deviation) {
+  // The error of a vertex is the largest of its parametric residual, those
+  // of the data samples inside its triangles, and the surface -> mesh
+  // distance of the surface samples nearest to it on the sphere. A folded
+  // sample counts as the largest error: knots go there. In a round after the
+  // target was met, only there.
+  const Eigen::Index nv = mesh.vertices.rows();
+  Eigen::VectorXd error = vertex_errors;
+  for (size_t r = 0; r < p.samples.triangle.size(); ++r) {
+    const double e =
+        100.0 * (fitted.row(nv + r) - p.samples.targets.row(nv + r)).norm();
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.faces(p.samples.triangle[r], k);
+      error[v] = std::max(error[v], e);
+    }
+  }
+  if (fold_round) error.setConstant(0.0);
+  const double worst =
+      std::max(error.maxCoeff(),
+               deviation.surface_sample_distance_percent.size()
+                   ? deviation.surface_sample_distance_percent.maxCoeff()
+                   : 0.0);
+  for (Eigen::Index i = 0; i < deviation.surface_sample_points.rows(); ++i) {
+    const PointKdTree::Neighbor n = parameter_tree->Nearest(
+        deviation.surface_sample_points.row(i).transpose());
+    if (n.index < 0) continue;
+    const double e = deviation.surface_sample_folded[i] ? worst
+                     : fold_round
+                         ? 0.0
+                         : deviation.surface_sample_distance_percent[i];
+    error[n.index] = std::max(error[n.index], e);
+  }
+  if (!(error.maxCoeff() > 0)) return;  // keep the last density
+  // A floor keeps the density positive everywhere (the CVT needs it).
+  error = error.cwiseMax(1e-3 * error.maxCoeff());
+  StatusOr<Eigen::VectorXd> values = DensityFromValues(error, options.alpha);
+  if (values.ok()) density.values = std::move(values).value();
+}
+
+int SplineFitter::State::EstimateRounds() {
+  // The decay per round of the rms over the last (up to) three rounds.
+  const auto& rounds = result.model.statistics.rounds;
+  const int n = static_cast<int>(rounds.size());
+  if (n < 2) return -1;
+  const int window = std::min(3, n - 1);
+  const double now = rounds[n - 1].rmse_percent;
+  const double decay =
+      std::pow(now / rounds[n - 1 - window].rmse_percent, 1.0 / window);
+  if (!(decay > 0 && decay < 1)) return -1;
+  const double more =
+      std::ceil(std::log(options.rmse_percent / now) / std::log(decay));
+  const int needed = static_cast<int>(std::clamp(more, 1.0, 1e6));
+  estimated_rounds = std::min(options.max_rounds, n + needed);
+  return needed;
+}
+
+Status SplineFitter::State::RunRound() {
+  const FitOptions& o = options;
+  SplineModel& model = result.model;
+  FitStatistics& stats = model.statistics;
+  const int round = static_cast<int>(stats.rounds.size());
+  const Stopwatch round_clock;
+  RoundDetails details;
+
+  // 1. Knot placement with the existing knots fixed. No room for the
+  // round's knots: the rounds so far are the result.
+  Report(FitStage::kKnotPlacement, round, kRoundStageStart[0]);
+  Stopwatch stage;
+  const int new_knots = round == 0 && o.initial_knots > 0 ? o.initial_knots
+                        : fold_round
+                            ? std::max(kMinFoldKnots, o.knots_per_round / 4)
+                            : o.knots_per_round;
+  StatusOr<KnotPlacement> placed =
+      PlaceKnots(density, model.knots, new_knots, CvtOptions());
+  if (!placed.ok() && round > 0 &&
+      placed.status().code() == StatusCode::kUnsupported) {
+    Finish(false, "no room for more knots (" + placed.status().message() + ")");
+    return Status::Ok();
+  }
+  SDCB_RETURN_IF_ERROR(placed.status());
+  KnotPlacement placement = std::move(placed).value();
+  const Eigen::MatrixX3d& knots = placement.knots;
+  details.timings.knot_placement = stage.Seconds();
+  details.cvt_initial_energy = placement.initial_energy;
+  details.cvt_final_energy = placement.final_energy;
+  details.cvt_iterations = placement.iterations;
+  details.min_knot_separation = placement.min_separation;
+
+  // 2. Configurations; a round that would exceed the control-point cap is
+  // not added.
+  Report(FitStage::kConfigurations, round, kRoundStageStart[1]);
+  stage = Stopwatch();
+  SDCB_ASSIGN_OR_RETURN(DelaunayConfigurations configurations,
+                        ComputeDelaunayConfigurations(knots, o.degree));
+  SDCB_ASSIGN_OR_RETURN(const DelaunayConfigurations knot_triangles,
+                        ComputeDelaunayConfigurations(knots, 0));
+  details.timings.configurations = stage.Seconds();
+  if (round > 0 &&
+      static_cast<int>(configurations.sets.size()) > o.max_control_points) {
+    Finish(false, "the next round would exceed " +
+                      std::to_string(o.max_control_points) + " control points");
+    return Status::Ok();
+  }
+
+  // 3. Basis, samples, design matrix; 4. least squares.
+  Report(FitStage::kBasis, round, kRoundStageStart[2]);
+  stage = Stopwatch();
+  SDCB_ASSIGN_OR_RETURN(
+      Problem problem,
+      BuildProblem(knots, configurations, knot_triangles, &details));
+  details.timings.basis = stage.Seconds();
+  Report(FitStage::kSolve, round, kRoundStageStart[3]);
+  stage = Stopwatch();
+  SDCB_ASSIGN_OR_RETURN(const Eigen::MatrixX3d control_points, Solve(problem));
+  const Eigen::MatrixX3d fitted = problem.data * control_points;
+  details.timings.solve = stage.Seconds();
+
+  // 5. Measure; a round that meets the target is confirmed by the final
+  // measurement.
+  Report(FitStage::kMeasure, round, kRoundStageStart[4]);
+  stage = Stopwatch();
+  SDCB_ASSIGN_OR_RETURN(const SphericalSpline surface,
+                        SphericalSpline::Create(std::move(problem.basis),
+                                                control_points, o.basis_form));
+  const Eigen::Index nv = mesh.vertices.rows();
+  const Eigen::MatrixX3d vertex_points = fitted.topRows(nv);
+  SDCB_ASSIGN_OR_RETURN(SurfaceDeviation deviation,
+                        Measure(surface, vertex_points, false));
+  auto meets_target = [&] {
+    return deviation.rms_percent <= o.rmse_percent &&
+           deviation.folded_area_percent == 0;
+  };
+  if (meets_target()) {
+    SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, vertex_points, true));
+    details.closest_points = true;
+  }
+  const bool reached = meets_target();
+  details.surface_samples = deviation.surface_samples;
+  details.timings.measure = stage.Seconds();
+
+  // The round's statistics; the vertex errors are the paper's measure.
+  const Eigen::VectorXd vertex_errors =
+      100.0 * (vertex_points - mesh.vertices).rowwise().norm();
+  RoundStatistics rs;
+  rs.round = round;
+  rs.knots = static_cast<int>(knots.rows());
+  rs.control_points = static_cast<int>(control_points.rows());
+  rs.rmse_percent = deviation.rms_percent;
+  rs.max_error_percent = deviation.hausdorff_percent;
+  rs.vertex_rmse_percent =
+      std::sqrt(vertex_errors.squaredNorm() / std::max<Eigen::Index>(nv, 1));
+  rs.vertex_max_error_percent = nv > 0 ? vertex_errors.maxCoeff() : 0;
+  rs.folded_area_percent = deviation.folded_area_percent;
+  model.knots = knots;
+  model.configurations = std::move(configurations);
+  model.control_points = control_points;
+  result.vertex_errors_percent = vertex_errors;
+  stats.rounds.push_back(rs);
+  stats.final_result = rs;
+  details.timings.total = round_clock.Seconds();
+  StageTimings& t = result.timings;
+  t.knot_placement += details.timings.knot_placement;
+  t.configurations += details.timings.configurations;
+  t.basis += details.timings.basis;
+  t.solve += details.timings.solve;
+  t.measure += details.timings.measure;
+  result.round_details.push_back(details);
+  if (!best || Better(rs, best->statistics.final_result)) {
+    best = model;
+    best_vertex_errors = vertex_errors;
+  }
+
+  // 6. Stop, or go on. Met the target but folded: the next rounds put fewer
+  // knots, only where the surface folds, a few times at most.
+  if (reached) {
+    Finish(true, "");
+    return Status::Ok();
+  }
+  const bool only_folds =
+      rs.rmse_percent <= o.rmse_percent && rs.folded_area_percent > 0;
+  const std::string folds_left =
+      "the surface still folds over " + std::to_string(rs.folded_area_percent) +
+      " % of its area (narrow creases or thin parts the spline cannot follow "
+      "yet)";
+  if (only_folds && fold_rounds >= o.max_fold_rounds) {
+    Finish(false, folds_left);
+    return Status::Ok();
+  }
+  if (round + 1 == o.max_rounds) {
+    Finish(false, only_folds ? folds_left
+                             : "the target was not reached within " +
+                                   std::to_string(o.max_rounds) + " rounds");
+    return Status::Ok();
+  }
+  fold_round = only_folds;
+  if (only_folds) ++fold_rounds;
+  // A fit whose error falls too slowly to reach the target within the
+  // rounds left (judged after six rounds) stops now rather than later.
+  const int needed = EstimateRounds();
+  const int left = o.max_rounds - round - 1;
+  if (!only_folds && round >= kMinRoundsBeforeRateStop &&
+      (needed < 0 || needed > left)) {
+    Finish(false, needed < 0
+                      ? "the error stopped falling"
+                      : "at its current rate the error needs about " +
+                            std::to_string(needed) +
+                            " more rounds, more than --max-rounds leaves (" +
+                            std::to_string(left) + ")");
+    return Status::Ok();
+  }
+  NextDensity(problem, fitted, vertex_errors, deviation);
+  return Status::Ok();
+}
+
+FitResult SplineFitter::TakeResult() {
+  State& s = *state_;
+  if (s.options.store_parameters) s.result.model.parameters = s.u;
+  s.result.timings.total = s.clock.Seconds();
+  s.Report(FitStage::kDone, rounds(), 0);
+  FitResult out = std::move(s.result);
+  state_.reset();
+  return out;
+}
+
+StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
+                                       const FitOptions& options) {
+  SDCB_ASSIGN_OR_RETURN(SplineFitter fitter,
+                        SplineFitter::Create(mesh, options));
+  while (!fitter.finished()) SDCB_RETURN_IF_ERROR(fitter.AddRound());
+  return fitter.TakeResult();
+}
+
+}  // namespace sdcb

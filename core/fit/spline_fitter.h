@@ -1,0 +1,191 @@
+// The adaptive fitting driver (paper Algorithm 2): parameterize the mesh on
+// the sphere, place knots where the surface bends (round 0) or where the fit
+// is worst (later rounds) by a spherical CVT, build the degree-k DCB basis on
+// the knots' Delaunay configurations, solve for the control points by
+// regularized least squares, and repeat until the error reaches the target.
+//
+// SplineFitter is the stage as a class one can step (one round per AddRound),
+// FitSphericalSpline the one-shot loop over it.
+//
+// Errors are in percent of the largest side of the input's bounding box: the
+// fit works in the normalized frame of ComputeNormalizingTransform, where
+// that side is 1 (docs/ARCHITECTURE.md, docs/FITTING.md).
+#ifndef SDCB_CORE_FIT_SPLINE_FITTER_H_
+#define SDCB_CORE_FIT_SPLINE_FITTER_H_
+
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sdcb/core/common/status.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/core/spline/spline_model.h"
+
+namespace sdcb {
+
+// The named stages of a fit, in the order they run (knot placement to
+// measure once per round).
+enum class FitStage {
+  kParameterization,
+  kKnotPlacement,
+  kConfigurations,
+  kBasis,
+  kSolve,
+  kMeasure,
+  kDone,
+};
+
+// "parameterization", "knot placement", "configurations", "basis", "solve",
+// "measure", "done".
+const char* FitStageName(FitStage stage);
+
+// What the progress callback receives.
+struct FitProgress {
+  FitStage stage = FitStage::kParameterization;
+  int round = 0;  // The round the stage belongs to (0 before the rounds).
+  // Estimated finished fraction of the whole fit, in [0, 1]. The
+  // parameterization counts as the first kParameterizationShare; the rounds
+  // share the rest equally, the number of rounds being estimated from the
+  // error's decay so far (docs/FITTING.md); within a round each stage
+  // advances by its typical share of a round's time.
+  double fraction = 0.0;
+};
+
+struct FitOptions {
+  int degree = 4;  // k, 2..5
+  // Stop when the two-sided rms distance between the surface and the mesh
+  // (dense samples of both, core/fit/surface_deviation.h) is at most this,
+  // with no folded area; percent of the largest bounding-box side.
+  double rmse_percent = 0.05;
+  int knots_per_round = 100;       // K: new knots per round (paper: 100)
+  int initial_knots = 0;           // knots of round 0; 0 = knots_per_round
+  int max_rounds = 30;             // rounds at most (round 0 included)
+  int max_control_points = 50000;  // stop before exceeding this
+  double lambda = 1.0;             // parameterization, eq. (12)
+  double alpha = 4.0;              // density exponent (Sec. 4.4)
+  double regularization = 1e-6;    // core/fit/least_squares.h
+  // The basis the control points multiply (docs/FITTING.md compares them).
+  BasisForm basis_form = BasisForm::kNormalized;
+  // Weight of the bending energy, integral over S^2 of |Hess F|^2 (the
+  // chart's second derivatives) divided by 4 pi, against the data term,
+  // integral over the mesh of |F(u(x)) - x|^2 divided by the mesh's area
+  // (both lengths squared, so the weight is scale-free). Keeps regions with
+  // few samples smooth instead of oscillating.
+  double fairness = 0.0;
+  // Samples of the data term per knot spacing (core/fit/fit_samples.h).
+  double samples_per_spacing = 2.0;
+  // When a round meets the RMSE target but its surface folds, up to this
+  // many rounds follow that place a quarter of knots_per_round, only where
+  // it folds.
+  int max_fold_rounds = 5;
+  // Surface samples of the error measurement: per knot in every round, and
+  // at least this many for the returned model.
+  int round_samples_per_knot = 12;
+  int final_surface_samples = 100000;
+  // Worker threads of the fit's own TBB arena; 0 = as many as the calling
+  // context allows. The results do not depend on it, and the process-wide
+  // TBB settings of the program are never changed.
+  int threads = 0;
+  bool store_parameters = true;  // keep the sphere point of every vertex
+  // Called at the start of every stage (from the calling thread).
+  std::function<void(const FitProgress&)> progress;
+};
+
+// The options of `options` that change a model's bytes.
+RecordedFitOptions RecordFitOptions(const FitOptions& options);
+
+// Wall time per pipeline stage, in seconds.
+struct StageTimings {
+  double parameterization = 0.0;
+  double knot_placement = 0.0;
+  double configurations = 0.0;
+  double basis = 0.0;    // basis, design matrix and bending rows
+  double solve = 0.0;    // least squares (all solves of the round)
+  double measure = 0.0;  // error measurement
+  double total = 0.0;
+};
+
+// What one round did, beyond the model's RoundStatistics.
+struct RoundDetails {
+  StageTimings timings;  // this round's seconds per stage (no parameterization)
+  double cvt_initial_energy = 0;  // CVT energy of the round's knot placement
+  double cvt_final_energy = 0;
+  int cvt_iterations = 0;
+  double min_knot_separation = 0;  // radians
+  int data_samples = 0;            // rows of the data term
+  int split_triangles = 0;         // mesh triangles with interior samples
+  int min_samples_per_basis = 0;   // fewest data samples in one support
+  int min_vertices_per_basis = 0;  // fewest input vertices in one support
+  // The measurement of this round (surface samples; mesh -> surface as the
+  // parametric bound |F(u_i) - x_i| unless `closest_points`).
+  int64_t surface_samples = 0;
+  bool closest_points = false;
+};
+
+struct FitResult {
+  // The model; its statistics carry no wall-clock times, so the same input
+  // and options give the same model bytes.
+  SplineModel model;
+  // Seconds per stage, summed over the rounds.
+  StageTimings timings;
+  // One entry per round of model.statistics.rounds.
+  std::vector<RoundDetails> round_details;
+  // Per input vertex: |x_i - F(u_i)| in percent of the largest side.
+  Eigen::VectorXd vertex_errors_percent;
+  // Why the target was not reached (empty when it was).
+  std::string shortfall;
+  // model.statistics.reached_target: the target was met.
+  bool reached_target() const { return model.statistics.reached_target; }
+};
+
+class SplineFitter {
+ public:
+  // Checks the options (kInvalidArgument) and the mesh (it must pass
+  // RequireClosedGenusZero: else its kUnsupported status), normalizes the
+  // mesh, parameterizes it on the sphere and prepares round 0. `mesh` is
+  // copied.
+  static StatusOr<SplineFitter> Create(const TriangleMesh& mesh,
+                                       FitOptions options);
+
+  SplineFitter(SplineFitter&&) noexcept;
+  SplineFitter& operator=(SplineFitter&&) noexcept;
+  ~SplineFitter();
+
+  // Runs one round: places the round's knots with the existing ones fixed,
+  // builds the basis on their configurations, solves for the control points
+  // and measures the surface against the mesh. The fit is finished when a round
+  // meets the target with no fold (confirmed by the denser final measurement),
+  // after max_rounds, or when a round would exceed max_control_points (that
+  // round is not added). A fit that misses the target returns the round with
+  // the smallest rms among those without folds (or, if every round folds,
+  // among all), with FitResult::shortfall saying why. kInvalidArgument
+  // when called after finished().
+  Status AddRound();
+
+  // No further round will run: the target is reached or a limit is hit.
+  bool finished() const;
+  // Rounds run so far.
+  int rounds() const;
+  // The model of the latest round (its control points, knots and
+  // statistics); valid after the first AddRound.
+  const SplineModel& model() const;
+
+  // The result; call once, after finished(). Leaves the fitter empty.
+  FitResult TakeResult();
+
+ private:
+  struct State;
+  explicit SplineFitter(std::unique_ptr<State> state);
+  std::unique_ptr<State> state_;
+};
+
+// Fits `mesh`: SplineFitter::Create, AddRound until finished, TakeResult.
+// The result is the same for any thread count.
+StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
+                                       const FitOptions& options = {});
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_FIT_SPLINE_FITTER_H_

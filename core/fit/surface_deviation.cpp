@@ -1,0 +1,305 @@
+#include "sdcb/core/fit/surface_deviation.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "sdcb/core/mesh/mesh_distance.h"
+#include "sdcb/core/sphere/sphere_geometry.h"
+#include "sdcb/core/spline/delaunay_configurations.h"
+
+namespace sdcb {
+namespace {
+
+// The lattice of level L over every knot triangle: sphere points (one row
+// per lattice vertex; vertices on shared edges appear once per triangle) and
+// its triangles (three rows of `points` each).
+constexpr double kInset = 1e-6;
+// A spline point farther than this times the distance to the lattice's image
+// starts a closest-point search on the spline.
+constexpr double kRefineRatio = 1.01;
+
+struct Lattice {
+  Eigen::MatrixX3d points;
+  Eigen::MatrixX3i triangles;
+  std::vector<int> knot_triangle;  // per point
+};
+
+Lattice BuildLattice(const Eigen::MatrixX3d& knots,
+                     const DelaunayConfigurations& triangles, int level) {
+  const int per_triangle_points = (level + 1) * (level + 2) / 2;
+  const int per_triangle_faces = level * level;
+  const int n = static_cast<int>(triangles.sets.size());
+  Lattice out;
+  out.points.resize(static_cast<Eigen::Index>(n) * per_triangle_points, 3);
+  out.triangles.resize(static_cast<Eigen::Index>(n) * per_triangle_faces, 3);
+  out.knot_triangle.resize(out.points.rows());
+  Eigen::Index point = 0, face = 0;
+  for (int t = 0; t < n; ++t) {
+    const ConfigurationSet& set = triangles.sets[t];
+    // Counter-clockwise seen from outside, as the sphere's orientation.
+    const Eigen::Vector3d a = knots.row(set.knots[0]);
+    Eigen::Vector3d b = knots.row(set.knots[1]);
+    Eigen::Vector3d c = knots.row(set.knots[2]);
+    if (Det3Sign(a, b, c) < 0) std::swap(b, c);
+    const Eigen::Index base = point;
+    // Row i (0..L) holds L - i + 1 points: index of (i, j).
+    std::vector<Eigen::Index> row_start(level + 2);
+    for (int i = 0; i <= level; ++i) {
+      row_start[i] = point - base;
+      for (int j = 0; j <= level - i; ++j, ++point) {
+        // Pulled toward the centroid by kInset (relative): no sample lies
+        // exactly on a knot or on the great circle through two knots, where
+        // the basis's exact predicates would need exact arithmetic; the
+        // images of neighbouring knot triangles still meet within ~1e-6.
+        const double wb = kInset + (1.0 - 3.0 * kInset) * i / level;
+        const double wc = kInset + (1.0 - 3.0 * kInset) * j / level;
+        out.points.row(point) =
+            ((1.0 - wb - wc) * a + wb * b + wc * c).normalized().transpose();
+        out.knot_triangle[point] = t;
+      }
+    }
+    auto at = [&](int i, int j) {
+      return static_cast<int>(base + row_start[i] + j);
+    };
+    for (int i = 0; i < level; ++i) {
+      for (int j = 0; j < level - i; ++j) {
+        out.triangles.row(face++) << at(i, j), at(i + 1, j), at(i, j + 1);
+        if (j + 1 < level - i) {
+          out.triangles.row(face++) << at(i + 1, j), at(i + 1, j + 1),
+              at(i, j + 1);
+        }
+      }
+    }
+  }
+  out.points.conservativeResize(point, 3);
+  out.triangles.conservativeResize(face, 3);
+  return out;
+}
+
+// Barycentric coordinates of q's projection onto the plane of (a, b, c),
+// clamped into the triangle (q is the closest point of the triangle).
+Eigen::Vector3d Barycentric(const Eigen::Vector3d& q, const Eigen::Vector3d& a,
+                            const Eigen::Vector3d& b,
+                            const Eigen::Vector3d& c) {
+  const Eigen::Vector3d e0 = b - a, e1 = c - a, d = q - a;
+  const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1);
+  const double d20 = d.dot(e0), d21 = d.dot(e1);
+  const double det = d00 * d11 - d01 * d01;
+  if (!(det > 0)) return Eigen::Vector3d(1.0 / 3, 1.0 / 3, 1.0 / 3);
+  double v = (d11 * d20 - d01 * d21) / det;
+  double w = (d00 * d21 - d01 * d20) / det;
+  v = std::clamp(v, 0.0, 1.0);
+  w = std::clamp(w, 0.0, 1.0 - v);
+  return Eigen::Vector3d(1.0 - v - w, v, w);
+}
+
+// The distance from x to the spline, searched from the sphere point p by
+// Gauss-Newton steps in the tangent chart with step halving. Returns the
+// smallest |F(p) - x| seen (an upper bound of the true distance).
+double ClosestOnSpline(const SphericalSpline& surface, const Eigen::Vector3d& x,
+                       Eigen::Vector3d p, int iterations) {
+  SurfacePoint s = surface.EvaluateDifferential(p, JetOrder::kGradient);
+  double best = (s.position - x).norm();
+  for (int it = 0; it < iterations && best > 0; ++it) {
+    const Eigen::Vector3d r = s.position - x;
+    Eigen::Matrix2d jtj;
+    jtj << s.du.dot(s.du), s.du.dot(s.dv), s.du.dot(s.dv), s.dv.dot(s.dv);
+    const Eigen::Vector2d jtr(s.du.dot(r), s.dv.dot(r));
+    const double det = jtj.determinant();
+    if (!(std::abs(det) > 1e-300)) break;
+    Eigen::Vector2d step = -jtj.inverse() * jtr;
+    // At most ~0.2 rad per step: the chart is only good near p.
+    const double length = step.norm();
+    if (length > 0.2) step *= 0.2 / length;
+    bool improved = false;
+    for (int halving = 0; halving < 4; ++halving, step *= 0.5) {
+      const Eigen::Vector3d q =
+          (p + step[0] * s.frame_u + step[1] * s.frame_v).normalized();
+      const SurfacePoint t =
+          surface.EvaluateDifferential(q, JetOrder::kGradient);
+      const double d = (t.position - x).norm();
+      if (d < best) {
+        best = d;
+        p = q;
+        s = t;
+        improved = true;
+        break;
+      }
+    }
+    if (!improved) break;
+  }
+  return best;
+}
+
+}  // namespace
+
+StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
+    const SphericalSpline& surface, const TriangleMesh& mesh,
+    const DeviationOptions& options,
+    const Eigen::MatrixX3d* vertex_candidates) {
+  if (!(options.length_unit > 0) || !std::isfinite(options.length_unit) ||
+      options.min_surface_samples < 1 || options.closest_point_iterations < 0) {
+    return InvalidArgumentError(
+        "surface deviation: the length unit must be > 0, the sample count "
+        ">= 1 and the iterations >= 0");
+  }
+  if ((vertex_candidates &&
+       vertex_candidates->rows() != mesh.vertices.rows()) ||
+      (!vertex_candidates && !options.closest_points)) {
+    return InvalidArgumentError(
+        "surface deviation: one candidate point per mesh vertex is needed");
+  }
+  SDCB_ASSIGN_OR_RETURN(const MeshDistance to_mesh, MeshDistance::Create(mesh));
+  SDCB_ASSIGN_OR_RETURN(const DelaunayConfigurations knot_triangles,
+                        ComputeDelaunayConfigurations(surface.knots(), 0));
+  const double triangles = static_cast<double>(knot_triangles.sets.size());
+  // (L + 1)(L + 2) / 2 points per triangle >= samples / triangles.
+  int level = 1;
+  while ((level + 1) * (level + 2) / 2 * triangles <
+         options.min_surface_samples) {
+    ++level;
+  }
+  const Lattice lattice = BuildLattice(surface.knots(), knot_triangles, level);
+  const Eigen::Index ns = lattice.points.rows();
+  const Eigen::Index nt = lattice.triangles.rows();
+  const double to_percent = 100.0 / options.length_unit;
+
+  // The lattice's image: F at every lattice vertex.
+  TriangleMesh image;
+  image.vertices = surface.EvaluateMany(lattice.points);
+  image.faces = lattice.triangles;
+
+  // Area and normal of the image around each lattice vertex: a third of the
+  // area of each of its lattice triangles, the area-weighted normals summed.
+  Eigen::VectorXd weight = Eigen::VectorXd::Zero(ns);
+  Eigen::MatrixX3d normal = Eigen::MatrixX3d::Zero(ns, 3);
+  for (Eigen::Index f = 0; f < nt; ++f) {
+    const Eigen::Vector3d a = image.vertices.row(lattice.triangles(f, 0));
+    const Eigen::Vector3d b = image.vertices.row(lattice.triangles(f, 1));
+    const Eigen::Vector3d c = image.vertices.row(lattice.triangles(f, 2));
+    const Eigen::Vector3d n = 0.5 * (b - a).cross(c - a);
+    for (int k = 0; k < 3; ++k) {
+      weight[lattice.triangles(f, k)] += n.norm() / 3;
+      normal.row(lattice.triangles(f, k)) += n.transpose();
+    }
+  }
+
+  // Surface -> mesh at the lattice vertices, with folds.
+  SurfaceDeviation out;
+  out.lattice_level = level;
+  out.surface_samples = ns;
+  out.surface_sample_points = lattice.points;
+  out.surface_sample_knot_triangle = lattice.knot_triangle;
+  out.surface_sample_distance_percent.resize(ns);
+  std::vector<char> folded(ns, 0);
+  tbb::parallel_for(
+      tbb::blocked_range<Eigen::Index>(0, ns, 256),
+      [&](const tbb::blocked_range<Eigen::Index>& range) {
+        for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
+          const MeshDistance::Closest c =
+              to_mesh.Find(image.vertices.row(i).transpose());
+          out.surface_sample_distance_percent[i] = to_percent * c.distance;
+          // The lattice's normal is only a hint where it is coarse: a
+          // suspected fold is confirmed with the spline's own normal.
+          if (to_mesh.Opposes(c, normal.row(i).transpose())) {
+            const SurfacePoint exact = surface.EvaluateDifferential(
+                lattice.points.row(i).transpose(), JetOrder::kGradient);
+            folded[i] = to_mesh.Opposes(c, exact.normal);
+          }
+        }
+      });
+  double area = 0, sum_squares = 0, folded_area = 0;
+  out.surface_sample_folded.assign(ns, false);
+  for (Eigen::Index i = 0; i < ns; ++i) {
+    const double d = out.surface_sample_distance_percent[i];
+    area += weight[i];
+    sum_squares += weight[i] * d * d;
+    if (folded[i]) {
+      folded_area += weight[i];
+      out.surface_sample_folded[i] = true;
+    }
+    out.surface_to_mesh_max_percent =
+        std::max(out.surface_to_mesh_max_percent, d);
+  }
+  out.surface_area = area;
+  out.surface_to_mesh_rms_percent =
+      area > 0 ? std::sqrt(sum_squares / area) : 0;
+  out.folded_area_percent = area > 0 ? 100.0 * folded_area / area : 0;
+
+  // Mesh -> surface at the vertices.
+  const Eigen::Index nv = mesh.vertices.rows();
+  Eigen::VectorXd distance(nv);
+  std::vector<char> refined(nv, 0);
+  if (!options.closest_points) {
+    for (Eigen::Index i = 0; i < nv; ++i) {
+      distance[i] = to_percent *
+                    (vertex_candidates->row(i) - mesh.vertices.row(i)).norm();
+    }
+  } else {
+    SDCB_ASSIGN_OR_RETURN(const MeshDistance to_image,
+                          MeshDistance::Create(image));
+    tbb::parallel_for(
+        tbb::blocked_range<Eigen::Index>(0, nv, 64),
+        [&](const tbb::blocked_range<Eigen::Index>& range) {
+          for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
+            const Eigen::Vector3d x = mesh.vertices.row(i).transpose();
+            const MeshDistance::Closest c = to_image.Find(x);
+            const Eigen::Vector3d bary = Barycentric(
+                c.point, image.vertices.row(lattice.triangles(c.face, 0)),
+                image.vertices.row(lattice.triangles(c.face, 1)),
+                image.vertices.row(lattice.triangles(c.face, 2)));
+            Eigen::Vector3d p = Eigen::Vector3d::Zero();
+            for (int k = 0; k < 3; ++k) {
+              p += bary[k] *
+                   lattice.points.row(lattice.triangles(c.face, k)).transpose();
+            }
+            p.normalize();
+            double d = (surface.Evaluate(p) - x).norm();
+            if (vertex_candidates) {
+              d = std::min(d,
+                           (vertex_candidates->row(i).transpose() - x).norm());
+            }
+            // The spline point is farther than the lattice image suggests:
+            // search the spline itself.
+            if (d > kRefineRatio * c.distance + 1e-9 * options.length_unit) {
+              d = std::min(d,
+                           ClosestOnSpline(surface, x, p,
+                                           options.closest_point_iterations));
+              refined[i] = 1;
+            }
+            distance[i] = to_percent * d;
+          }
+        });
+  }
+  out.mesh_samples = nv;
+  out.vertex_distance_percent = distance;
+  for (char r : refined) out.refined_vertices += r;
+  Eigen::VectorXd vertex_area = Eigen::VectorXd::Zero(nv);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
+    const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
+    const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
+    const double t = 0.5 * (b - a).cross(c - a).norm();
+    for (int k = 0; k < 3; ++k) vertex_area[mesh.faces(f, k)] += t / 3;
+  }
+  const double mesh_area = vertex_area.sum();
+  out.mesh_to_surface_rms_percent =
+      mesh_area > 0
+          ? std::sqrt(vertex_area.dot(distance.cwiseAbs2()) / mesh_area)
+          : 0;
+  out.mesh_to_surface_max_percent = nv > 0 ? distance.maxCoeff() : 0;
+  out.rms_percent = std::sqrt(
+      0.5 *
+      (out.surface_to_mesh_rms_percent * out.surface_to_mesh_rms_percent +
+       out.mesh_to_surface_rms_percent * out.mesh_to_surface_rms_percent));
+  out.hausdorff_percent = std::max(out.surface_to_mesh_max_percent,
+                                   out.mesh_to_surface_max_percent);
+  return out;
+}
+
+}  // namespace sdcb

@@ -1,0 +1,154 @@
+#include "sdcb/core/mesh/mesh_distance.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <vector>
+
+namespace sdcb {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Triangle = Kernel::Triangle_3;
+using Iterator = std::vector<Triangle>::const_iterator;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
+using Traits = CGAL::AABB_traits<Kernel, Primitive>;
+using AabbTree = CGAL::AABB_tree<Traits>;
+
+Point ToPoint(const Eigen::Vector3d& v) { return Point(v.x(), v.y(), v.z()); }
+
+}  // namespace
+
+struct MeshDistance::Tree {
+  std::vector<Triangle> triangles;
+  std::vector<int> faces;                // mesh face of each triangle
+  std::vector<Eigen::Vector3d> normals;  // per mesh face
+  Eigen::MatrixX3i corners;              // per mesh face
+  Eigen::MatrixX3d vertices;
+  // CSR: the faces around each vertex.
+  std::vector<int> vertex_face_start, vertex_faces;
+  AabbTree tree;
+};
+
+StatusOr<MeshDistance> MeshDistance::Create(const TriangleMesh& mesh) {
+  if (!mesh.vertices.allFinite()) {
+    return InvalidInputError("the mesh has a non-finite vertex coordinate");
+  }
+  auto t = std::make_unique<Tree>();
+  t->normals.resize(mesh.num_faces(), Eigen::Vector3d::Zero());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
+    const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
+    const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
+    const Triangle triangle(ToPoint(a), ToPoint(b), ToPoint(c));
+    if (triangle.is_degenerate()) continue;  // exact collinearity test
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    if (n.norm() > 0) t->normals[f] = n.normalized();
+    t->triangles.push_back(triangle);
+    t->faces.push_back(f);
+  }
+  if (t->triangles.empty()) {
+    return InvalidInputError("the mesh has no non-degenerate triangle");
+  }
+  t->corners = mesh.faces;
+  t->vertices = mesh.vertices;
+  const Eigen::Index nv = mesh.vertices.rows();
+  t->vertex_face_start.assign(nv + 1, 0);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) ++t->vertex_face_start[mesh.faces(f, k) + 1];
+  }
+  for (Eigen::Index v = 0; v < nv; ++v) {
+    t->vertex_face_start[v + 1] += t->vertex_face_start[v];
+  }
+  t->vertex_faces.resize(t->vertex_face_start[nv]);
+  std::vector<int> fill(t->vertex_face_start.begin(),
+                        t->vertex_face_start.end() - 1);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      t->vertex_faces[fill[mesh.faces(f, k)]++] = static_cast<int>(f);
+    }
+  }
+  t->tree.insert(t->triangles.begin(), t->triangles.end());
+  t->tree.build();
+  t->tree.accelerate_distance_queries();
+  return MeshDistance(std::move(t));
+}
+
+MeshDistance::MeshDistance(std::unique_ptr<Tree> tree)
+    : tree_(std::move(tree)) {}
+MeshDistance::MeshDistance(MeshDistance&&) noexcept = default;
+MeshDistance& MeshDistance::operator=(MeshDistance&&) noexcept = default;
+MeshDistance::~MeshDistance() = default;
+
+MeshDistance::Closest MeshDistance::Find(const Eigen::Vector3d& query) const {
+  const auto hit = tree_->tree.closest_point_and_primitive(ToPoint(query));
+  Closest out;
+  out.point = Eigen::Vector3d(hit.first.x(), hit.first.y(), hit.first.z());
+  out.face = tree_->faces[hit.second - tree_->triangles.begin()];
+  out.distance = (out.point - query).norm();
+  return out;
+}
+
+Eigen::VectorXd MeshDistance::Distances(const Eigen::MatrixX3d& points) const {
+  Eigen::VectorXd out(points.rows());
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.rows(), 256),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+                      for (Eigen::Index i = range.begin(); i < range.end();
+                           ++i) {
+                        out[i] = Find(points.row(i).transpose()).distance;
+                      }
+                    });
+  return out;
+}
+
+Eigen::Vector3d MeshDistance::FaceNormal(int face) const {
+  return tree_->normals[face];
+}
+
+bool MeshDistance::Opposes(const Closest& c,
+                           const Eigen::Vector3d& direction) const {
+  const Tree& t = *tree_;
+  if (!(direction.dot(t.normals[c.face]) < 0)) return false;
+  // Barycentric coordinates of the closest point in its triangle.
+  const int v[3] = {t.corners(c.face, 0), t.corners(c.face, 1),
+                    t.corners(c.face, 2)};
+  const Eigen::Vector3d a = t.vertices.row(v[0]), b = t.vertices.row(v[1]),
+                        cc = t.vertices.row(v[2]);
+  const Eigen::Vector3d n = (b - a).cross(cc - a);
+  const double twice_area = n.squaredNorm();
+  if (!(twice_area > 0)) return true;
+  double bary[3];
+  bary[0] = n.dot((b - c.point).cross(cc - c.point)) / twice_area;
+  bary[1] = n.dot((cc - c.point).cross(a - c.point)) / twice_area;
+  bary[2] = 1.0 - bary[0] - bary[1];
+  constexpr double kOnBoundary = 1e-9;
+  // Corners of the feature holding the point: one vertex (two coordinates
+  // ~0), an edge (one ~0), or the interior.
+  std::vector<int> feature;
+  for (int k = 0; k < 3; ++k) {
+    if (bary[k] > kOnBoundary) feature.push_back(v[k]);
+  }
+  if (feature.size() == 3) return true;
+  // Every face holding the whole feature (its vertices) must be opposed.
+  const int pivot = feature.empty() ? v[0] : feature[0];
+  for (int j = t.vertex_face_start[pivot]; j < t.vertex_face_start[pivot + 1];
+       ++j) {
+    const int f = t.vertex_faces[j];
+    bool holds = true;
+    for (int w : feature) {
+      holds = holds && (t.corners(f, 0) == w || t.corners(f, 1) == w ||
+                        t.corners(f, 2) == w);
+    }
+    if (holds && !(direction.dot(t.normals[f]) < 0)) return false;
+  }
+  return true;
+}
+
+}  // namespace sdcb

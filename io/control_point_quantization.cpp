@@ -1,0 +1,104 @@
+#include "sdcb/io/control_point_quantization.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "sdcb/core/mesh/icosphere.h"
+#include "sdcb/core/spline/spherical_spline.h"
+
+namespace sdcb {
+namespace {
+
+// Icosphere subdivisions for measuring max I: at least 6 (40962 points) and
+// at least 32 points per knot, at most 8 (655362 points).
+int SampleSubdivisions(Eigen::Index knots) {
+  int s = 6;
+  while (s < 8 && 10 * (int64_t{1} << (2 * s)) + 2 < 32 * int64_t{knots}) ++s;
+  return s;
+}
+
+// max_p I(p) = sum_i B_i(p) of the raw basis, measured at the vertices of an
+// icosphere and at the knots: the x coordinate of the raw-basis surface whose
+// control points are all (1, 0, 0).
+StatusOr<double> MeasureMaxBasisSum(const SplineModel& model) {
+  SplineModel ones = model;
+  ones.control_points.setZero();
+  ones.control_points.col(0).setOnes();
+  StatusOr<SphericalSpline> surface = SurfaceFromModel(ones);
+  if (!surface.ok()) return surface.status();
+  const TriangleMesh sphere =
+      MakeIcosphere(SampleSubdivisions(model.knots.rows()));
+  Eigen::MatrixX3d samples(sphere.vertices.rows() + model.knots.rows(), 3);
+  samples << sphere.vertices, model.knots;
+  const Eigen::MatrixX3d sums = surface->EvaluateMany(samples);
+  return sums.col(0).maxCoeff();
+}
+
+}  // namespace
+
+Eigen::MatrixX3d DequantizeControlPoints(const Eigen::Vector3d& origin,
+                                         const Eigen::Vector3d& step,
+                                         const std::vector<uint32_t>& codes) {
+  const Eigen::Index rows = static_cast<Eigen::Index>(codes.size() / 3);
+  Eigen::MatrixX3d values(rows, 3);
+  for (int c = 0; c < 3; ++c) {
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      const double product = static_cast<double>(codes[c * rows + i]) * step[c];
+      values(i, c) = origin[c] + product;
+    }
+  }
+  return values;
+}
+
+StatusOr<QuantizedControlPoints> QuantizeControlPoints(const SplineModel& model,
+                                                       int bits) {
+  if (bits < kMinQuantizationBits || bits > kMaxQuantizationBits) {
+    return InvalidArgumentError(
+        "cannot quantize control points to " + std::to_string(bits) +
+        " bits; " + std::to_string(kMinQuantizationBits) + ".." +
+        std::to_string(kMaxQuantizationBits) + " are supported");
+  }
+  const Eigen::MatrixX3d& points = model.control_points;
+  if (points.rows() == 0 || !points.allFinite()) {
+    return InvalidArgumentError(
+        "cannot quantize: the model has no control points or a non-finite "
+        "one");
+  }
+  QuantizedControlPoints out;
+  ControlPointQuantization& q = out.quantization;
+  q.bits = bits;
+  const double top = std::ldexp(1.0, bits) - 1.0;  // exact for bits <= 52
+  const Eigen::Index rows = points.rows();
+  out.codes.resize(3 * static_cast<size_t>(rows));
+  for (int c = 0; c < 3; ++c) {
+    const double lo = points.col(c).minCoeff();
+    const double extent = points.col(c).maxCoeff() - lo;
+    if (!std::isfinite(extent)) {
+      return InvalidArgumentError(
+          "cannot quantize: the control points' bounding box is too large "
+          "for a double");
+    }
+    q.origin[c] = lo;
+    q.step[c] = extent / top;
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      const double t = q.step[c] > 0 ? (points(i, c) - lo) / q.step[c] : 0.0;
+      out.codes[c * rows + i] =
+          static_cast<uint32_t>(std::clamp(std::round(t), 0.0, top));
+    }
+  }
+  out.values = DequantizeControlPoints(q.origin, q.step, out.codes);
+  q.max_displacement = (out.values - points).rowwise().norm().maxCoeff();
+  if (model.basis_form == BasisForm::kNormalized) {
+    q.max_basis_sum = 1.0;
+    q.basis_sum_measured = false;
+  } else {
+    StatusOr<double> max_sum = MeasureMaxBasisSum(model);
+    if (!max_sum.ok()) return max_sum.status();
+    q.max_basis_sum = *max_sum;
+    q.basis_sum_measured = true;
+  }
+  return out;
+}
+
+}  // namespace sdcb

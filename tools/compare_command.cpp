@@ -1,0 +1,83 @@
+// sdcb compare MODEL.sdcb MESH [--json FILE] [--samples N] [--quiet]
+// The two-sided distance between a model's surface and any mesh
+// (core/fit/surface_deviation.h), in percent of the mesh's largest
+// bounding-box side.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/sdcb_file.h"
+#include "tools/cli.h"
+#include "tools/commands.h"
+
+namespace sdcb::cli {
+
+int RunCompare(const std::vector<std::string>& argv) {
+  const Args args(argv, {"json", "samples"}, {"quiet"});
+  args.RequirePositionals(
+      2, "MODEL and MESH (usage: sdcb compare MODEL.sdcb MESH [--json FILE])");
+  const std::string& model_path = args.positionals()[0];
+  const std::string& mesh_path = args.positionals()[1];
+  DeviationOptions options;
+  options.min_surface_samples =
+      args.GetInt("samples", options.min_surface_samples, 1000, 100000000);
+
+  StatusOr<SplineModel> model = ReadSdcbFile(model_path);
+  if (!model.ok()) return ReportError(model.status());
+  StatusOr<TriangleMesh> mesh = ReadMesh(mesh_path);
+  if (!mesh.ok()) return ReportError(mesh.status());
+  StatusOr<SphericalSpline> surface = SurfaceFromModel(*model);
+  if (!surface.ok())
+    return ReportError(surface.status().WithPrefix(model_path));
+
+  // Both in the model's normalized frame; 100 % = the mesh's largest side.
+  TriangleMesh normalized = *mesh;
+  normalized.vertices = model->transform.ToNormalized(mesh->vertices);
+  StatusOr<NormalizingTransform> own = ComputeNormalizingTransform(*mesh);
+  if (!own.ok()) return ReportError(own.status().WithPrefix(mesh_path));
+  options.length_unit = own->scale / model->transform.scale;
+  StatusOr<SurfaceDeviation> d =
+      MeasureSurfaceDeviation(*surface, normalized, options);
+  if (!d.ok()) {
+    return ReportError(d.status().WithPrefix(model_path + " vs " + mesh_path));
+  }
+  if (args.Has("json")) {
+    nlohmann::ordered_json j;
+    j["model"] = model_path;
+    j["mesh"] = mesh_path;
+    j["rmse_percent"] = d->rms_percent;
+    j["max_error_percent"] = d->hausdorff_percent;
+    j["hausdorff_percent"] = d->hausdorff_percent;
+    j["surface_to_mesh_rms_percent"] = d->surface_to_mesh_rms_percent;
+    j["surface_to_mesh_max_percent"] = d->surface_to_mesh_max_percent;
+    j["mesh_to_surface_rms_percent"] = d->mesh_to_surface_rms_percent;
+    j["mesh_to_surface_max_percent"] = d->mesh_to_surface_max_percent;
+    j["folded_area_percent"] = d->folded_area_percent;
+    j["surface_samples"] = d->surface_samples;
+    j["mesh_samples"] = d->mesh_samples;
+    const Status s = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
+    if (!s.ok()) return ReportError(s);
+  }
+  if (!args.Has("quiet") && args.Get("json") != "-") {
+    std::printf("%s vs %s (percent of the mesh's largest side)\n",
+                model_path.c_str(), mesh_path.c_str());
+    std::printf("  surface -> mesh   rms %.5f%%  max %.5f%%  (%lld samples)\n",
+                d->surface_to_mesh_rms_percent, d->surface_to_mesh_max_percent,
+                static_cast<long long>(d->surface_samples));
+    std::printf("  mesh -> surface   rms %.5f%%  max %.5f%%  (%lld samples)\n",
+                d->mesh_to_surface_rms_percent, d->mesh_to_surface_max_percent,
+                static_cast<long long>(d->mesh_samples));
+    std::printf("  two-sided         rms %.5f%%  Hausdorff %.5f%%\n",
+                d->rms_percent, d->hausdorff_percent);
+    std::printf("  folded area       %.4f%%\n", d->folded_area_percent);
+    std::printf("  lattice level %d, %lld vertices refined on the spline\n",
+                d->lattice_level, static_cast<long long>(d->refined_vertices));
+  }
+  return kExitOk;
+}
+
+}  // namespace sdcb::cli
