@@ -189,6 +189,36 @@ StatusOr<DcbBasis> DcbBasis::Create(
     return statuses[i].WithPrefix(where + ")");
   }
   basis.splines_ = std::move(splines);
+  // The great circles bounding each set's spherical convex hull, interior on
+  // the positive side: a point strictly outside one of them is outside the
+  // support (B = 0 there, with all derivatives), so evaluation can skip it.
+  {
+    std::vector<std::vector<Eigen::Vector3d>> hulls(m);
+    tbb::parallel_for(0, m, [&](int i) {
+      if (!basis.splines_[i].has_value()) return;  // no pointed cone: no test
+      const std::vector<int>& set = basis.sets_[i].knots;
+      for (int a : set) {
+        for (int b : set) {
+          if (a == b) continue;
+          const Eigen::Vector3d ka = knots.row(a).transpose();
+          const Eigen::Vector3d kb = knots.row(b).transpose();
+          bool edge = true;
+          for (int c : set) {
+            if (c == a || c == b) continue;
+            edge = edge && Det3Sign(ka, kb, knots.row(c).transpose()) > 0;
+          }
+          if (edge) hulls[i].push_back(ka.cross(kb));
+        }
+      }
+    });
+    basis.hull_start_.assign(m + 1, 0);
+    for (int i = 0; i < m; ++i) {
+      basis.hull_start_[i + 1] =
+          basis.hull_start_[i] + static_cast<int>(hulls[i].size());
+      for (const Eigen::Vector3d& n : hulls[i])
+        basis.hull_normals_.push_back(n);
+    }
+  }
   basis.limit_start_.assign(m + 1, 0);
   for (int i = 0; i < m; ++i) {
     basis.limit_start_[i + 1] =

@@ -147,8 +147,19 @@ class DcbBasis {
     const Eigen::Vector3d u = p.normalized();
     for (int j = cell_start_[cell]; j < cell_start_[cell + 1]; ++j) {
       const int i = cell_items_[j];
-      if (caps_[i].axis.dot(u) >= caps_[i].cos_radius) visit(i);
+      if (caps_[i].axis.dot(u) >= caps_[i].cos_radius && !OutsideHull(i, u)) {
+        visit(i);
+      }
     }
+  }
+  // Whether the unit vector u lies strictly outside the spherical convex
+  // hull of set i's knots, by a margin far above rounding (points near the
+  // hull's boundary are never skipped: the exact predicates decide there).
+  bool OutsideHull(int i, const Eigen::Vector3d& u) const {
+    for (int e = hull_start_[i]; e < hull_start_[i + 1]; ++e) {
+      if (hull_normals_[e].dot(u) < -1e-12) return true;
+    }
+    return false;
   }
 
   int degree_ = 0;
@@ -163,6 +174,10 @@ class DcbBasis {
   std::vector<int> limit_start_;
   std::vector<LimitTerm> limit_terms_;
   std::vector<SphericalCap> caps_;
+  // CSR: normals a x b of the hull edges (a, b) of set i, the hull on their
+  // positive side; empty for sets without a simplex spline.
+  std::vector<int> hull_start_;
+  std::vector<Eigen::Vector3d> hull_normals_;
   // Support grid: rows_ x 2 rows_ latitude-longitude cells, CSR lists of
   // basis indices (ascending) whose cap meets each cell.
   int rows_ = 1;
