@@ -123,9 +123,8 @@ int RunFit(const std::vector<std::string>& argv) {
   if (!fit->reached_target()) {
     std::fprintf(
         stderr,
-        "sdcb: %s: warning: rmse %.4f%% did not reach the target %.4f%% "
-        "within the round or control-point limits\n",
-        path.c_str(), f.rmse_percent, options.rmse_percent);
+        "sdcb: %s: warning: the target rmse %.4f%% was not reached: %s\n",
+        path.c_str(), options.rmse_percent, fit->shortfall.c_str());
   }
   return kExitOk;
 }

@@ -85,6 +85,24 @@ TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
   EXPECT_NE(svg.find("polyline"), std::string::npos);
 }
 
+// A target the rounds cannot reach: the model is still written (exit 0), and
+// the warning on stderr gives the report's reason.
+TEST(FitCliTest, AMissedTargetWarnsWithTheReportsReason) {
+  const std::string dir = FreshTestDir();
+  const RunResult r = RunSdcb(
+      {"fit", MeshPath("blobby.off"), "-o", dir + "/b.sdcb", "--rmse", "0.001",
+       "--max-rounds", "1", "--json", dir + "/report.json", "--quiet"},
+      dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir + "/b.sdcb"));
+  const auto j = nlohmann::json::parse(ReadBytes(dir + "/report.json"));
+  ASSERT_EQ(j["reached_target"], false);
+  const std::string reason = j["shortfall"];
+  EXPECT_FALSE(reason.empty());
+  EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(reason), std::string::npos) << r.err;
+}
+
 TEST(FitCliTest, EvalAtTheStoredParametersReproducesTheReportedErrors) {
   const std::string dir = FreshTestDir();
   const std::string model = FitBlobby(dir, "2", {"--store-parameters"});
