@@ -214,9 +214,19 @@ RecordedFitOptions RecordFitOptions(const FitOptions& o) {
   r.fairness = o.fairness;
   r.samples_per_spacing = o.samples_per_spacing;
   r.max_fold_rounds = o.max_fold_rounds;
+  r.fallback_accepts_folds = o.fallback_accepts_folds;
   r.round_samples_per_knot = o.round_samples_per_knot;
   r.final_surface_samples = o.final_surface_samples;
   return r;
+}
+
+bool IsBetterFallback(const RoundStatistics& a, const RoundStatistics& b,
+                      bool accept_folds) {
+  if (!accept_folds &&
+      (a.folded_area_percent == 0) != (b.folded_area_percent == 0)) {
+    return a.folded_area_percent == 0;
+  }
+  return a.rmse_percent < b.rmse_percent;
 }
 
 // Everything a fit keeps between rounds.
@@ -277,13 +287,8 @@ struct SplineFitter::State {
     return out.str();
   }
 
-  // Whether round statistics `a` are a better fallback than `b`: a round
-  // without folds beats one with; otherwise the smaller rms.
-  static bool Better(const RoundStatistics& a, const RoundStatistics& b) {
-    if ((a.folded_area_percent == 0) != (b.folded_area_percent == 0)) {
-      return a.folded_area_percent == 0;
-    }
-    return a.rmse_percent < b.rmse_percent;
+  bool Better(const RoundStatistics& a, const RoundStatistics& b) const {
+    return IsBetterFallback(a, b, options.fallback_accepts_folds);
   }
 
   // Ends the fit: the last round when it met the target, else the best.
@@ -297,8 +302,9 @@ struct SplineFitter::State {
       const RoundStatistics& kept = best->statistics.final_result;
       result.shortfall +=
           "; returned round " + std::to_string(kept.round) + " instead, " +
-          (kept.folded_area_percent == 0 ? "the most accurate without folds"
-                                         : "the most accurate") +
+          (kept.folded_area_percent == 0 && !options.fallback_accepts_folds
+               ? "the most accurate without folds"
+               : "the most accurate") +
           " (rms " + ShortPercent(kept.rmse_percent) + " %, max " +
           ShortPercent(kept.max_error_percent) + " %)";
       FitStatistics stats = std::move(result.model.statistics);

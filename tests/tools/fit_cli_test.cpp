@@ -103,6 +103,23 @@ TEST(FitCliTest, AMissedTargetWarnsWithTheReportsReason) {
   EXPECT_NE(r.err.find(reason), std::string::npos) << r.err;
 }
 
+// --accept-folds changes which round is returned, so the model records it.
+TEST(FitCliTest, AcceptFoldsIsRecordedInTheModel) {
+  const std::string dir = FreshTestDir();
+  for (bool accept : {false, true}) {
+    const std::string model = dir + (accept ? "/a.sdcb" : "/b.sdcb");
+    std::vector<std::string> args = {"fit",    MeshPath("blobby.off"), "-o",
+                                     model,    "--max-rounds",         "1",
+                                     "--quiet"};
+    if (accept) args.push_back("--accept-folds");
+    ASSERT_EQ(RunSdcb(args, dir).exit_code, 0);
+    ASSERT_EQ(RunSdcb({"dump", model, "-o", model + ".json"}, dir).exit_code,
+              0);
+    const auto dump = nlohmann::json::parse(ReadBytes(model + ".json"));
+    EXPECT_EQ(dump["statistics"]["options"]["fallback_accepts_folds"], accept);
+  }
+}
+
 TEST(FitCliTest, EvalAtTheStoredParametersReproducesTheReportedErrors) {
   const std::string dir = FreshTestDir();
   const std::string model = FitBlobby(dir, "2", {"--store-parameters"});
