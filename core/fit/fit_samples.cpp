@@ -37,10 +37,11 @@ Eigen::Vector3d OnSphere(const Eigen::Vector2d& b, const Eigen::Vector3d s[3]) {
 }
 
 // Splits `t` by longest-edge bisection (lengths measured on the sphere)
-// until every edge is at most `length(centroid)`; appends the leaves.
+// until every edge is at most `length(centroid)`; appends the leaves, each
+// taking one from `*budget`. Returns false, early, when the budget runs out.
 template <typename Length>
-void Bisect(const Sub& t, const Eigen::Vector3d s[3], const Length& length,
-            int depth, std::vector<Sub>* leaves) {
+bool Bisect(const Sub& t, const Eigen::Vector3d s[3], const Length& length,
+            int depth, int64_t* budget, std::vector<Sub>* leaves) {
   double longest = 0;
   int edge = 0;
   for (int e = 0; e < 3; ++e) {
@@ -53,14 +54,53 @@ void Bisect(const Sub& t, const Eigen::Vector3d s[3], const Length& length,
   }
   if (depth == 0 ||
       longest <= length(OnSphere((t.v[0] + t.v[1] + t.v[2]) / 3.0, s))) {
+    if (*budget <= 0) return false;
+    --*budget;
     leaves->push_back(t);
-    return;
+    return true;
   }
   const Eigen::Vector2d mid = 0.5 * (t.v[edge] + t.v[(edge + 1) % 3]);
   const Eigen::Vector2d& opposite = t.v[(edge + 2) % 3];
-  Bisect(Sub{{t.v[edge], mid, opposite}}, s, length, depth - 1, leaves);
-  Bisect(Sub{{mid, t.v[(edge + 1) % 3], opposite}}, s, length, depth - 1,
-         leaves);
+  return Bisect(Sub{{t.v[edge], mid, opposite}}, s, length, depth - 1, budget,
+                leaves) &&
+         Bisect(Sub{{mid, t.v[(edge + 1) % 3], opposite}}, s, length, depth - 1,
+                budget, leaves);
+}
+
+// The pieces of every triangle to split at `per_spacing` samples per knot
+// spacing (`spacing`: per knot, `knot_tree`: the knots); false when they
+// would exceed options.max_pieces (then `leaves` is to be discarded).
+bool SplitTriangles(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
+                    const Eigen::VectorXd& spacing,
+                    const PointKdTree& knot_tree, double per_spacing,
+                    const FitSampleOptions& options,
+                    std::vector<std::vector<Sub>>* leaves, int* split) {
+  int64_t budget = options.max_pieces > 0 ? options.max_pieces
+                                          : std::numeric_limits<int64_t>::max();
+  *split = 0;
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    (*leaves)[f].clear();
+    const Eigen::Vector3d s[3] = {sphere.row(mesh.faces(f, 0)),
+                                  sphere.row(mesh.faces(f, 1)),
+                                  sphere.row(mesh.faces(f, 2))};
+    const double longest = std::max(
+        {(s[1] - s[0]).norm(), (s[2] - s[1]).norm(), (s[0] - s[2]).norm()});
+    // The sample spacing at a point: the spacing of the knot nearest to it
+    // over per_spacing.
+    const auto length = [&](const Eigen::Vector3d& p) {
+      const PointKdTree::Neighbor near = knot_tree.Nearest(p);
+      return near.index >= 0 ? spacing[near.index] / per_spacing
+                             : std::numeric_limits<double>::infinity();
+    };
+    if (longest <= length((s[0] + s[1] + s[2]).normalized())) continue;
+    const Sub whole{
+        {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)}};
+    if (!Bisect(whole, s, length, options.max_depth, &budget, &(*leaves)[f])) {
+      return false;
+    }
+    ++*split;
+  }
+  return true;
 }
 
 }  // namespace
@@ -75,29 +115,29 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
 
   // The sub-triangles of every triangle whose spherical image has an edge
   // longer than the sample spacing h / samples_per_spacing (h: the spacing
-  // of the knot nearest to its centroid).
+  // of the knot nearest to its centroid); again with half the samples per
+  // spacing while they exceed max_pieces.
   FitSamples out;
   out.num_vertices = nv;
   std::vector<std::vector<Sub>> leaves(nf);
-  for (Eigen::Index f = 0; f < nf; ++f) {
-    const Eigen::Vector3d s[3] = {sphere.row(mesh.faces(f, 0)),
-                                  sphere.row(mesh.faces(f, 1)),
-                                  sphere.row(mesh.faces(f, 2))};
-    const double longest = std::max(
-        {(s[1] - s[0]).norm(), (s[2] - s[1]).norm(), (s[0] - s[2]).norm()});
-    // The sample spacing at a point: the spacing of the knot nearest to it
-    // over samples_per_spacing.
-    const auto length = [&](const Eigen::Vector3d& p) {
-      const PointKdTree::Neighbor near = knot_tree.Nearest(p);
-      return near.index >= 0 ? spacing[near.index] / options.samples_per_spacing
-                             : std::numeric_limits<double>::infinity();
-    };
-    if (longest <= length((s[0] + s[1] + s[2]).normalized())) continue;
-    const Sub whole{
-        {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)}};
-    Bisect(whole, s, length, options.max_depth, &leaves[f]);
-    ++out.split_triangles;
+  double per_spacing = options.samples_per_spacing;
+  for (int halvings = 0;; ++halvings) {
+    if (halvings == 64) {
+      // Only coincident knots (spacing 0) get here: one piece per triangle.
+      FitSampleOptions whole = options;
+      whole.max_depth = 0;
+      whole.max_pieces = 0;
+      SplitTriangles(mesh, sphere, spacing, knot_tree, per_spacing, whole,
+                     &leaves, &out.split_triangles);
+      break;
+    }
+    if (SplitTriangles(mesh, sphere, spacing, knot_tree, per_spacing, options,
+                       &leaves, &out.split_triangles)) {
+      break;
+    }
+    per_spacing /= 2;
   }
+  out.samples_per_spacing = per_spacing;
 
   // Rows: the vertices, then per split triangle its new lattice points and
   // its leaves' centroids.

@@ -17,6 +17,7 @@
 #define SDCB_CORE_FIT_FIT_SAMPLES_H_
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "sdcb/core/mesh/triangle_mesh.h"
@@ -28,6 +29,11 @@ struct FitSampleOptions {
   double samples_per_spacing = 2.0;
   // Bisection depth at most (2^depth pieces per triangle at most).
   int max_depth = 14;
+  // Pieces over all split triangles at most (0: no limit). Past it, the
+  // sample spacing doubles until they fit: long needle triangles (a CAD
+  // fan's) would otherwise each be cut along their whole length, n needles
+  // sampling the same region n times over.
+  int64_t max_pieces = 0;
 };
 
 struct FitSamples {
@@ -41,6 +47,9 @@ struct FitSamples {
   std::vector<int> triangle;  // size points.rows() - num_vertices
   Eigen::Index num_vertices = 0;
   int split_triangles = 0;  // triangles split into pieces
+  // The samples per spacing used: options.samples_per_spacing, halved as
+  // often as max_pieces required.
+  double samples_per_spacing = 0.0;
 };
 
 // `mesh`: the mesh (any frame); `sphere`: #V by 3 sphere points of its

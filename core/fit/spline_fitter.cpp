@@ -57,6 +57,9 @@ constexpr double kRoundStageStart[] = {
 };
 // Rounds before a fit may stop because its error falls too slowly.
 constexpr int kMinRoundsBeforeRateStop = 5;
+// Data-term pieces of split triangles per control point at most
+// (FitSampleOptions::max_pieces).
+constexpr int64_t kMaxPiecesPerControlPoint = 128;
 // Knots of a round that only removes folds: at least this many.
 constexpr int kMinFoldKnots = 10;
 // Rounds assumed before two rounds show the error's decay.
@@ -437,6 +440,10 @@ StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
                         DcbBasis::Create(knots, configurations));
   FitSampleOptions sample_options;
   sample_options.samples_per_spacing = o.samples_per_spacing;
+  // Far above what any closed genus-0 CGAL mesh asks (at most 68 sample
+  // rows per control point), far below what a fan's needles ask (2,000).
+  sample_options.max_pieces = kMaxPiecesPerControlPoint *
+                              static_cast<int64_t>(configurations.sets.size());
   FitSamples samples = BuildFitSamples(mesh, u, knots, sample_options);
   DesignMatrix data =
       BuildFormDesignMatrix(basis, samples.points, o.basis_form);

@@ -1,0 +1,73 @@
+// The data-term samples (core/fit/fit_samples.h) on a CAD-style fan, whose
+// needle triangles cut along their length would ask for thousands of
+// samples per control point.
+#include "sdcb/core/fit/fit_samples.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "testing/fan_mesh.h"
+
+namespace sdcb {
+namespace {
+
+// n points spread over the unit sphere (a Fibonacci lattice).
+Eigen::MatrixX3d FibonacciPoints(int n) {
+  Eigen::MatrixX3d p(n, 3);
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / n;
+    const double r = std::sqrt(1.0 - z * z);
+    p.row(i) << r * std::cos(golden * i), r * std::sin(golden * i), z;
+  }
+  return p;
+}
+
+// The double cone's area in closed form: 2n triangles with base
+// 2 sin(pi / n) and height sqrt(1 + cos^2(pi / n)).
+double DoubleConeArea(int n) {
+  const double c = std::cos(M_PI / n);
+  return 2 * n * 0.5 * 2 * std::sin(M_PI / n) * std::sqrt(1 + c * c);
+}
+
+TEST(FitSamplesTest, CappedPiecesStillIntegrateTheWholeSurface) {
+  const int n = 2000;
+  const TriangleMesh cone = testing::DoubleCone(n);
+  // The cone is star-shaped about its centre: radial projection is a
+  // bijective parameterization.
+  const Eigen::MatrixX3d sphere = cone.vertices.rowwise().normalized();
+  const Eigen::MatrixX3d knots = FibonacciPoints(400);
+  const double area = DoubleConeArea(n);
+
+  const FitSamples free = BuildFitSamples(cone, sphere, knots);
+  FitSampleOptions capped_options;
+  capped_options.max_pieces = 20000;
+  const FitSamples capped =
+      BuildFitSamples(cone, sphere, knots, capped_options);
+
+  // Every piece of the surface is weighted once: the weights add up to its
+  // area, capped or not.
+  EXPECT_NEAR(free.weights.sum(), area, 1e-9 * area);
+  EXPECT_NEAR(capped.weights.sum(), area, 1e-9 * area);
+  // Uncapped, the needles are cut along their length, many times over the
+  // cap; capped, at most a centroid and three corners per piece, with
+  // coarser samples.
+  const Eigen::Index free_rows = free.points.rows() - free.num_vertices;
+  const Eigen::Index capped_rows = capped.points.rows() - capped.num_vertices;
+  EXPECT_GT(free_rows, 4 * capped_options.max_pieces);
+  EXPECT_LE(capped_rows, 4 * capped_options.max_pieces);
+  EXPECT_GT(capped_rows, 0);
+  EXPECT_EQ(free.samples_per_spacing, 2.0);
+  EXPECT_LT(capped.samples_per_spacing, 2.0);
+  // Samples are on the sphere, targets on the cone (|z| = 1 - r).
+  for (Eigen::Index i = 0; i < capped.points.rows(); ++i) {
+    EXPECT_NEAR(capped.points.row(i).norm(), 1.0, 1e-12);
+    const Eigen::Vector3d x = capped.targets.row(i);
+    EXPECT_NEAR(std::abs(x.z()) + x.head<2>().norm(), 1.0,
+                1e-9 + 1.0 - std::cos(M_PI / n));
+  }
+}
+
+}  // namespace
+}  // namespace sdcb
