@@ -112,6 +112,7 @@ int main(int argc, char** argv) {
     if (command == "eval") return RunEval(args);
     if (command == "compare") return RunCompare(args);
     if (command == "export") return RunExport(args);
+    if (command == "batch") return RunBatch(args);
     std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;
   } catch (const UsageError& e) {
