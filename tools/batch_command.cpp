@@ -330,6 +330,7 @@ bool FinishedExport(const std::string& path,
 // Child processes.
 
 struct ChildResult {
+  pid_t pid = -1;
   int exit_code = -1;  // when it exited
   int signal = 0;      // when a signal ended it
   bool timed_out = false;
@@ -387,6 +388,7 @@ ChildResult RunChild(const std::string& exe,
     result.error = std::string("cannot start a process: ") + strerror(errno);
     return result;
   }
+  result.pid = pid;
   int status = 0;
   std::optional<Clock::time_point> kill_at;
   auto pause = std::chrono::milliseconds(1);
@@ -537,6 +539,11 @@ Json RunAsset(const Asset& a, const BatchSettings& settings) {
     ChildResult r =
         RunChild(settings.exe, args, scratch + step + ".stderr", deadline);
     for (std::string& w : r.warnings) warnings.push_back(std::move(w));
+    if (r.signal != 0) {
+      // A child ended by a signal may have left its temporary files.
+      RemoveFilesStartingWith(TemporaryFilePrefix(a.output, r.pid));
+      RemoveFilesStartingWith(TemporaryFilePrefix(a.model, r.pid));
+    }
     *report = ReadJsonFile(json_path);
     if (r.signal == 0 && r.exit_code != 0) line["exit_code"] = r.exit_code;
     if (r.signal != 0) line["signal"] = r.signal;
