@@ -8,10 +8,13 @@
 // parameterization, knot placement, configurations, basis = sampling and
 // basis evaluation, solve = assembly of the normal equations and the sparse
 // solve, measure = the dense two-sided error), summed over the rounds.
+// CPU: user + system seconds of all threads (getrusage), which a loaded
+// machine does not inflate as it does wall time.
 // Peak memory: the process's peak resident set (VmHWM) during the stage,
 // reset at each stage start (/proc/self/clear_refs); all meshes run in one
 // process, freed memory returned between them (malloc_trim).
 #include <malloc.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -41,6 +44,14 @@ double PeakMb() {
 
 void ResetPeak() { std::ofstream("/proc/self/clear_refs") << "5"; }
 
+// User + system CPU seconds of the process (all threads).
+double CpuSeconds() {
+  rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + u.ru_stime.tv_sec +
+         1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 // Per-stage wall time and peak memory, fed by stage transitions.
 class StageClock {
  public:
@@ -48,6 +59,7 @@ class StageClock {
     Leave();
     current_ = stage;
     start_ = Clock::now();
+    cpu_start_ = CpuSeconds();
     ResetPeak();
     if (std::find(order_.begin(), order_.end(), stage) == order_.end()) {
       order_.push_back(stage);
@@ -55,14 +67,23 @@ class StageClock {
   }
   void Leave() {
     if (current_.empty()) return;
-    seconds_[current_] +=
+    const double wall =
         std::chrono::duration<double>(Clock::now() - start_).count();
+    const double cpu = CpuSeconds() - cpu_start_;
+    seconds_[current_] += wall;
+    cpu_seconds_[current_] += cpu;
     peak_mb_[current_] = std::max(peak_mb_[current_], PeakMb());
+    // Live, on stderr: a long run shows where it is.
+    std::fprintf(stderr, "  [%s: %.2f s wall, %.2f s cpu, %.0f MB]\n",
+                 current_.c_str(), wall, cpu, PeakMb());
     current_.clear();
   }
   const std::vector<std::string>& order() const { return order_; }
   double seconds(const std::string& s) const { return Get(seconds_, s); }
   double peak_mb(const std::string& s) const { return Get(peak_mb_, s); }
+  double cpu_seconds(const std::string& s) const {
+    return Get(cpu_seconds_, s);
+  }
 
  private:
   static double Get(const std::map<std::string, double>& m,
@@ -72,8 +93,9 @@ class StageClock {
   }
   std::string current_;
   Clock::time_point start_;
+  double cpu_start_ = 0;
   std::vector<std::string> order_;
-  std::map<std::string, double> seconds_, peak_mb_;
+  std::map<std::string, double> seconds_, cpu_seconds_, peak_mb_;
 };
 
 // Slope b of log y = a + b log x (least squares).
@@ -93,6 +115,7 @@ double Exponent(const std::vector<double>& x, const std::vector<double>& y) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // lines appear as stages end
   sdcb::FitOptions options;
   options.rmse_percent = 0.1;
   std::vector<std::string> meshes;
@@ -154,12 +177,14 @@ int main(int argc, char** argv) {
         f.max_error_percent, f.control_points,
         fit->model.statistics.rounds.size(),
         fit->reached_target() ? "reached" : "NOT reached");
-    std::printf("  %-18s %10s %12s\n", "stage", "seconds", "peak MB");
-    double overall_peak = 0;
+    std::printf("  %-18s %10s %10s %12s\n", "stage", "seconds", "cpu s",
+                "peak MB");
+    double overall_peak = 0, total_cpu = 0;
     for (const std::string& s : clock.order()) {
       if (s == "done") continue;
-      std::printf("  %-18s %10.2f %12.0f\n", s.c_str(), clock.seconds(s),
-                  clock.peak_mb(s));
+      std::printf("  %-18s %10.2f %10.2f %12.0f\n", s.c_str(), clock.seconds(s),
+                  clock.cpu_seconds(s), clock.peak_mb(s));
+      total_cpu += clock.cpu_seconds(s);
       overall_peak = std::max(overall_peak, clock.peak_mb(s));
       if (std::find(stage_order.begin(), stage_order.end(), s) ==
           stage_order.end()) {
@@ -168,7 +193,8 @@ int main(int argc, char** argv) {
       stage_seconds[s].resize(vertices.size(), 0.0);
       stage_seconds[s].push_back(clock.seconds(s));
     }
-    std::printf("  %-18s %10.2f %12.0f\n", "total", total, overall_peak);
+    std::printf("  %-18s %10.2f %10.2f %12.0f\n", "total", total, total_cpu,
+                overall_peak);
     vertices.push_back(mesh->num_vertices());
     totals.push_back(total);
   }
