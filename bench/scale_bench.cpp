@@ -139,8 +139,8 @@ int main(int argc, char** argv) {
   }
   std::printf("target rmse %.3g %%, degree %d, threads %d (0 = all)\n",
               options.rmse_percent, options.degree, options.threads);
-  std::vector<double> vertices, totals;
-  std::map<std::string, std::vector<double>> stage_seconds;
+  std::vector<double> vertices, totals, total_cpus;
+  std::map<std::string, std::vector<double>> stage_seconds, stage_cpu;
   std::vector<std::string> stage_order;
   for (const std::string& path : meshes) {
     malloc_trim(0);
@@ -192,21 +192,28 @@ int main(int argc, char** argv) {
       }
       stage_seconds[s].resize(vertices.size(), 0.0);
       stage_seconds[s].push_back(clock.seconds(s));
+      stage_cpu[s].resize(vertices.size(), 0.0);
+      stage_cpu[s].push_back(clock.cpu_seconds(s));
     }
     std::printf("  %-18s %10.2f %10.2f %12.0f\n", "total", total, total_cpu,
                 overall_peak);
     vertices.push_back(mesh->num_vertices());
     totals.push_back(total);
+    total_cpus.push_back(total_cpu);
   }
   if (vertices.size() >= 2) {
-    std::printf("\nexponent b of time ~ n^b over %.0f .. %.0f vertices:\n",
-                vertices.front(), vertices.back());
+    std::printf(
+        "\nexponent b of time ~ n^b over %.0f .. %.0f vertices (wall, cpu):\n",
+        vertices.front(), vertices.back());
     for (const std::string& s : stage_order) {
-      std::vector<double> t = stage_seconds[s];
+      std::vector<double> t = stage_seconds[s], c = stage_cpu[s];
       t.resize(vertices.size(), 0.0);
-      std::printf("  %-18s %6.2f\n", s.c_str(), Exponent(vertices, t));
+      c.resize(vertices.size(), 0.0);
+      std::printf("  %-18s %6.2f %6.2f\n", s.c_str(), Exponent(vertices, t),
+                  Exponent(vertices, c));
     }
-    std::printf("  %-18s %6.2f\n", "total", Exponent(vertices, totals));
+    std::printf("  %-18s %6.2f %6.2f\n", "total", Exponent(vertices, totals),
+                Exponent(vertices, total_cpus));
   }
   return 0;
 }
