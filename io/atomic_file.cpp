@@ -25,9 +25,13 @@ std::string TemporaryPath(const std::string& path) {
 }  // namespace
 
 std::string TemporaryFilePrefix(const std::string& path) {
+  return TemporaryFilePrefix(path, ::getpid());
+}
+
+std::string TemporaryFilePrefix(const std::string& path, int64_t pid) {
   const fs::path target(path);
   return (target.parent_path() / ("." + target.filename().string() + ".tmp." +
-                                  std::to_string(::getpid()) + "."))
+                                  std::to_string(pid) + "."))
       .string();
 }
 

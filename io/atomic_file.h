@@ -4,6 +4,7 @@
 #ifndef SDCB_IO_ATOMIC_FILE_H_
 #define SDCB_IO_ATOMIC_FILE_H_
 
+#include <cstdint>
 #include <functional>
 #include <ostream>
 #include <string>
@@ -36,6 +37,9 @@ Status CheckWritableDestination(const std::string& path);
 // `path`): "<folder>/.<name>.tmp.<pid>.". A program that must remove them
 // when it is interrupted (the CLI's signal handling) matches it.
 std::string TemporaryFilePrefix(const std::string& path);
+// The same for the process `pid`: what a parent removes after a child
+// writing `path` was killed (SIGKILL leaves the child no time to clean up).
+std::string TemporaryFilePrefix(const std::string& path, int64_t pid);
 
 }  // namespace sdcb
 

@@ -3,7 +3,7 @@
 # build-fuzz/ and runs each for SECONDS (default 30) on a scratch copy of its
 # seed corpus (fuzz/corpus/TARGET plus the malformed files of
 # tests/data/malformed), one target after another.
-#   bash scripts/fuzz.sh [SECONDS] [TARGET ...]     TARGET: off obj ply stl sdcb
+#   bash scripts/fuzz.sh [SECONDS] [TARGET ...]     TARGET: off obj ply stl sdcb manifest
 # Exit 1 on a finding: the input is saved under build-fuzz/findings/TARGET/;
 # minimize it (TARGET_fuzzer -minimize_crash=1 FILE), fix the bug and add the
 # input to fuzz/corpus/TARGET/ as regression-NAME (the io tests replay every
@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-30}
 shift || true
 targets=("$@")
-if [ ${#targets[@]} -eq 0 ]; then targets=(off obj ply stl sdcb); fi
+if [ ${#targets[@]} -eq 0 ]; then targets=(off obj ply stl sdcb manifest); fi
 
 if ! command -v clang++ >/dev/null; then
   echo "fuzz: clang++ is missing (scripts/setup.sh installs clang)" >&2

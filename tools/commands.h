@@ -8,6 +8,19 @@
 
 namespace sdcb::cli {
 
+// The options a command accepts: those that take a value ("--rmse 0.1")
+// and flags ("--quiet"). `sdcb batch` routes a manifest row's options to
+// `fit` or `export` by these lists.
+struct CommandOptions {
+  std::vector<std::string> values;
+  std::vector<std::string> flags;
+};
+const CommandOptions& FitOptionNames();
+const CommandOptions& ExportOptionNames();
+// Whether `export` writes files with this extension (lower case, with the
+// dot: ".glb").
+bool IsExportExtension(const std::string& extension);
+
 int RunCheck(const std::vector<std::string>& args);
 int RunParam(const std::vector<std::string>& args);
 int RunFit(const std::vector<std::string>& args);
@@ -16,6 +29,7 @@ int RunDump(const std::vector<std::string>& args);
 int RunEval(const std::vector<std::string>& args);
 int RunCompare(const std::vector<std::string>& args);
 int RunExport(const std::vector<std::string>& args);
+int RunBatch(const std::vector<std::string>& args);
 
 }  // namespace sdcb::cli
 

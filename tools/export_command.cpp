@@ -177,16 +177,26 @@ double Percentile(Eigen::VectorXd values, double q) {
 
 }  // namespace
 
+const CommandOptions& ExportOptionNames() {
+  static const CommandOptions names = {
+      {"output", "tolerance", "angle", "uniform", "qp", "cl", "colors", "mesh",
+       "json", "measure-samples"},
+      {"draco", "meshopt", "quiet", "no-optimize"}};
+  return names;
+}
+
+bool IsExportExtension(const std::string& ext) {
+  return ext == ".obj" || ext == ".ply" || ext == ".stl" || ext == ".gltf" ||
+         ext == ".glb";
+}
+
 int RunExport(const std::vector<std::string>& argv) {
   const Clock::time_point start = Clock::now();
   // OpenMesh's writers log to stderr ("[OBJWriter] : write file"); the
   // command line owns the process, so it silences them.
   omlog().disable();
   omout().disable();
-  const Args args(argv,
-                  {"output", "tolerance", "angle", "uniform", "qp", "cl",
-                   "colors", "mesh", "json", "measure-samples"},
-                  {"draco", "meshopt", "quiet", "no-optimize"});
+  const Args args(argv, ExportOptionNames().values, ExportOptionNames().flags);
   args.RequirePositionals(
       1, "MODEL (usage: sdcb export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb})");
   const std::string model_path = args.positionals()[0];
@@ -194,7 +204,7 @@ int RunExport(const std::vector<std::string>& argv) {
   if (output.empty()) throw UsageError{"missing -o OUT.{obj,ply,stl,gltf,glb}"};
   const std::string ext = Extension(output);
   const bool gltf = ext == ".gltf" || ext == ".glb";
-  if (!gltf && ext != ".obj" && ext != ".ply" && ext != ".stl") {
+  if (!IsExportExtension(ext)) {
     throw UsageError{"unknown output extension '" + ext + "' in " + output +
                      " (use .obj, .ply, .stl, .gltf or .glb)"};
   }

@@ -20,14 +20,18 @@
 
 namespace sdcb::cli {
 
-int RunFit(const std::vector<std::string>& argv) {
-  const Args args(
-      argv,
+const CommandOptions& FitOptionNames() {
+  static const CommandOptions names = {
       Concat({"output", "degree", "rmse", "knots-per-round", "max-rounds",
               "max-control-points", "lambda", "threads", "json", "plot",
               "regularization", "quantize"},
              kMeshValueOptions),
-      Concat({"quiet", "store-parameters", "accept-folds"}, kMeshFlagOptions));
+      Concat({"quiet", "store-parameters", "accept-folds"}, kMeshFlagOptions)};
+  return names;
+}
+
+int RunFit(const std::vector<std::string>& argv) {
+  const Args args(argv, FitOptionNames().values, FitOptionNames().flags);
   args.RequirePositionals(
       1, "MESH (usage: sdcb fit MESH -o MODEL.sdcb [options])");
   const std::string& path = args.positionals()[0];

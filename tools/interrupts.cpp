@@ -29,20 +29,8 @@ sigset_t HandledSignals() {
 }
 
 void RemoveTemporaries() {
-  namespace fs = std::filesystem;
   std::lock_guard<std::mutex> lock(g_mutex);
-  for (const std::string& prefix : g_prefixes) {
-    const fs::path p(prefix);
-    const fs::path folder = p.parent_path().empty() ? "." : p.parent_path();
-    const std::string name = p.filename().string();
-    std::error_code ec;
-    for (fs::directory_iterator it(folder, ec), end; !ec && it != end;
-         it.increment(ec)) {
-      if (it->path().filename().string().rfind(name, 0) == 0) {
-        fs::remove(it->path(), ec);
-      }
-    }
-  }
+  for (const std::string& prefix : g_prefixes) RemoveFilesStartingWith(prefix);
 }
 
 // Waits for a handled signal, cleans up, and ends the process by it.
@@ -66,6 +54,21 @@ void WaitForInterrupt() {
 }
 
 }  // namespace
+
+void RemoveFilesStartingWith(const std::string& prefix) {
+  namespace fs = std::filesystem;
+  const fs::path p(prefix);
+  const fs::path folder = p.parent_path().empty() ? "." : p.parent_path();
+  const std::string name = p.filename().string();
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end;
+       it.increment(ec)) {
+    if (it->path().filename().string().rfind(name, 0) == 0) {
+      std::error_code ignored;
+      fs::remove(it->path(), ignored);
+    }
+  }
+}
 
 void InstallInterruptCleanup() {
   const sigset_t set = HandledSignals();

@@ -19,6 +19,10 @@ void InstallInterruptCleanup();
 // (renamed into place) is a complete file and stays.
 void RemoveTemporariesOnInterrupt(const std::string& output_path);
 
+// Removes the files of `prefix`'s folder whose names start with `prefix`'s
+// file name (e.g. a TemporaryFilePrefix, io/atomic_file.h).
+void RemoveFilesStartingWith(const std::string& prefix);
+
 }  // namespace sdcb::cli
 
 #endif  // SDCB_TOOLS_INTERRUPTS_H_

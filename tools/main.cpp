@@ -71,6 +71,18 @@ commands:
                              .glb): distance to --mesh, mean or Gaussian
                              curvature. docs/EXPORT.md.
 
+  batch MANIFEST [--jobs N] [--shard I/N] [--json-lines FILE]
+      [--timeout SECONDS] [--force] [--quiet]
+                             Convert every row "INPUT OUTPUT [OPTIONS]" of
+                             the manifest (fit; export too when OUTPUT is
+                             not .sdcb), each in its own processes: one JSON
+                             line per row, failures isolated, finished
+                             outputs skipped on a rerun; --shard I/N (else
+                             Slurm's SLURM_ARRAY_TASK_ID/_COUNT, or
+                             JOB_COMPLETION_INDEX with SDCB_SHARD_COUNT)
+                             takes every N-th row. Exit 1 if any row failed.
+                             docs/BATCH.md.
+
 PCT values are percent of the largest side of the input's bounding box.
 
 Meshes: .obj .off .ply .stl (ascii or binary). Commands that read a MESH
@@ -114,6 +126,7 @@ int main(int argc, char** argv) {
     if (command == "eval") return RunEval(args);
     if (command == "compare") return RunCompare(args);
     if (command == "export") return RunExport(args);
+    if (command == "batch") return RunBatch(args);
     std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;
   } catch (const UsageError& e) {
