@@ -45,6 +45,13 @@ commands:
   compare MODEL.sdcb MESH [--json FILE] [--samples N]
                              Two-sided distance between the surface and a
                              mesh (dense samples of both), folded area.
+  cage MODEL.sdcb -o CAGE.obj [--scheme catmark|loop] [--faces N]
+       [--tolerance PCT] [--json FILE] [--quiet]
+                             Fit a subdivision cage (Catmull-Clark quads by
+                             default, or Loop triangles) whose limit surface
+                             follows the model's surface; refined until the
+                             two-sided rms is within PCT (default 0.1) or the
+                             cage would exceed N faces (default 20000).
 
 PCT values are percent of the largest side of the input's bounding box.
 
@@ -80,6 +87,7 @@ int main(int argc, char** argv) {
     if (command == "dump") return RunDump(args);
     if (command == "eval") return RunEval(args);
     if (command == "compare") return RunCompare(args);
+    if (command == "cage") return RunCage(args);
     std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;
   } catch (const UsageError& e) {

@@ -194,6 +194,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   out.lattice_level = level;
   out.surface_samples = ns;
   out.surface_sample_points = lattice.points;
+  out.surface_sample_positions = image.vertices;
   out.surface_sample_knot_triangle = lattice.knot_triangle;
   out.surface_sample_distance_percent.resize(ns);
   std::vector<char> folded(ns, 0);
@@ -227,6 +228,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
         std::max(out.surface_to_mesh_max_percent, d);
   }
   out.surface_area = area;
+  out.surface_sample_weight = weight;
   out.surface_to_mesh_rms_percent =
       area > 0 ? std::sqrt(sum_squares / area) : 0;
   out.folded_area_percent = area > 0 ? 100.0 * folded_area / area : 0;

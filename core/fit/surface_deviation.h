@@ -80,7 +80,12 @@ struct SurfaceDeviation {
   // Every surface sample: its sphere point, its distance to the mesh
   // (percent) and whether it is folded.
   Eigen::MatrixX3d surface_sample_points;
+  // F at every surface sample (the points measured).
+  Eigen::MatrixX3d surface_sample_positions;
   Eigen::VectorXd surface_sample_distance_percent;
+  // The surface area each sample stands for (length units^2; sums to
+  // surface_area).
+  Eigen::VectorXd surface_sample_weight;
   std::vector<bool> surface_sample_folded;
   // The knot triangle of each surface sample: an index into
   // ComputeDelaunayConfigurations(surface.knots(), 0).sets.
