@@ -10,6 +10,9 @@
 namespace sdcb {
 namespace {
 
+// Cells are refined at most this deep (edges of ~1e-7 on the unit sphere).
+constexpr int kMaxLevel = 22;
+
 uint64_t EdgeKey(int a, int b) {
   if (a > b) std::swap(a, b);
   return (static_cast<uint64_t>(a) << 32) | static_cast<uint32_t>(b);
@@ -143,7 +146,7 @@ void SphereCageTopology::Balance() {
 void SphereCageTopology::Refine(const std::vector<int>& leaf_cells) {
   for (int c : leaf_cells) {
     if (c >= 0 && c < static_cast<int>(cells_.size()) &&
-        cells_[c].first_child < 0) {
+        cells_[c].first_child < 0 && cells_[c].level < kMaxLevel) {
       RefineCell(c);
     }
   }
@@ -197,48 +200,64 @@ std::vector<int> SphereCageTopology::BuildCage() {
       if (e[1] < 0) return -1;
       return e[0] == 4 * l + i ? e[1] : e[0];
     };
-    auto count = [&](int l) {
-      int k = 0;
-      for (int i = 0; i < 4; ++i) k += mid[l][i] >= 0;
-      return k;
-    };
-    std::deque<int> odd;
+    // Parity as a T-join: every leaf's forced points plus the toggled
+    // equal edges must be even. Each odd leaf is paired with the nearest
+    // odd leaf (breadth-first over equal leaves) and the edges of the path
+    // between them are toggled, which flips only the two ends. A quad grid
+    // on the cube is bipartite, so the level-l edges where a region of equal
+    // leaves meets finer ones add up to an even number and every such region
+    // holds an even number of odd leaves: a partner always exists.
+    std::vector<int> parity(nl, 0);
     for (int l = 0; l < nl; ++l) {
-      if (count(l) % 2) odd.push_back(l);
+      for (int i = 0; i < 4; ++i) parity[l] ^= mid[l][i] >= 0;
     }
+    std::vector<char> toggled(4 * static_cast<size_t>(nl), 0);
+    std::vector<int> from(nl, -1);  // BFS: 4 * leaf + edge it was reached by
+    std::vector<int> visited_at(nl, -1);
     std::vector<int> refine;
-    while (!odd.empty()) {
-      const int l = odd.front();
-      odd.pop_front();
-      const int k = count(l);
-      if (k % 2 == 0) continue;
-      // Candidate edges: no point yet, an equal leaf across.
-      int choice = -1;
-      int preferred = -1;  // straight on (one point) / the missing edge
-      for (int i = 0; i < 4; ++i) {
-        if (mid[l][i] >= 0) continue;
-        if (k == 3 || mid[l][(i + 2) % 4] >= 0) preferred = i;
+    for (int s = 0; s < nl; ++s) {
+      if (!parity[s]) continue;
+      std::deque<int> queue = {s};
+      visited_at[s] = s;
+      int t = -1;
+      while (!queue.empty() && t < 0) {
+        const int l = queue.front();
+        queue.pop_front();
+        for (int i = 0; i < 4; ++i) {
+          if (mid[l][i] >= 0) continue;  // a forced point: a finer leaf
+          const int across = neighbour(l, i);
+          if (across < 0 || visited_at[across / 4] == s) continue;
+          visited_at[across / 4] = s;
+          from[across / 4] = 4 * l + i;
+          if (parity[across / 4]) {
+            t = across / 4;
+            break;
+          }
+          queue.push_back(across / 4);
+        }
       }
-      for (int i = 0; i < 4 && choice < 0; ++i) {
-        const int across = mid[l][i] < 0 ? neighbour(l, i) : -1;
-        if (across >= 0 && count(across / 4) % 2) choice = i;
-      }
-      if (choice < 0 && preferred >= 0 && neighbour(l, preferred) >= 0) {
-        choice = preferred;
-      }
-      for (int i = 0; i < 4 && choice < 0; ++i) {
-        if (mid[l][i] < 0 && neighbour(l, i) >= 0) choice = i;
-      }
-      if (choice < 0) {
-        refine.push_back(leaves[l]);
+      if (t < 0) {  // not expected (see above); refining s is always valid
+        refine.push_back(leaves[s]);
         continue;
       }
-      const std::array<int, 4>& v = cells_[leaves[l]].corners;
-      const int p = add_point(points[v[choice]] + points[v[(choice + 1) % 4]]);
-      const int across = neighbour(l, choice);
-      mid[l][choice] = p;
-      mid[across / 4][across % 4] = p;
-      if (count(across / 4) % 2) odd.push_back(across / 4);
+      for (int l = t; l != s;) {
+        const int edge = from[l];
+        const int across = neighbour(edge / 4, edge % 4);
+        toggled[edge] ^= 1;
+        toggled[across] ^= 1;
+        l = edge / 4;
+      }
+      parity[s] = parity[t] = 0;
+    }
+    for (int l = 0; l < nl; ++l) {
+      for (int i = 0; i < 4; ++i) {
+        const int across = neighbour(l, i);
+        if (!toggled[4 * l + i] || across < 4 * l + i) continue;
+        const std::array<int, 4>& v = cells_[leaves[l]].corners;
+        const int p = add_point(points[v[i]] + points[v[(i + 1) % 4]]);
+        mid[l][i] = p;
+        mid[across / 4][across % 4] = p;
+      }
     }
     if (!refine.empty()) return refine;
   }

@@ -17,10 +17,10 @@
 //   two quads, on two adjacent edges into three around its centre (corner
 //   template), on four edges into four. One or three hanging points cannot
 //   be closed with quads alone (a quad-meshed disk has an even number of
-//   boundary vertices), so such a leaf gets one more midpoint on an edge it
-//   shares with an equal leaf, preferring one that is odd too; the parity
-//   moves across the cage until two odd leaves meet. Where no such edge
-//   exists the leaf is refined instead.
+//   boundary vertices): odd leaves are paired with the nearest odd leaf of
+//   the same size, and the edges of a shortest path between them over equal
+//   leaves take a midpoint or lose one (a T-join), which makes every leaf
+//   even.
 //
 // Every cage face keeps its corners' sphere points: its region of the sphere
 // is the image of its parameter domain under the normalized bilinear (quad)
@@ -72,7 +72,8 @@ class SphereCageTopology {
 
   // Refines the given leaf cells (indices as in SphereCage::face_cell;
   // non-leaves are ignored), then whatever the 2:1 balance and the quad
-  // closure need, and rebuilds the cage. Deterministic.
+  // closure need, and rebuilds the cage. Leaves 22 levels deep are not
+  // refined. Deterministic.
   void Refine(const std::vector<int>& leaf_cells);
 
  private:
