@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "sdcb/core/fit/surface_deviation.h"
-#include "sdcb/core/mesh/mesh_distance.h"
 
 namespace sdcb {
 namespace {
@@ -231,10 +230,8 @@ StatusOr<CageDeviation> MeasureCageDeviation(
     }
   }
 
-  // Spline -> limit: from the nearest point of the limit lattice to the foot
-  // point on the limit surface.
-  SDCB_ASSIGN_OR_RETURN(const MeshDistance to_lattice,
-                        MeshDistance::Create(tessellation));
+  // Spline -> limit: from the nearest point of the limit lattice (found by
+  // the measurement above) to the foot point on the limit surface.
   const Eigen::MatrixX3d& spline_points = d.surface_sample_positions;
   const Eigen::Index ns = spline_points.rows();
   Eigen::VectorXd distance(ns);
@@ -243,12 +240,13 @@ StatusOr<CageDeviation> MeasureCageDeviation(
       [&](const tbb::blocked_range<Eigen::Index>& range) {
         for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
           const Eigen::Vector3d x = spline_points.row(i).transpose();
-          const MeshDistance::Closest c = to_lattice.Find(x);
-          const int f = c.face / nt;
-          const Eigen::Vector3i& t = lattice.triangles[c.face % nt];
+          const int face = d.surface_sample_mesh_face[i];
+          const int f = face / nt;
+          const Eigen::Vector3i& t = lattice.triangles[face % nt];
           const Eigen::Index base = static_cast<Eigen::Index>(f) * np;
           const Eigen::Vector3d w = TriangleCoordinates(
-              c.point, tessellation.vertices.row(base + t[0]),
+              d.surface_sample_mesh_point.row(i).transpose(),
+              tessellation.vertices.row(base + t[0]),
               tessellation.vertices.row(base + t[1]),
               tessellation.vertices.row(base + t[2]));
           Eigen::Vector2d uv = Eigen::Vector2d::Zero();

@@ -147,7 +147,7 @@ Status CheckOptions(const CageOptions& o) {
       !(o.fairing >= 0) || o.parameter_corrections < 0 ||
       !(o.refine_share > 0 && o.refine_share <= 1) || !(o.max_growth > 1) ||
       !(o.length_unit > 0) || o.measure_samples < 1 ||
-      o.round_measure_samples < 1) {
+      o.round_samples_per_face < 1) {
     return InvalidArgumentError("subdivision cage: invalid options");
   }
   return Status::Ok();
@@ -252,8 +252,6 @@ StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
   }
   CageDeviationOptions measure;
   measure.length_unit = options.length_unit;
-  measure.min_samples =
-      std::min(options.measure_samples, options.round_measure_samples);
 
   CageFit fit;
   for (int round = 0;; ++round) {
@@ -264,6 +262,9 @@ StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
                              layout.faces));
     SDCB_ASSIGN_OR_RETURN(Eigen::MatrixX3d positions,
                           FitCagePositions(spline, layout, limit, options));
+    measure.min_samples = std::min(
+        options.measure_samples,
+        std::max(10000, options.round_samples_per_face * layout.num_faces()));
     SDCB_ASSIGN_OR_RETURN(
         CageDeviation deviation,
         MeasureCageDeviation(spline, limit, positions, nullptr, measure));

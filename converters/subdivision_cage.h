@@ -65,10 +65,11 @@ struct CageOptions {
   double max_growth = 1.5;
   // The length that is 100 % (1 in a model's normalized frame).
   double length_unit = 1.0;
-  // Points of each surface in the measurement of the returned cage, and in
-  // that of every round (which decides the refinement and the stop).
+  // Points of each surface in the measurement of the returned cage; that of
+  // every round (which decides the refinement and the stop) takes this many
+  // per cage face, at least 10000 and at most measure_samples.
   int measure_samples = 100000;
-  int round_measure_samples = 30000;
+  int round_samples_per_face = 16;
   // Called after every round (from the calling thread).
   std::function<void(const CageRound&)> on_round;
 };

@@ -25,6 +25,20 @@ bool EndsWith(std::string s, const std::string& suffix) {
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+// Fails before a long fit when `path` cannot be written because its folder
+// does not exist.
+Status CheckOutputFolder(const std::string& path) {
+  const std::filesystem::path folder =
+      std::filesystem::path(path).parent_path();
+  std::error_code error;
+  if (path == "-" || folder.empty() ||
+      std::filesystem::is_directory(folder, error)) {
+    return Status::Ok();
+  }
+  return IoError(path + ": cannot write: the folder '" + folder.string() +
+                 "' does not exist");
+}
+
 }  // namespace
 
 int RunCage(const std::vector<std::string>& argv) {
@@ -55,6 +69,10 @@ int RunCage(const std::vector<std::string>& argv) {
   options.tolerance_percent =
       args.GetDouble("tolerance", options.tolerance_percent, 1e-6, 100);
 
+  for (const std::string& out : {output, args.Get("json")}) {
+    const Status writable = CheckOutputFolder(out);
+    if (!writable.ok()) return ReportError(writable);
+  }
   StatusOr<SplineModel> model = ReadSdcbFile(path);
   if (!model.ok()) return ReportError(model.status());
   StatusOr<SphericalSpline> surface = SurfaceFromModel(*model);

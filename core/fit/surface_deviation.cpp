@@ -197,6 +197,8 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   out.surface_sample_positions = image.vertices;
   out.surface_sample_knot_triangle = lattice.knot_triangle;
   out.surface_sample_distance_percent.resize(ns);
+  out.surface_sample_mesh_face.resize(ns);
+  out.surface_sample_mesh_point.resize(ns, 3);
   std::vector<char> folded(ns, 0);
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, ns, 256),
@@ -205,6 +207,8 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
           const MeshDistance::Closest c =
               to_mesh.Find(image.vertices.row(i).transpose());
           out.surface_sample_distance_percent[i] = to_percent * c.distance;
+          out.surface_sample_mesh_face[i] = c.face;
+          out.surface_sample_mesh_point.row(i) = c.point.transpose();
           // The lattice's normal is only a hint where it is coarse: a
           // suspected fold is confirmed with the spline's own normal.
           if (to_mesh.Opposes(c, normal.row(i).transpose())) {
