@@ -262,6 +262,8 @@ StatusOr<CageDeviation> MeasureCageDeviation(
   out.spline_to_limit_rms_percent =
       area > 0 ? std::sqrt(weight.dot(distance.cwiseAbs2()) / area) : 0;
   out.spline_to_limit_max_percent = ns > 0 ? distance.maxCoeff() : 0;
+  out.spline_sample_points = spline_points;
+  out.spline_sample_distance_percent = distance;
   out.rms_percent = std::sqrt(
       0.5 *
       (out.limit_to_spline_rms_percent * out.limit_to_spline_rms_percent +

@@ -60,6 +60,9 @@ struct CageDeviation {
   Eigen::MatrixX2d limit_sample_uv;
   Eigen::MatrixX3d limit_sample_points;
   Eigen::VectorXd limit_sample_distance_percent;
+  // Every spline sample: the spline point and its distance to the limit.
+  Eigen::MatrixX3d spline_sample_points;
+  Eigen::VectorXd spline_sample_distance_percent;
 };
 
 // `cage`: #V by 3 cage positions of `limit`'s vertices. `sphere` (optional):
