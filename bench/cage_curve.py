@@ -3,7 +3,8 @@
 
 usage: cage_curve.py OUT.svg LABEL=REPORT.json [LABEL=REPORT.json ...]
 
-Every round of a report is one point (faces, two-sided limit rms); the last
+Every round of a report is one point (faces, two-sided limit rms, measured
+with 16 points per face, at least 10000, each way); the last
 point of each series, marked with a ring, is the returned cage measured at
 >= 100K points each way. Log-log axes; dashed lines at 0.1 % and 0.05 %.
 """
@@ -11,8 +12,8 @@ import json
 import math
 import sys
 
-W, H = 720, 460
-LEFT, RIGHT, TOP, BOTTOM = 70, 180, 40, 60
+W, H = 760, 460
+LEFT, RIGHT, TOP, BOTTOM = 70, 200, 40, 60
 COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"]
 
 
@@ -67,7 +68,7 @@ def main():
     svg.append('<text x="%d" y="%d" text-anchor="middle">cage faces</text>'
                % ((LEFT + W - RIGHT) / 2, H - 18))
     svg.append('<text transform="translate(18,%d) rotate(-90)" text-anchor="middle">'
-               'rms, % of the largest side</text>' % ((TOP + H - BOTTOM) / 2))
+               'rms, %% of the largest side</text>' % ((TOP + H - BOTTOM) / 2))
     for i, (label, points, final) in enumerate(series):
         color = COLORS[i % len(COLORS)]
         path = " ".join("%s%.1f,%.1f" % ("M" if k == 0 else "L", px(x), py(y))
