@@ -16,30 +16,6 @@
 #include "tools/progress.h"
 
 namespace sdcb::cli {
-namespace {
-
-bool EndsWith(std::string s, const std::string& suffix) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// Fails before a long fit when `path` cannot be written because its folder
-// does not exist.
-Status CheckOutputFolder(const std::string& path) {
-  const std::filesystem::path folder =
-      std::filesystem::path(path).parent_path();
-  std::error_code error;
-  if (path == "-" || folder.empty() ||
-      std::filesystem::is_directory(folder, error)) {
-    return Status::Ok();
-  }
-  return IoError(path + ": cannot write: the folder '" + folder.string() +
-                 "' does not exist");
-}
-
-}  // namespace
 
 int RunCage(const std::vector<std::string>& argv) {
   const Args args(argv, {"output", "scheme", "faces", "tolerance", "json"},
@@ -51,7 +27,7 @@ int RunCage(const std::vector<std::string>& argv) {
   const std::string& path = args.positionals()[0];
   const std::string output = args.Get("output");
   if (output.empty()) throw UsageError{"missing -o CAGE.obj"};
-  if (!EndsWith(output, ".obj")) {
+  if (LowercaseExtension(output) != ".obj") {
     throw UsageError{
         "the cage is written as Wavefront OBJ: -o must name a "
         ".obj file, not '" +
@@ -69,10 +45,9 @@ int RunCage(const std::vector<std::string>& argv) {
   options.tolerance_percent =
       args.GetDouble("tolerance", options.tolerance_percent, 1e-6, 100);
 
-  for (const std::string& out : {output, args.Get("json")}) {
-    const Status writable = CheckOutputFolder(out);
-    if (!writable.ok()) return ReportError(writable);
-  }
+  // Outputs are checked before the work (tools/cli.h).
+  const Status outputs = PrepareOutputs({output, args.Get("json")});
+  if (!outputs.ok()) return ReportError(outputs);
   StatusOr<SplineModel> model = ReadSdcbFile(path);
   if (!model.ok()) return ReportError(model.status());
   StatusOr<SphericalSpline> surface = SurfaceFromModel(*model);

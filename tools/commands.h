@@ -15,6 +15,7 @@ int RunInfo(const std::vector<std::string>& args);
 int RunDump(const std::vector<std::string>& args);
 int RunEval(const std::vector<std::string>& args);
 int RunCompare(const std::vector<std::string>& args);
+int RunExport(const std::vector<std::string>& args);
 int RunCage(const std::vector<std::string>& args);
 
 }  // namespace sdcb::cli

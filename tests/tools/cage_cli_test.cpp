@@ -159,8 +159,8 @@ TEST(CageCliBadInputTest, ExitOneWithOneSentenceAndNothingWritten) {
     EXPECT_EQ(r.err.rfind("sdcb: ", 0), 0u) << r.err;
     EXPECT_FALSE(fs::exists(dir + "/out.obj"));
   }
-  // A report that cannot be written (a folder in its way) takes the cage
-  // with it.
+  // A report that cannot be written (a folder in its way) is refused before
+  // the fit, and no cage is written either.
   fs::create_directories(dir + "/report.json");
   const RunResult r =
       RunSdcb({"cage", TestDataPath(kModel), "-o", dir + "/out.obj", "--faces",
