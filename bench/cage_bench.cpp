@@ -45,13 +45,14 @@ int main(int argc, char** argv) {
   const bool loop = options.scheme == sdcb::SubdivisionScheme::kLoop;
   std::printf("%s, %s\n", argv[1], loop ? "Loop" : "Catmull-Clark");
   std::printf("%-10s %7s %12s %12s %12s %12s %9s\n", "cage", "faces",
-              "pulled rms", "pulled max", "fitted rms", "fitted max", "seconds");
+              "pulled rms", "pulled max", "fitted rms", "fitted max",
+              "seconds");
   for (int levels = 2; levels <= max_levels; ++levels) {
     const auto start = std::chrono::steady_clock::now();
     const sdcb::SphereCage layout =
-        sdcb::SphereCageTopology::Create(loop ? sdcb::CageCellShape::kTriangle
-                                              : sdcb::CageCellShape::kQuad,
-                                         levels)
+        sdcb::SphereCageTopology::Create(
+            loop ? sdcb::CageCellShape::kTriangle : sdcb::CageCellShape::kQuad,
+            levels)
             .cage();
     auto limit = sdcb::LimitSurface::Create(
         options.scheme, layout.num_vertices(), layout.faces);
@@ -59,9 +60,9 @@ int main(int argc, char** argv) {
     const Eigen::MatrixX3d pulled = spline->EvaluateMany(layout.sphere_points);
     auto fitted = sdcb::FitCagePositions(*spline, layout, *limit, options);
     if (!fitted.ok()) return 1;
-    const double seconds = std::chrono::duration<double>(
-                               std::chrono::steady_clock::now() - start)
-                               .count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
     auto a = sdcb::MeasureCageDeviation(*spline, *limit, pulled);
     auto b = sdcb::MeasureCageDeviation(*spline, *limit, *fitted, &layout);
     if (!a.ok() || !b.ok()) return 1;
