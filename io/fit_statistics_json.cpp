@@ -128,6 +128,7 @@ json FitStatisticsToJson(const FitStatistics& s) {
                 {"fairness", o.fairness},
                 {"samples_per_spacing", o.samples_per_spacing},
                 {"max_fold_rounds", o.max_fold_rounds},
+                {"fallback_accepts_folds", o.fallback_accepts_folds},
                 {"round_samples_per_knot", o.round_samples_per_knot},
                 {"final_surface_samples", o.final_surface_samples}}},
               {"error_measure", ErrorMeasureName(s.error_measure)},
@@ -172,6 +173,8 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
                                    &so.samples_per_spacing, GetDouble));
   SDCB_RETURN_IF_ERROR(
       GetOptional(*o, "max_fold_rounds", ow, &so.max_fold_rounds, GetInt));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "fallback_accepts_folds", ow,
+                                   &so.fallback_accepts_folds, GetBool));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "round_samples_per_knot", ow,
                                    &so.round_samples_per_knot, GetInt));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "final_surface_samples", ow,

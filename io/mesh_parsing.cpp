@@ -1,5 +1,6 @@
 #include "sdcb/io/mesh_parsing.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -76,17 +77,110 @@ Status MeshBuilder::AddPolygon(const int* corners, int64_t n) {
     SDCB_RETURN_IF_ERROR(
         CheckMemory(num_vertices(), std::max(triangles, 2 * num_triangles())));
   }
+  const int64_t first_triangle = num_triangles();
   for (int64_t k = 1; k + 1 < n; ++k) {
     triangles_.push_back(corners[0]);
     triangles_.push_back(corners[k]);
     triangles_.push_back(corners[k + 1]);
+  }
+  if (n > 3 && n <= kMaxClippedCorners) {
+    // Now when its corners are known (the usual case), else in Finish.
+    const bool known = std::all_of(corners, corners + n, [&](int c) {
+      return c >= 0 && c < num_vertices();
+    });
+    if (known) {
+      ClipIfNotConvex(first_triangle, corners, static_cast<int>(n));
+    } else {
+      polygons_to_clip_.push_back(
+          {first_triangle, static_cast<int64_t>(clipped_corners_.size()), n});
+      clipped_corners_.insert(clipped_corners_.end(), corners, corners + n);
+    }
   }
   ++polygons_;
   if (n > 3) ++triangulated_polygons_;
   return Status::Ok();
 }
 
+namespace {
+
+// Twice the signed area of the 2-D triangle (a, b, c).
+double Orient2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                const Eigen::Vector2d& c) {
+  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+
+}  // namespace
+
+void MeshBuilder::ClipIfNotConvex(int64_t first_triangle, const int* corners,
+                                  int n) {
+  const int64_t nv = num_vertices();
+  for (int i = 0; i < n; ++i) {
+    if (corners[i] < 0 || corners[i] >= nv) return;  // the caller reports it
+  }
+  auto position = [&](int i) {
+    const double* x = coordinates_.data() + 3 * static_cast<size_t>(corners[i]);
+    return Eigen::Vector3d(x[0], x[1], x[2]);
+  };
+  // The polygon's plane: Newell's normal (the vector area), which a
+  // non-planar or non-convex polygon still has.
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i)
+    normal += position(i).cross(position((i + 1) % n));
+  if (!(normal.norm() > 0) || !normal.allFinite()) return;
+  normal.normalize();
+  const Eigen::Vector3d e1 = normal.unitOrthogonal();
+  const Eigen::Vector3d e2 = normal.cross(e1);
+  std::vector<Eigen::Vector2d> q(n);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d x = position(i);
+    q[i] = Eigen::Vector2d(x.dot(e1), x.dot(e2));
+  }
+  // Counter-clockwise in (e1, e2) by construction; convex means every
+  // corner turns left, and then the fan is right.
+  bool convex = true;
+  for (int i = 0; i < n && convex; ++i) {
+    convex = Orient2d(q[(i + n - 1) % n], q[i], q[(i + 1) % n]) >= 0;
+  }
+  if (convex) return;
+  // Ear clipping: cut off a corner that turns left and whose triangle holds
+  // no other remaining corner; n - 2 ears, as many triangles as the fan.
+  std::vector<int> left(n);
+  for (int i = 0; i < n; ++i) left[i] = i;
+  std::vector<int> ears;
+  ears.reserve(3 * static_cast<size_t>(n - 2));
+  while (left.size() > 3) {
+    const int m = static_cast<int>(left.size());
+    bool clipped = false;
+    for (int j = 0; j < m && !clipped; ++j) {
+      const int a = left[(j + m - 1) % m], b = left[j], c = left[(j + 1) % m];
+      if (Orient2d(q[a], q[b], q[c]) <= 0) continue;
+      bool empty = true;
+      for (int k = 0; k < m && empty; ++k) {
+        const int x = left[k];
+        if (x == a || x == b || x == c) continue;
+        empty = !(Orient2d(q[a], q[b], q[x]) >= 0 &&
+                  Orient2d(q[b], q[c], q[x]) >= 0 &&
+                  Orient2d(q[c], q[a], q[x]) >= 0);
+      }
+      if (!empty) continue;
+      ears.insert(ears.end(), {a, b, c});
+      left.erase(left.begin() + j);
+      clipped = true;
+    }
+    if (!clipped) return;  // self-intersecting or degenerate: keep the fan
+  }
+  ears.insert(ears.end(), left.begin(), left.end());
+  int* out = triangles_.data() + 3 * first_triangle;
+  for (size_t k = 0; k < ears.size(); ++k) out[k] = corners[ears[k]];
+}
+
 TriangleMesh MeshBuilder::Finish(MeshReadInfo* info) {
+  for (const PolygonToClip& p : polygons_to_clip_) {
+    ClipIfNotConvex(p.first_triangle, clipped_corners_.data() + p.first_corner,
+                    static_cast<int>(p.n));
+  }
+  std::vector<PolygonToClip>().swap(polygons_to_clip_);
+  std::vector<int>().swap(clipped_corners_);
   TriangleMesh mesh;
   const Eigen::Index nv = static_cast<Eigen::Index>(coordinates_.size() / 3);
   const Eigen::Index nt = static_cast<Eigen::Index>(triangles_.size() / 3);

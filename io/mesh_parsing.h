@@ -18,7 +18,7 @@ namespace sdcb::mesh_parsing {
 
 std::string Num(int64_t x);
 
-// Vertices and fan-triangulated polygons as a parser finds them. Every
+// Vertices and triangulated polygons as a parser finds them. Every
 // addition checks MeshReadLimits (counts and the memory estimate), so a
 // parser cannot be talked into unbounded memory.
 class MeshBuilder {
@@ -32,8 +32,13 @@ class MeshBuilder {
 
   Status AddVertex(double x, double y, double z);
   // A polygon of `n` >= 3 corners (indices are the caller's to check),
-  // triangulated as a fan from its first corner.
+  // triangulated as a fan from its first corner; Finish re-triangulates a
+  // non-convex one of at most kMaxClippedCorners corners by ear clipping.
   Status AddPolygon(const int* corners, int64_t n);
+
+  // Larger non-convex polygons keep the fan (ear clipping is cubic in n at
+  // worst; polygons that large are not what mesh files hold).
+  static constexpr int64_t kMaxClippedCorners = 64;
 
   int64_t num_vertices() const {
     return static_cast<int64_t>(coordinates_.size() / 3);
@@ -50,6 +55,12 @@ class MeshBuilder {
   Status CheckCounts(int64_t vertices, int64_t triangles) const;
   // The estimate of MeshReadLimits::max_memory_bytes for these sizes.
   Status CheckMemory(int64_t vertices, int64_t triangles) const;
+  // Replaces the fan of the polygon `corners` (n of them, its fan starting
+  // at triangle `first_triangle`) by an ear-clipped triangulation when the
+  // polygon is not convex in its plane; keeps the fan when a corner is not
+  // a vertex yet (the caller reports that) or no ear is found (a
+  // self-intersecting or degenerate polygon).
+  void ClipIfNotConvex(int64_t first_triangle, const int* corners, int n);
 
   const MeshReadLimits& limits_;
   int64_t input_bytes_;
@@ -58,6 +69,16 @@ class MeshBuilder {
   std::vector<int> triangles_;       // 3 indices per triangle
   int64_t polygons_ = 0;
   int64_t triangulated_polygons_ = 0;
+  // Polygons with 3 < n <= kMaxClippedCorners whose corners were not all
+  // vertices yet when they came: their first fan triangle and the offset of
+  // their n corners in clipped_corners_.
+  struct PolygonToClip {
+    int64_t first_triangle;
+    int64_t first_corner;
+    int64_t n;
+  };
+  std::vector<PolygonToClip> polygons_to_clip_;
+  std::vector<int> clipped_corners_;
 };
 
 // Checks a polygon's corner count: 3 <= n <= limits.max_polygon_corners

@@ -49,7 +49,8 @@ StatusOr<MeshFileFormat> MeshFileFormatFromPath(const std::string& path);
 // result is the i-th vertex of the file, except for STL, which stores no
 // shared vertices: its vertices are numbered in order of first appearance,
 // exactly equal positions merged). Polygons are triangulated as fans from
-// their first corner. Coordinates are parsed as doubles (text:
+// their first corner, except non-convex ones (of at most 64 corners), which
+// are ear-clipped in their plane so no triangle is inverted. Coordinates are parsed as doubles (text:
 // locale-independent, decimal or hexadecimal; binary: the stored type).
 // Errors (kCorruptFile, kInvalidInput, kUnsupported) are one sentence
 // without a file name, e.g. "line 12: face 3 refers to vertex 900, but the

@@ -2,7 +2,7 @@
 //          [--max-rounds R] [--max-control-points M] [--lambda L]
 //          [--threads T] [--regularization R] [--store-parameters]
 //          [--quantize BITS] [--json FILE] [--plot FILE.svg] [--quiet]
-//          [--repair] [--max-file-mb N] [--max-memory-mb N]
+//          [--accept-folds] [--repair] [--max-file-mb N] [--max-memory-mb N]
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -27,7 +27,7 @@ int RunFit(const std::vector<std::string>& argv) {
               "max-control-points", "lambda", "threads", "json", "plot",
               "regularization", "quantize"},
              kMeshValueOptions),
-      Concat({"quiet", "store-parameters"}, kMeshFlagOptions));
+      Concat({"quiet", "store-parameters", "accept-folds"}, kMeshFlagOptions));
   args.RequirePositionals(
       1, "MESH (usage: sdcb fit MESH -o MODEL.sdcb [options])");
   const std::string& path = args.positionals()[0];
@@ -49,6 +49,7 @@ int RunFit(const std::vector<std::string>& argv) {
   // The sphere point of every input vertex is kept only on request: it is
   // most of a file's bytes and needed only to check the vertex errors.
   options.store_parameters = args.Has("store-parameters");
+  options.fallback_accepts_folds = args.Has("accept-folds");
   SdcbWriteOptions write_options;
   write_options.store_parameters = options.store_parameters;
   write_options.quantize_bits = args.GetInt("quantize", 0, 8, 30);
@@ -123,9 +124,8 @@ int RunFit(const std::vector<std::string>& argv) {
   if (!fit->reached_target()) {
     std::fprintf(
         stderr,
-        "sdcb: %s: warning: rmse %.4f%% did not reach the target %.4f%% "
-        "within the round or control-point limits\n",
-        path.c_str(), f.rmse_percent, options.rmse_percent);
+        "sdcb: %s: warning: the target rmse %.4f%% was not reached: %s\n",
+        path.c_str(), options.rmse_percent, fit->shortfall.c_str());
   }
   return kExitOk;
 }

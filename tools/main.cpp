@@ -32,13 +32,15 @@ commands:
   fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
       [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
       [--regularization R] [--store-parameters] [--quantize BITS]
-      [--json FILE] [--plot FILE.svg] [--quiet] [--repair]
+      [--accept-folds] [--json FILE] [--plot FILE.svg] [--quiet] [--repair]
                              Fit one smooth spherical DCB-spline (defaults:
                              degree 4, rmse 0.05 %, 100 knots per round, 30
                              rounds); --plot draws the error per round;
                              --store-parameters keeps each vertex's sphere
                              point; --quantize BITS (8..30) stores the control
                              points in BITS bits, the error bound reported;
+                             --accept-folds: a missed target returns the
+                             most accurate round even if it folds;
                              --repair as for check.
   info MODEL.sdcb [--json FILE]
                              Summary of a model (format version, size,

@@ -6,7 +6,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
+#include <locale>
 #include <optional>
+#include <sstream>
+#include <string>
 #include <utility>
 
 #include "sdcb/core/fit/fit_samples.h"
@@ -210,9 +214,19 @@ RecordedFitOptions RecordFitOptions(const FitOptions& o) {
   r.fairness = o.fairness;
   r.samples_per_spacing = o.samples_per_spacing;
   r.max_fold_rounds = o.max_fold_rounds;
+  r.fallback_accepts_folds = o.fallback_accepts_folds;
   r.round_samples_per_knot = o.round_samples_per_knot;
   r.final_surface_samples = o.final_surface_samples;
   return r;
+}
+
+bool IsBetterFallback(const RoundStatistics& a, const RoundStatistics& b,
+                      bool accept_folds) {
+  if (!accept_folds &&
+      (a.folded_area_percent == 0) != (b.folded_area_percent == 0)) {
+    return a.folded_area_percent == 0;
+  }
+  return a.rmse_percent < b.rmse_percent;
 }
 
 // Everything a fit keeps between rounds.
@@ -265,13 +279,16 @@ struct SplineFitter::State {
     options.progress(p);
   }
 
-  // Whether round statistics `a` are a better fallback than `b`: a round
-  // without folds beats one with; otherwise the smaller rms.
-  static bool Better(const RoundStatistics& a, const RoundStatistics& b) {
-    if ((a.folded_area_percent == 0) != (b.folded_area_percent == 0)) {
-      return a.folded_area_percent == 0;
-    }
-    return a.rmse_percent < b.rmse_percent;
+  // A percentage with four significant digits, for messages.
+  static std::string ShortPercent(double value) {
+    std::ostringstream out;
+    out.imbue(std::locale::classic());
+    out << std::setprecision(4) << value;
+    return out.str();
+  }
+
+  bool Better(const RoundStatistics& a, const RoundStatistics& b) const {
+    return IsBetterFallback(a, b, options.fallback_accepts_folds);
   }
 
   // Ends the fit: the last round when it met the target, else the best.
@@ -282,6 +299,14 @@ struct SplineFitter::State {
     result.shortfall = std::move(shortfall);
     if (best && Better(best->statistics.final_result,
                        result.model.statistics.final_result)) {
+      const RoundStatistics& kept = best->statistics.final_result;
+      result.shortfall +=
+          "; returned round " + std::to_string(kept.round) + " instead, " +
+          (kept.folded_area_percent == 0 && !options.fallback_accepts_folds
+               ? "the most accurate without folds"
+               : "the most accurate") +
+          " (rms " + ShortPercent(kept.rmse_percent) + " %, max " +
+          ShortPercent(kept.max_error_percent) + " %)";
       FitStatistics stats = std::move(result.model.statistics);
       result.model = std::move(*best);
       stats.final_result = result.model.statistics.final_result;
@@ -667,7 +692,7 @@ Status SplineFitter::State::RunRound() {
   const bool only_folds =
       rs.rmse_percent <= o.rmse_percent && rs.folded_area_percent > 0;
   const std::string folds_left =
-      "the surface still folds over " + std::to_string(rs.folded_area_percent) +
+      "the surface still folds over " + ShortPercent(rs.folded_area_percent) +
       " % of its area (narrow creases or thin parts the spline cannot follow "
       "yet)";
   if (only_folds && fold_rounds >= o.max_fold_rounds) {

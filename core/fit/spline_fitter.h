@@ -80,6 +80,12 @@ struct FitOptions {
   // many rounds follow that place a quarter of knots_per_round, only where
   // it folds.
   int max_fold_rounds = 5;
+  // When the target is missed, the round returned is the most accurate
+  // (smallest rms) among those whose surface does not fold, or among all
+  // when every round folds; with this set, among all rounds: a fit that
+  // folds over a sliver may then be returned instead of a far less
+  // accurate one that does not (the shortfall says so either way).
+  bool fallback_accepts_folds = false;
   // Surface samples of the error measurement: per knot in every round, and
   // at least this many for the returned model.
   int round_samples_per_knot = 12;
@@ -92,6 +98,11 @@ struct FitOptions {
   // Called at the start of every stage (from the calling thread).
   std::function<void(const FitProgress&)> progress;
 };
+
+// Whether round `a` is a better one to return than round `b` when the
+// target is missed (FitOptions::fallback_accepts_folds).
+bool IsBetterFallback(const RoundStatistics& a, const RoundStatistics& b,
+                      bool accept_folds);
 
 // The options of `options` that change a model's bytes.
 RecordedFitOptions RecordFitOptions(const FitOptions& options);

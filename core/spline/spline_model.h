@@ -84,6 +84,7 @@ struct RecordedFitOptions {
   int max_fold_rounds = 0;
   int round_samples_per_knot = 0;
   int final_surface_samples = 0;
+  bool fallback_accepts_folds = false;
 };
 
 // How the fit went, without wall-clock times (they would make the model's

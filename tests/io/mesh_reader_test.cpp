@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -264,6 +265,48 @@ TEST(MeshReaderTest, PolygonsAreTriangulatedAndVertexOrderKept) {
   // Fan triangulation of face 0 (2 5 4 3, 1-based): (1,4,3), (1,3,2).
   EXPECT_EQ(mesh->faces.row(0), Eigen::RowVector3i(1, 4, 3));
   EXPECT_EQ(mesh->faces.row(1), Eigen::RowVector3i(1, 3, 2));
+}
+
+// CGAL's corner_poly.off: an L-shaped prism (the 2 x 2 square less a unit
+// square, height 2) with two L-shaped hexagons. A fan from a hexagon's first
+// corner inverts a triangle (their signed areas still add up, their unsigned
+// areas do not). Closed forms: area 2 * 3 + 8 * 2 = 22, volume 6, and every
+// triangle of a face has the face's outward normal.
+double TriangleArea(const TriangleMesh& mesh, int f) {
+  const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
+  const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
+  const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
+TEST(MeshReaderTest, NonConvexPolygonsAreTriangulatedWithoutInversions) {
+  auto mesh = ReadMesh(MeshPath("corner_poly.off"));
+  ASSERT_TRUE(mesh.ok()) << mesh.status().message();
+  ASSERT_EQ(mesh->num_faces(), 20);
+  double area = 0, volume = 0;
+  for (int f = 0; f < mesh->num_faces(); ++f) {
+    const Eigen::Vector3d a = mesh->vertices.row(mesh->faces(f, 0));
+    const Eigen::Vector3d b = mesh->vertices.row(mesh->faces(f, 1));
+    const Eigen::Vector3d c = mesh->vertices.row(mesh->faces(f, 2));
+    area += TriangleArea(*mesh, f);
+    volume += a.dot(b.cross(c)) / 6;
+  }
+  EXPECT_NEAR(area, 22.0, 1e-12);
+  EXPECT_NEAR(std::abs(volume), 6.0, 1e-12);
+
+  // The same holds for an OBJ whose faces come before their vertices (the
+  // polygon is clipped once the vertices are known): an L-shaped hexagon
+  // and its fan-free reverse close a flat double-sided L of area 2 * 3.
+  const std::string obj =
+      "f 1 2 3 4 5 6\nf 6 5 4 3 2 1\n"
+      "v 0 1 0\nv 1 1 0\nv 1 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\n";
+  auto flat = ReadMeshFromBuffer(obj, MeshFileFormat::kObj);
+  ASSERT_TRUE(flat.ok()) << flat.status().message();
+  double flat_area = 0;
+  for (int f = 0; f < flat->num_faces(); ++f) {
+    flat_area += TriangleArea(*flat, f);
+  }
+  EXPECT_NEAR(flat_area, 6.0, 1e-12);
 }
 
 // Reads the counts on the OFF header line of a CGAL data file.

@@ -320,6 +320,7 @@ inline ::testing::AssertionResult BitIdentical(const SplineModel& a,
       !SameBits(oa.fairness, ob.fairness) ||
       !SameBits(oa.samples_per_spacing, ob.samples_per_spacing) ||
       oa.max_fold_rounds != ob.max_fold_rounds ||
+      oa.fallback_accepts_folds != ob.fallback_accepts_folds ||
       oa.round_samples_per_knot != ob.round_samples_per_knot ||
       oa.final_surface_samples != ob.final_surface_samples) {
     return fail("options");

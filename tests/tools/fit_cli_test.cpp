@@ -85,6 +85,41 @@ TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
   EXPECT_NE(svg.find("polyline"), std::string::npos);
 }
 
+// A target the rounds cannot reach: the model is still written (exit 0), and
+// the warning on stderr gives the report's reason.
+TEST(FitCliTest, AMissedTargetWarnsWithTheReportsReason) {
+  const std::string dir = FreshTestDir();
+  const RunResult r = RunSdcb(
+      {"fit", MeshPath("blobby.off"), "-o", dir + "/b.sdcb", "--rmse", "0.001",
+       "--max-rounds", "1", "--json", dir + "/report.json", "--quiet"},
+      dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir + "/b.sdcb"));
+  const auto j = nlohmann::json::parse(ReadBytes(dir + "/report.json"));
+  ASSERT_EQ(j["reached_target"], false);
+  const std::string reason = j["shortfall"];
+  EXPECT_FALSE(reason.empty());
+  EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(reason), std::string::npos) << r.err;
+}
+
+// --accept-folds changes which round is returned, so the model records it.
+TEST(FitCliTest, AcceptFoldsIsRecordedInTheModel) {
+  const std::string dir = FreshTestDir();
+  for (bool accept : {false, true}) {
+    const std::string model = dir + (accept ? "/a.sdcb" : "/b.sdcb");
+    std::vector<std::string> args = {"fit",    MeshPath("blobby.off"), "-o",
+                                     model,    "--max-rounds",         "1",
+                                     "--quiet"};
+    if (accept) args.push_back("--accept-folds");
+    ASSERT_EQ(RunSdcb(args, dir).exit_code, 0);
+    ASSERT_EQ(RunSdcb({"dump", model, "-o", model + ".json"}, dir).exit_code,
+              0);
+    const auto dump = nlohmann::json::parse(ReadBytes(model + ".json"));
+    EXPECT_EQ(dump["statistics"]["options"]["fallback_accepts_folds"], accept);
+  }
+}
+
 TEST(FitCliTest, EvalAtTheStoredParametersReproducesTheReportedErrors) {
   const std::string dir = FreshTestDir();
   const std::string model = FitBlobby(dir, "2", {"--store-parameters"});
