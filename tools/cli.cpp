@@ -1,7 +1,10 @@
 #include "tools/cli.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 #include "sdcb/core/mesh/mesh_repair.h"
@@ -115,6 +118,13 @@ Status WriteTextOutput(const std::string& path, const std::string& text) {
                      : IoError("writing to standard output failed");
   }
   return WriteFileAtomically(text, path);
+}
+
+std::string LowercaseExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext;
 }
 
 Status PrepareOutputs(const std::vector<std::string>& paths) {

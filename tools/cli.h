@@ -52,6 +52,9 @@ int ReportError(const Status& status);
 // Writes `text` to `path` atomically, or to stdout when `path` is "-".
 Status WriteTextOutput(const std::string& path, const std::string& text);
 
+// The extension of `path` in lower case, with its dot (".obj"), or "".
+std::string LowercaseExtension(const std::string& path);
+
 // Before any work: checks that each output can be written (io/atomic_file.h
 // CheckWritableDestination; "" and "-" are skipped) and registers it so
 // that an interrupted run leaves no temporary file (tools/interrupts.h).

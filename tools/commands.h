@@ -30,6 +30,7 @@ int RunEval(const std::vector<std::string>& args);
 int RunCompare(const std::vector<std::string>& args);
 int RunExport(const std::vector<std::string>& args);
 int RunBatch(const std::vector<std::string>& args);
+int RunCage(const std::vector<std::string>& args);
 
 }  // namespace sdcb::cli
 

@@ -34,13 +34,6 @@ double Since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-std::string Extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
-
 // Fraction of the tolerance given to position quantization when a
 // compressed glTF is written; the tessellation gets the rest.
 constexpr double kQuantizationShare = 0.1;
@@ -202,7 +195,7 @@ int RunExport(const std::vector<std::string>& argv) {
   const std::string model_path = args.positionals()[0];
   const std::string output = args.Get("output");
   if (output.empty()) throw UsageError{"missing -o OUT.{obj,ply,stl,gltf,glb}"};
-  const std::string ext = Extension(output);
+  const std::string ext = LowercaseExtension(output);
   const bool gltf = ext == ".gltf" || ext == ".glb";
   if (!IsExportExtension(ext)) {
     throw UsageError{"unknown output extension '" + ext + "' in " + output +

@@ -82,6 +82,14 @@ commands:
                              JOB_COMPLETION_INDEX with SDCB_SHARD_COUNT)
                              takes every N-th row. Exit 1 if any row failed.
                              docs/BATCH.md.
+  cage MODEL.sdcb -o CAGE.obj [--scheme catmark|loop] [--faces N]
+       [--tolerance PCT] [--json FILE] [--quiet]
+                             Fit a subdivision cage (Catmull-Clark quads by
+                             default, or Loop triangles) whose limit surface
+                             follows the model's surface; refined until the
+                             two-sided rms is within PCT (default 0.1) or the
+                             cage would exceed N faces (default 20000).
+                             docs/CAGE.md.
 
 PCT values are percent of the largest side of the input's bounding box.
 
@@ -127,6 +135,7 @@ int main(int argc, char** argv) {
     if (command == "compare") return RunCompare(args);
     if (command == "export") return RunExport(args);
     if (command == "batch") return RunBatch(args);
+    if (command == "cage") return RunCage(args);
     std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;
   } catch (const UsageError& e) {

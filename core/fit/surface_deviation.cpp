@@ -194,8 +194,11 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   out.lattice_level = level;
   out.surface_samples = ns;
   out.surface_sample_points = lattice.points;
+  out.surface_sample_positions = image.vertices;
   out.surface_sample_knot_triangle = lattice.knot_triangle;
   out.surface_sample_distance_percent.resize(ns);
+  out.surface_sample_mesh_face.resize(ns);
+  out.surface_sample_mesh_point.resize(ns, 3);
   std::vector<char> folded(ns, 0);
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, ns, 256),
@@ -204,6 +207,8 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
           const MeshDistance::Closest c =
               to_mesh.Find(image.vertices.row(i).transpose());
           out.surface_sample_distance_percent[i] = to_percent * c.distance;
+          out.surface_sample_mesh_face[i] = c.face;
+          out.surface_sample_mesh_point.row(i) = c.point.transpose();
           // The lattice's normal is only a hint where it is coarse: a
           // suspected fold is confirmed with the spline's own normal.
           if (to_mesh.Opposes(c, normal.row(i).transpose())) {
@@ -227,6 +232,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
         std::max(out.surface_to_mesh_max_percent, d);
   }
   out.surface_area = area;
+  out.surface_sample_weight = weight;
   out.surface_to_mesh_rms_percent =
       area > 0 ? std::sqrt(sum_squares / area) : 0;
   out.folded_area_percent = area > 0 ? 100.0 * folded_area / area : 0;

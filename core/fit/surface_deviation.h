@@ -80,7 +80,15 @@ struct SurfaceDeviation {
   // Every surface sample: its sphere point, its distance to the mesh
   // (percent) and whether it is folded.
   Eigen::MatrixX3d surface_sample_points;
+  // F at every surface sample (the points measured), and the closest point
+  // of the mesh to it with the triangle holding that point.
+  Eigen::MatrixX3d surface_sample_positions;
+  Eigen::MatrixX3d surface_sample_mesh_point;
+  std::vector<int> surface_sample_mesh_face;
   Eigen::VectorXd surface_sample_distance_percent;
+  // The surface area each sample stands for (length units^2; sums to
+  // surface_area).
+  Eigen::VectorXd surface_sample_weight;
   std::vector<bool> surface_sample_folded;
   // The knot triangle of each surface sample: an index into
   // ComputeDelaunayConfigurations(surface.knots(), 0).sets.

@@ -5,7 +5,7 @@
 # the file, and leave no file behind.
 #   meshes: sdcb check FILE; sdcb fit FILE -o OUT/m.sdcb --json OUT/f.json
 #   models: sdcb info FILE --json OUT/i.json; eval FILE -i P -o OUT/v.txt;
-#           dump FILE -o OUT/d.json
+#           dump FILE -o OUT/d.json; cage FILE -o OUT/c.obj --json OUT/c.json
 # Usage: malformed_corpus_test.sh SDCB_BINARY CORPUS_DIR WORK_DIR
 # SDCB_CORPUS_NO_ULIMIT=1 drops the ulimit (for the AddressSanitizer build,
 # whose shadow memory needs terabytes of address space).
@@ -108,6 +108,7 @@ for f in "$corpus"/* "$gen"/*; do
       run "$name" info "$f" --json "$work/out/i.json"
       run "$name" eval "$f" -i "$work/points.txt" -o "$work/out/v.txt"
       run "$name" dump "$f" -o "$work/out/d.json"
+      run "$name" cage "$f" -o "$work/out/c.obj" --json "$work/out/c.json" --quiet
       ;;
   esac
 done

@@ -1,0 +1,374 @@
+#include "sdcb/converters/subdivision_cage.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <utility>
+
+#include "sdcb/core/fit/least_squares.h"
+
+namespace sdcb {
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// The k^2 sample parameters of one face: centres of a k by k grid (quads),
+// centroids of the k^2 triangles of a level-k lattice (triangles).
+std::vector<Eigen::Vector2d> FaceSampleParameters(bool triangle, int k) {
+  std::vector<Eigen::Vector2d> uv;
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; j < (triangle ? k - i : k); ++j) {
+      if (!triangle) {
+        uv.emplace_back((j + 0.5) / k, (i + 0.5) / k);
+        continue;
+      }
+      uv.emplace_back((j + 1.0 / 3) / k, (i + 1.0 / 3) / k);
+      if (i + j < k - 1) uv.emplace_back((j + 2.0 / 3) / k, (i + 2.0 / 3) / k);
+    }
+  }
+  return uv;
+}
+
+// Area of the flat polygon through a face's sphere corners.
+double SphereFaceArea(const SphereCage& layout, int f) {
+  const auto& c = layout.faces[f];
+  const Eigen::Vector3d a = layout.sphere_points.row(c[0]);
+  const Eigen::Vector3d b = layout.sphere_points.row(c[1]);
+  const Eigen::Vector3d d = layout.sphere_points.row(c[2]);
+  if (layout.face_size == 3) return 0.5 * (b - a).cross(d - a).norm();
+  const Eigen::Vector3d e = layout.sphere_points.row(c[3]);
+  return 0.5 * (d - a).cross(e - b).norm();
+}
+
+// Rows of the cage's least-squares system in one design matrix: the samples'
+// limit stencils (scaled by sqrt(weight)), then one umbrella row per cage
+// vertex (scaled by `fairing_scale`).
+DesignMatrix BuildCageDesign(const LimitSurface& limit,
+                             const std::vector<int>& face,
+                             const Eigen::MatrixX2d& uv,
+                             const Eigen::VectorXd& row_scale,
+                             const std::vector<std::vector<int>>& neighbours,
+                             double fairing_scale) {
+  const Eigen::Index ns = uv.rows();
+  const Eigen::Index nv = static_cast<Eigen::Index>(neighbours.size());
+  std::vector<std::vector<std::pair<int, double>>> rows(ns);
+  tbb::parallel_for(
+      tbb::blocked_range<Eigen::Index>(0, ns, 256),
+      [&](const tbb::blocked_range<Eigen::Index>& range) {
+        LimitStencil s;
+        for (Eigen::Index r = range.begin(); r < range.end(); ++r) {
+          limit.Stencil(face[r], uv(r, 0), uv(r, 1), &s);
+          auto& row = rows[r];
+          row.clear();
+          for (size_t k = 0; k < s.indices.size(); ++k) {
+            row.emplace_back(s.indices[k], row_scale[r] * s.position[k]);
+          }
+          // Ascending columns, repeated vertices (a tiny cage) summed.
+          std::sort(row.begin(), row.end());
+          size_t out = 0;
+          for (size_t k = 0; k < row.size(); ++k) {
+            if (out > 0 && row[out - 1].first == row[k].first) {
+              row[out - 1].second += row[k].second;
+            } else {
+              row[out++] = row[k];
+            }
+          }
+          row.resize(out);
+        }
+      });
+  Eigen::Index nonzeros = 0;
+  for (const auto& row : rows)
+    nonzeros += static_cast<Eigen::Index>(row.size());
+  for (const auto& n : neighbours)
+    nonzeros += static_cast<Eigen::Index>(n.size()) + 1;
+  DesignMatrix a(ns + nv, nv);
+  a.resizeNonZeros(nonzeros);
+  Eigen::Index at = 0;
+  auto* outer = a.outerIndexPtr();
+  for (Eigen::Index r = 0; r < ns; ++r) {
+    outer[r] = static_cast<int>(at);
+    for (const auto& [col, value] : rows[r]) {
+      a.innerIndexPtr()[at] = col;
+      a.valuePtr()[at++] = value;
+    }
+  }
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    outer[ns + i] = static_cast<int>(at);
+    const std::vector<int>& n = neighbours[i];
+    const double w = -fairing_scale / static_cast<double>(n.size());
+    bool placed = false;
+    for (int j : n) {
+      if (!placed && j > i) {
+        a.innerIndexPtr()[at] = static_cast<int>(i);
+        a.valuePtr()[at++] = fairing_scale;
+        placed = true;
+      }
+      a.innerIndexPtr()[at] = j;
+      a.valuePtr()[at++] = w;
+    }
+    if (!placed) {
+      a.innerIndexPtr()[at] = static_cast<int>(i);
+      a.valuePtr()[at++] = fairing_scale;
+    }
+  }
+  outer[ns + nv] = static_cast<int>(at);
+  return a;
+}
+
+std::vector<std::vector<int>> VertexNeighbours(const SphereCage& layout) {
+  std::vector<std::vector<int>> n(layout.num_vertices());
+  const int corners = layout.face_size;
+  for (const auto& f : layout.faces) {
+    for (int k = 0; k < corners; ++k) {
+      const int a = f[k], b = f[(k + 1) % corners];
+      n[a].push_back(b);
+      n[b].push_back(a);
+    }
+  }
+  for (auto& list : n) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  return n;
+}
+
+Status CheckOptions(const CageOptions& o) {
+  if (!(o.tolerance_percent > 0) || o.max_faces < 1 || o.max_rounds < 1 ||
+      o.initial_levels < 0 || o.initial_levels > 8 || o.samples_per_side < 1 ||
+      !(o.fairing >= 0) || o.parameter_corrections < 0 ||
+      !(o.refine_share > 0 && o.refine_share <= 1) || !(o.max_growth > 1) ||
+      !(o.length_unit > 0) || o.measure_samples < 1 ||
+      o.round_samples_per_face < 1) {
+    return InvalidArgumentError("subdivision cage: invalid options");
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+StatusOr<Eigen::MatrixX3d> FitCagePositions(const SphericalSpline& spline,
+                                            const SphereCage& layout,
+                                            const LimitSurface& limit,
+                                            const CageOptions& options) {
+  SDCB_RETURN_IF_ERROR(CheckOptions(options));
+  const int nf = layout.num_faces();
+  if (limit.num_faces() != nf ||
+      limit.num_vertices() != layout.num_vertices()) {
+    return InvalidArgumentError(
+        "subdivision cage: the layout and the limit surface differ");
+  }
+  const bool triangle = layout.face_size == 3;
+  const std::vector<Eigen::Vector2d> local =
+      FaceSampleParameters(triangle, options.samples_per_side);
+  const int spf = static_cast<int>(local.size());
+  const Eigen::Index ns = static_cast<Eigen::Index>(nf) * spf;
+
+  // Samples: face, (u, v), sphere point; the spline there is the target.
+  std::vector<int> face(ns);
+  Eigen::MatrixX2d uv(ns, 2);
+  Eigen::MatrixX3d sphere(ns, 3);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < spf; ++k) {
+      const Eigen::Index r = static_cast<Eigen::Index>(f) * spf + k;
+      face[r] = f;
+      uv.row(r) = local[k].transpose();
+      sphere.row(r) = layout.SpherePoint(f, local[k][0], local[k][1]);
+    }
+  }
+  const std::vector<SurfacePoint> jets =
+      spline.EvaluateDifferentialMany(sphere, JetOrder::kGradient);
+  Eigen::MatrixX3d targets(ns, 3);
+  Eigen::VectorXd weight(ns);
+  for (Eigen::Index r = 0; r < ns; ++r) {
+    targets.row(r) = jets[r].position;
+    // The spline's area the sample stands for.
+    weight[r] = jets[r].du.cross(jets[r].dv).norm() *
+                SphereFaceArea(layout, face[r]) / spf;
+  }
+  const double mean = weight.mean();
+  if (!(mean > 0) || !std::isfinite(mean)) {
+    return InvalidInputError("subdivision cage: the spline has no area");
+  }
+  weight /= mean;
+  const Eigen::VectorXd scale = weight.cwiseSqrt();
+  const std::vector<std::vector<int>> neighbours = VertexNeighbours(layout);
+  const double fairing_scale = std::sqrt(
+      options.fairing * static_cast<double>(ns) / layout.num_vertices());
+
+  // The prior of the regularization: the cage pulled through the spline.
+  const Eigen::MatrixX3d prior = spline.EvaluateMany(layout.sphere_points);
+  Eigen::MatrixX3d rhs = Eigen::MatrixX3d::Zero(ns + layout.num_vertices(), 3);
+  rhs.topRows(ns) = scale.asDiagonal() * targets;
+  Eigen::MatrixX3d cage;
+  for (int pass = 0; pass <= options.parameter_corrections; ++pass) {
+    if (pass > 0) {
+      // Each sample moves to its closest point of the current limit surface.
+      tbb::parallel_for(
+          tbb::blocked_range<Eigen::Index>(0, ns, 256),
+          [&](const tbb::blocked_range<Eigen::Index>& range) {
+            for (Eigen::Index r = range.begin(); r < range.end(); ++r) {
+              double u = uv(r, 0), v = uv(r, 1);
+              ClosestOnLimitFace(limit, cage, face[r],
+                                 targets.row(r).transpose(), 2, &u, &v);
+              uv(r, 0) = u;
+              uv(r, 1) = v;
+            }
+          });
+    }
+    const DesignMatrix design =
+        BuildCageDesign(limit, face, uv, scale, neighbours, fairing_scale);
+    SDCB_ASSIGN_OR_RETURN(cage,
+                          SolveRegularizedLeastSquares(design, rhs, prior));
+  }
+  return cage;
+}
+
+StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
+                                     const CageOptions& options) {
+  SDCB_RETURN_IF_ERROR(CheckOptions(options));
+  const auto start = std::chrono::steady_clock::now();
+  const CageCellShape shape = options.scheme == SubdivisionScheme::kLoop
+                                  ? CageCellShape::kTriangle
+                                  : CageCellShape::kQuad;
+  int levels = options.initial_levels;
+  SphereCageTopology topology = SphereCageTopology::Create(shape, levels);
+  while (levels > 0 && topology.cage().num_faces() > options.max_faces) {
+    topology = SphereCageTopology::Create(shape, --levels);
+  }
+  if (topology.cage().num_faces() > options.max_faces) {
+    return InvalidArgumentError(
+        "subdivision cage: the face budget is smaller than the coarsest "
+        "cage (" +
+        std::to_string(topology.cage().num_faces()) + " faces)");
+  }
+  CageDeviationOptions measure;
+  measure.length_unit = options.length_unit;
+
+  CageFit fit;
+  for (int round = 0;; ++round) {
+    const SphereCage& layout = topology.cage();
+    SDCB_ASSIGN_OR_RETURN(
+        const LimitSurface limit,
+        LimitSurface::Create(options.scheme, layout.num_vertices(),
+                             layout.faces));
+    SDCB_ASSIGN_OR_RETURN(Eigen::MatrixX3d positions,
+                          FitCagePositions(spline, layout, limit, options));
+    measure.min_samples = std::min(
+        options.measure_samples,
+        std::max(10000, options.round_samples_per_face * layout.num_faces()));
+    SDCB_ASSIGN_OR_RETURN(
+        CageDeviation deviation,
+        MeasureCageDeviation(spline, limit, positions, nullptr, measure));
+    CageRound r;
+    r.round = round;
+    r.faces = layout.num_faces();
+    r.vertices = layout.num_vertices();
+    r.limit_rmse_percent = deviation.rms_percent;
+    r.limit_max_error_percent = deviation.max_percent;
+    r.seconds = SecondsSince(start);
+    fit.rounds.push_back(r);
+    if (options.on_round) options.on_round(r);
+    fit.cage.scheme = options.scheme;
+    fit.cage.vertices = std::move(positions);
+    fit.cage.layout = layout;
+    fit.deviation = std::move(deviation);
+    if (fit.deviation.rms_percent <= options.tolerance_percent) {
+      fit.stop_reason = "tolerance reached";
+      break;
+    }
+    if (round + 1 >= options.max_rounds) {
+      fit.stop_reason = "round limit reached";
+      break;
+    }
+
+    // Dorfler marking over the leaves: the fewest leaves holding
+    // refine_share of the squared error.
+    std::vector<double> mass(1, 0.0);
+    for (int f = 0; f < layout.num_faces(); ++f) {
+      const int cell = layout.face_cell[f];
+      if (cell >= static_cast<int>(mass.size())) mass.resize(cell + 1, 0.0);
+      mass[cell] += fit.deviation.face_squared_error[f];
+    }
+    std::vector<int> cells;
+    for (int c = 0; c < static_cast<int>(mass.size()); ++c) {
+      if (mass[c] > 0) cells.push_back(c);
+    }
+    std::stable_sort(cells.begin(), cells.end(),
+                     [&](int a, int b) { return mass[a] > mass[b]; });
+    const double total = std::accumulate(mass.begin(), mass.end(), 0.0);
+    size_t marked = 0;
+    for (double sum = 0;
+         marked < cells.size() && sum < options.refine_share * total;
+         ++marked) {
+      sum += mass[cells[marked]];
+    }
+    // Within the growth limit (at least one leaf) and the face budget:
+    // fewer leaves until the refined cage fits.
+    const int growth =
+        static_cast<int>(options.max_growth * layout.num_faces());
+    bool refined = false;
+    while (marked > 0) {
+      SphereCageTopology next = topology;
+      next.Refine(std::vector<int>(cells.begin(), cells.begin() + marked));
+      const int faces = next.cage().num_faces();
+      if (faces <= options.max_faces && (faces <= growth || marked == 1)) {
+        topology = std::move(next);
+        refined = true;
+        break;
+      }
+      marked /= 2;
+    }
+    if (!refined) {
+      fit.stop_reason = "face budget reached";
+      break;
+    }
+  }
+  // The returned cage measured at full density, with the sphere layout as a
+  // second start of every closest-point search.
+  SDCB_ASSIGN_OR_RETURN(
+      const LimitSurface limit,
+      LimitSurface::Create(options.scheme, fit.cage.layout.num_vertices(),
+                           fit.cage.layout.faces));
+  measure.min_samples = options.measure_samples;
+  SDCB_ASSIGN_OR_RETURN(fit.deviation,
+                        MeasureCageDeviation(spline, limit, fit.cage.vertices,
+                                             &fit.cage.layout, measure));
+  fit.seconds = SecondsSince(start);
+  return fit;
+}
+
+std::string CageObjText(const SubdivisionCage& cage,
+                        const Eigen::MatrixX3d& positions) {
+  const SphereCage& layout = cage.layout;
+  std::string text = "# sdcb cage: ";
+  text += cage.scheme == SubdivisionScheme::kLoop
+              ? "Loop subdivision (triangles)"
+              : "Catmull-Clark subdivision (quads)";
+  text += ", " + std::to_string(positions.rows()) + " vertices, " +
+          std::to_string(layout.num_faces()) + " faces\n";
+  char buffer[128];
+  for (Eigen::Index i = 0; i < positions.rows(); ++i) {
+    std::snprintf(buffer, sizeof buffer, "v %.17g %.17g %.17g\n",
+                  positions(i, 0), positions(i, 1), positions(i, 2));
+    text += buffer;
+  }
+  for (const auto& f : layout.faces) {
+    text += "f";
+    for (int k = 0; k < layout.face_size; ++k) {
+      text += ' ' + std::to_string(f[k] + 1);
+    }
+    text += '\n';
+  }
+  return text;
+}
+
+}  // namespace sdcb

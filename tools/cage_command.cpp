@@ -1,0 +1,136 @@
+// sdcb cage MODEL.sdcb -o CAGE.obj [--scheme catmark|loop] [--faces N]
+//           [--tolerance PCT] [--json FILE] [--quiet]
+// A subdivision cage whose limit surface follows the model's surface
+// (converters/subdivision_cage.h, docs/CAGE.md).
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "sdcb/converters/subdivision_cage.h"
+#include "sdcb/io/atomic_file.h"
+#include "sdcb/io/sdcb_file.h"
+#include "tools/cli.h"
+#include "tools/commands.h"
+#include "tools/progress.h"
+
+namespace sdcb::cli {
+
+int RunCage(const std::vector<std::string>& argv) {
+  const Args args(argv, {"output", "scheme", "faces", "tolerance", "json"},
+                  {"quiet"});
+  args.RequirePositionals(1,
+                          "MODEL (usage: sdcb cage MODEL.sdcb -o CAGE.obj "
+                          "[--scheme catmark|loop] [--faces N] "
+                          "[--tolerance PCT] [--json FILE])");
+  const std::string& path = args.positionals()[0];
+  const std::string output = args.Get("output");
+  if (output.empty()) throw UsageError{"missing -o CAGE.obj"};
+  if (LowercaseExtension(output) != ".obj") {
+    throw UsageError{
+        "the cage is written as Wavefront OBJ: -o must name a "
+        ".obj file, not '" +
+        output + "'"};
+  }
+  CageOptions options;
+  const std::string scheme = args.Get("scheme", "catmark");
+  if (scheme == "loop") {
+    options.scheme = SubdivisionScheme::kLoop;
+  } else if (scheme != "catmark") {
+    throw UsageError{"--scheme takes 'catmark' or 'loop', not '" + scheme +
+                     "'"};
+  }
+  options.max_faces = args.GetInt("faces", options.max_faces, 1, 10000000);
+  options.tolerance_percent =
+      args.GetDouble("tolerance", options.tolerance_percent, 1e-6, 100);
+
+  // Outputs are checked before the work (tools/cli.h).
+  const Status outputs = PrepareOutputs({output, args.Get("json")});
+  if (!outputs.ok()) return ReportError(outputs);
+  StatusOr<SplineModel> model = ReadSdcbFile(path);
+  if (!model.ok()) return ReportError(model.status());
+  StatusOr<SphericalSpline> surface = SurfaceFromModel(*model);
+  if (!surface.ok()) return ReportError(surface.status().WithPrefix(path));
+
+  ProgressBar progress("sdcb cage", args.Has("quiet"));
+  options.on_round = [&](const CageRound& r) {
+    // Progress toward the tolerance or the face budget, whichever is nearer.
+    const double toward_tolerance =
+        std::min(1.0, options.tolerance_percent / r.limit_rmse_percent);
+    const double toward_budget =
+        static_cast<double>(r.faces) / options.max_faces;
+    progress.Update(
+        "round " + std::to_string(r.round) + ", " + std::to_string(r.faces) +
+            " faces",
+        std::max(toward_tolerance * toward_tolerance, toward_budget));
+  };
+  StatusOr<CageFit> fit = FitSubdivisionCage(*surface, options);
+  progress.Finish();
+  if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));
+
+  const SubdivisionCage& cage = fit->cage;
+  const CageDeviation& d = fit->deviation;
+  Status written = WriteFileAtomically(
+      CageObjText(cage, model->transform.ToInput(cage.vertices)), output);
+  if (!written.ok()) return ReportError(written);
+  if (args.Has("json")) {
+    nlohmann::ordered_json j;
+    j["model"] = path;
+    j["output"] = output;
+    j["scheme"] = scheme;
+    j["faces"] = cage.layout.num_faces();
+    j["vertices"] = cage.layout.num_vertices();
+    j["limit_rmse_percent"] = d.rms_percent;
+    j["limit_max_error_percent"] = d.max_percent;
+    j["limit_to_spline_rms_percent"] = d.limit_to_spline_rms_percent;
+    j["limit_to_spline_max_percent"] = d.limit_to_spline_max_percent;
+    j["spline_to_limit_rms_percent"] = d.spline_to_limit_rms_percent;
+    j["spline_to_limit_max_percent"] = d.spline_to_limit_max_percent;
+    j["folded_area_percent"] = d.folded_area_percent;
+    j["limit_samples"] = d.limit_samples;
+    j["spline_samples"] = d.spline_samples;
+    j["tolerance_percent"] = options.tolerance_percent;
+    j["max_faces"] = options.max_faces;
+    j["stop_reason"] = fit->stop_reason;
+    nlohmann::ordered_json rounds = nlohmann::ordered_json::array();
+    for (const CageRound& r : fit->rounds) {
+      rounds.push_back({{"round", r.round},
+                        {"faces", r.faces},
+                        {"vertices", r.vertices},
+                        {"limit_rmse_percent", r.limit_rmse_percent},
+                        {"limit_max_error_percent", r.limit_max_error_percent},
+                        {"seconds", r.seconds}});
+    }
+    j["rounds"] = rounds;
+    j["seconds"] = fit->seconds;
+    written = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
+    if (!written.ok()) {
+      // Nothing left behind: the cage goes with its report.
+      std::error_code ignored;
+      std::filesystem::remove(output, ignored);
+      return ReportError(written);
+    }
+  }
+  if (!args.Has("quiet") && args.Get("json") != "-") {
+    std::printf("%s -> %s: %s cage, %d faces, %d vertices, %d rounds (%s)\n",
+                path.c_str(), output.c_str(),
+                scheme == "loop" ? "Loop" : "Catmull-Clark",
+                cage.layout.num_faces(), cage.layout.num_vertices(),
+                static_cast<int>(fit->rounds.size()), fit->stop_reason.c_str());
+    std::printf(
+        "  limit surface vs spline: rms %.4f%%  max %.4f%%  (target rms "
+        "%.4f%%)  %.2f s\n",
+        d.rms_percent, d.max_percent, options.tolerance_percent, fit->seconds);
+  }
+  if (d.rms_percent > options.tolerance_percent) {
+    std::fprintf(stderr,
+                 "sdcb: %s: warning: limit rms %.4f%% did not reach the "
+                 "tolerance %.4f%% within %d faces\n",
+                 path.c_str(), d.rms_percent, options.tolerance_percent,
+                 options.max_faces);
+  }
+  return kExitOk;
+}
+
+}  // namespace sdcb::cli
