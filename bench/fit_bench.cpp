@@ -67,18 +67,18 @@ int main(int argc, char** argv) {
       options.fairness, options.samples_per_spacing, options.rmse_percent);
   std::printf(
       "round knots ctrl  | rms%%     max%%     fold%% | vrms%%    vmax%%   | "
-      "rows   split minS | s: knots  conf  basis  solve measure "
+      "rows   split minS minV | s: knots  conf  basis  solve measure "
       "round\n");
   for (size_t i = 0; i < s.rounds.size(); ++i) {
     const auto& r = s.rounds[i];
     const auto& d = fit->round_details[i];
     std::printf(
-        "%4d %5d %5d | %.5f %.5f %.4f | %.5f %.5f | %6d %5d %4d%s | "
+        "%4d %5d %5d | %.5f %.5f %.4f | %.5f %.5f | %6d %5d %4d %4d%s | "
         "%6.3f %5.3f %6.3f %6.3f %6.3f %6.3f\n",
         r.round, r.knots, r.control_points, r.rmse_percent, r.max_error_percent,
         r.folded_area_percent, r.vertex_rmse_percent,
         r.vertex_max_error_percent, d.data_samples, d.split_triangles,
-        d.min_samples_per_basis, d.closest_points ? "*" : " ",
+        d.min_samples_per_basis, d.min_vertices_per_basis, d.closest_points ? "*" : " ",
         d.timings.knot_placement, d.timings.configurations, d.timings.basis,
         d.timings.solve, d.timings.measure, d.timings.total);
   }

@@ -1,5 +1,6 @@
 #include "sdcb/io/atomic_file.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -11,20 +12,54 @@
 
 namespace sdcb {
 
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh temporary name for `path`: TemporaryFilePrefix + a counter.
+std::string TemporaryPath(const std::string& path) {
+  static std::atomic<int> counter{0};
+  return TemporaryFilePrefix(path) + std::to_string(counter++);
+}
+
+}  // namespace
+
+std::string TemporaryFilePrefix(const std::string& path) {
+  const fs::path target(path);
+  return (target.parent_path() / ("." + target.filename().string() + ".tmp." +
+                                  std::to_string(::getpid()) + "."))
+      .string();
+}
+
+Status CheckWritableDestination(const std::string& path) {
+  std::error_code ec;
+  if (path.empty()) return IoError("an empty output path was given");
+  if (fs::is_directory(path, ec)) {
+    return IoError(path + ": is a directory; cannot write the output there");
+  }
+  const fs::path folder = fs::path(path).parent_path();
+  if (!folder.empty() && !fs::is_directory(folder, ec)) {
+    return IoError(path + ": the folder " + folder.string() +
+                   " does not exist");
+  }
+  const std::string temp = TemporaryPath(path);
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+  if (fd < 0) {
+    return IoError(path + ": cannot create the output file (" +
+                   std::strerror(errno) + ")");
+  }
+  ::close(fd);
+  ::unlink(temp.c_str());
+  return Status::Ok();
+}
+
 Status WriteFileAtomically(const std::function<Status(std::ostream&)>& write,
                            const std::string& path) {
-  namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
     return IoError(path + ": is a directory; cannot write the output there");
   }
-  static std::atomic<int> counter{0};
-  const fs::path target(path);
-  const std::string temp =
-      (target.parent_path() /
-       ("." + target.filename().string() + ".tmp." +
-        std::to_string(::getpid()) + "." + std::to_string(counter++)))
-          .string();
+  const std::string temp = TemporaryPath(path);
   {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
     if (!out) {

@@ -24,6 +24,19 @@ Status WriteFileAtomically(const std::function<Status(std::ostream&)>& write,
 Status WriteFileAtomically(const std::string& contents,
                            const std::string& path);
 
+// Checks, before any work, that WriteFileAtomically(..., path) could succeed
+// as far as the file system tells: `path` is not a directory, its folder
+// exists, and a temporary file can be created there (it is created and
+// removed at once; `path` itself is not touched). Messages start with
+// `path`.
+Status CheckWritableDestination(const std::string& path);
+
+// Every temporary file WriteFileAtomically(..., path) creates in this
+// process has a name that starts with this prefix (in the folder of
+// `path`): "<folder>/.<name>.tmp.<pid>.". A program that must remove them
+// when it is interrupted (the CLI's signal handling) matches it.
+std::string TemporaryFilePrefix(const std::string& path);
+
 }  // namespace sdcb
 
 #endif  // SDCB_IO_ATOMIC_FILE_H_

@@ -212,7 +212,15 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
         i < fit.round_details.size() ? fit.round_details[i].timings.total : 0.0;
     rounds.push_back(std::move(r));
   }
-  report["final"] = rounds.empty() ? ojson::object() : rounds.back();
+  // The returned round (the last one, or the best when the target was
+  // missed), with its seconds.
+  ojson final_round = record["final"];
+  const int returned = stats.final_result.round;
+  final_round["seconds"] =
+      returned >= 0 && returned < static_cast<int>(fit.round_details.size())
+          ? fit.round_details[returned].timings.total
+          : 0.0;
+  report["final"] = std::move(final_round);
   report["rounds"] = std::move(rounds);
   report["options"] = record["options"];
   const StageTimings& t = fit.timings;

@@ -7,7 +7,8 @@ cd "$(dirname "$0")/.."
 PACKAGES=(build-essential cmake ninja-build pkg-config
   libeigen3-dev libcgal-dev libcgal-demo libopenmesh-dev libtinygltf-dev
   nlohmann-json3-dev libosd-dev libdraco-dev libgtest-dev libtbb-dev
-  libsuitesparse-dev zlib1g-dev)
+  libsuitesparse-dev zlib1g-dev libmeshoptimizer-dev
+  clang libclang-rt-14-dev)
 
 as_root() {
   if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
@@ -36,6 +37,22 @@ if [ ! -f data/meshes/bunny00.off ]; then
   tar -xzf "$archive" -C data/meshes.tmp data/meshes
   rm -rf data/meshes && mv data/meshes.tmp/data/meshes data/meshes && rm -rf data/meshes.tmp
   echo "setup: extracted $(ls data/meshes | wc -l) meshes into data/meshes"
+fi
+
+# Node.js + npm (Debian's, if no node is installed) and the npm glTF tools
+# the tests use (Khronos glTF validator, glTF Transform), installed into
+# scripts/gltf_tools/node_modules: nothing global.
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  echo "setup: installing nodejs npm"
+  as_root apt-get update -qq
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends nodejs npm
+fi
+if [ ! -f scripts/gltf_tools/node_modules/.sdcb-installed ] ||
+   [ scripts/gltf_tools/package.json -nt scripts/gltf_tools/node_modules/.sdcb-installed ]; then
+  echo "setup: installing the npm glTF tools into scripts/gltf_tools/node_modules"
+  # --ignore-scripts: no install script may download binaries (sharp's).
+  (cd scripts/gltf_tools && npm install --no-audit --no-fund --ignore-scripts --loglevel=error)
+  touch scripts/gltf_tools/node_modules/.sdcb-installed
 fi
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > build.configure.log 2>&1 || {

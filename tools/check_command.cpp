@@ -1,4 +1,5 @@
-// sdcb check MESH [--json FILE]: is this mesh something sdcb can fit?
+// sdcb check MESH [--json FILE] [--repair] [--max-file-mb N]
+//                 [--max-memory-mb N]: is this mesh something sdcb can fit?
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -11,17 +12,29 @@
 namespace sdcb::cli {
 
 int RunCheck(const std::vector<std::string>& argv) {
-  const Args args(argv, {"json"}, {"quiet"});
+  const Args args(argv, Concat({"json"}, kMeshValueOptions),
+                  Concat({"quiet"}, kMeshFlagOptions));
   args.RequirePositionals(1, "MESH (usage: sdcb check MESH [--json FILE])");
   const std::string& path = args.positionals()[0];
+  const Status outputs = PrepareOutputs({args.Get("json")});
+  if (!outputs.ok()) return ReportError(outputs);
 
   MeshReadInfo read_info;
-  StatusOr<TriangleMesh> mesh = ReadMesh(path, &read_info);
+  StatusOr<TriangleMesh> mesh =
+      ReadMesh(path, &read_info, MeshReadLimitsFromArgs(args));
   if (!mesh.ok()) return ReportError(mesh.status());
+  const Status repaired = RepairIfAsked(args, path, &*mesh);
+  if (!repaired.ok()) return ReportError(repaired);
   StatusOr<MeshTopologyReport> report = AnalyzeMeshTopology(*mesh);
   if (!report.ok()) return ReportError(report.status().WithPrefix(path));
   const MeshTopologyReport& r = *report;
   const std::string problem = DescribeTopologyProblem(r);
+  // Self-intersections are tested on meshes that are otherwise fine (in a
+  // soup or an open mesh, touching pieces would count); -1 when not tested.
+  std::string skipped_because =
+      "the mesh is not a closed genus-0 manifold (see the other counts)";
+  const long long self_intersections =
+      r.ok ? WarnAboutSelfIntersections(path, *mesh, &skipped_because) : -1;
 
   if (args.Has("json")) {
     nlohmann::ordered_json j;
@@ -41,6 +54,13 @@ int RunCheck(const std::vector<std::string>& argv) {
     j["degenerate_faces"] = r.degenerate_faces;
     j["duplicate_vertices"] = r.duplicate_vertices;
     j["unreferenced_vertices"] = r.unreferenced_vertices;
+    if (self_intersections >= 0) {
+      j["self_intersections"] = self_intersections;
+    } else {
+      j["self_intersections"] = nullptr;
+      j["self_intersections_skipped"] = skipped_because;
+    }
+    j["repaired"] = args.Has("repair");
     j["ok"] = r.ok;
     j["problem"] = problem;
     const Status written = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
@@ -68,6 +88,11 @@ int RunCheck(const std::vector<std::string>& argv) {
     row("degenerate faces", r.degenerate_faces);
     row("duplicate vertices", r.duplicate_vertices);
     row("unreferenced vertices", r.unreferenced_vertices);
+    if (self_intersections >= 0) {
+      row("self-intersecting pairs", self_intersections);
+    } else {
+      std::printf("  %-30s %12s\n", "self-intersecting pairs", "not tested");
+    }
     std::printf("  %-30s %12s\n", "ok (closed genus-0 manifold)",
                 r.ok ? "yes" : "no");
     std::fflush(stdout);

@@ -4,7 +4,11 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "sdcb/core/mesh/mesh_repair.h"
+#include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/io/atomic_file.h"
+#include "tools/interrupts.h"
 
 namespace sdcb::cli {
 
@@ -111,6 +115,85 @@ Status WriteTextOutput(const std::string& path, const std::string& text) {
                      : IoError("writing to standard output failed");
   }
   return WriteFileAtomically(text, path);
+}
+
+Status PrepareOutputs(const std::vector<std::string>& paths) {
+  for (const std::string& path : paths) {
+    if (path.empty() || path == "-") continue;
+    // Registered first: the check itself creates a temporary file.
+    RemoveTemporariesOnInterrupt(path);
+    SDCB_RETURN_IF_ERROR(CheckWritableDestination(path));
+  }
+  return Status::Ok();
+}
+
+const std::vector<std::string> kMeshValueOptions = {"max-file-mb",
+                                                    "max-memory-mb"};
+const std::vector<std::string> kMeshFlagOptions = {"repair"};
+
+std::vector<std::string> Concat(std::vector<std::string> a,
+                                const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+MeshReadLimits MeshReadLimitsFromArgs(const Args& args) {
+  MeshReadLimits limits;
+  constexpr int kMaxMb = 1 << 30;  // a petabyte
+  limits.max_file_bytes =
+      int64_t{args.GetInt("max-file-mb",
+                          static_cast<int>(limits.max_file_bytes >> 20), 1,
+                          kMaxMb)}
+      << 20;
+  limits.max_memory_bytes =
+      int64_t{args.GetInt("max-memory-mb",
+                          static_cast<int>(limits.max_memory_bytes >> 20), 1,
+                          kMaxMb)}
+      << 20;
+  return limits;
+}
+
+Status RepairIfAsked(const Args& args, const std::string& path,
+                     TriangleMesh* mesh) {
+  if (!args.Has("repair")) return Status::Ok();
+  MeshRepairReport report;
+  StatusOr<TriangleMesh> repaired = RepairMesh(*mesh, {}, &report);
+  if (!repaired.ok()) {
+    return repaired.status().WithPrefix(path);
+  }
+  *mesh = std::move(repaired).value();
+  std::cerr << "sdcb: " << path << ": repaired: " << report.Describe() << "\n";
+  return Status::Ok();
+}
+
+long long WarnAboutSelfIntersections(const std::string& path,
+                                     const TriangleMesh& mesh,
+                                     std::string* skipped_because) {
+  const StatusOr<SelfIntersectionReport> report = FindSelfIntersections(mesh);
+  if (!report.ok() || !report->checked) {
+    if (skipped_because != nullptr) {
+      *skipped_because =
+          report.ok() ? report->skipped_because : report.status().message();
+    }
+    return -1;
+  }
+  if (report->intersecting_pairs > 0) {
+    std::cerr << "sdcb: " << path << ": warning: " << report->intersecting_pairs
+              << (report->intersecting_pairs == 1 ? " pair" : " pairs")
+              << " of triangles intersect (the surface passes through "
+                 "itself; a fitted surface would too)\n";
+  }
+  return report->intersecting_pairs;
+}
+
+StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,
+                                        const std::string& path) {
+  SDCB_ASSIGN_OR_RETURN(TriangleMesh mesh,
+                        ReadMesh(path, nullptr, MeshReadLimitsFromArgs(args)));
+  SDCB_RETURN_IF_ERROR(RepairIfAsked(args, path, &mesh));
+  SDCB_RETURN_IF_ERROR(RequireClosedGenusZero(mesh).WithPrefix(path));
+  WarnAboutSelfIntersections(path, mesh);
+  return mesh;
 }
 
 }  // namespace sdcb::cli

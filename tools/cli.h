@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/io/mesh_reader.h"
 
 namespace sdcb::cli {
 
@@ -49,6 +51,41 @@ int ReportError(const Status& status);
 
 // Writes `text` to `path` atomically, or to stdout when `path` is "-".
 Status WriteTextOutput(const std::string& path, const std::string& text);
+
+// Before any work: checks that each output can be written (io/atomic_file.h
+// CheckWritableDestination; "" and "-" are skipped) and registers it so
+// that an interrupted run leaves no temporary file (tools/interrupts.h).
+Status PrepareOutputs(const std::vector<std::string>& paths);
+
+// The options of every command that reads a MESH: "--max-file-mb N",
+// "--max-memory-mb N" (MeshReadLimits) and the flag "--repair".
+extern const std::vector<std::string> kMeshValueOptions;
+extern const std::vector<std::string> kMeshFlagOptions;
+// `a` followed by `b`, for building option lists.
+std::vector<std::string> Concat(std::vector<std::string> a,
+                                const std::vector<std::string>& b);
+
+// The reading limits the mesh options ask for (defaults otherwise).
+MeshReadLimits MeshReadLimitsFromArgs(const Args& args);
+
+// With --repair: repairs `mesh` (core/mesh/mesh_repair.h) and prints what
+// changed on stderr ("sdcb: PATH: repaired: ..."); a mesh that cannot be
+// repaired is an error naming `path`. Without --repair: does nothing.
+Status RepairIfAsked(const Args& args, const std::string& path,
+                     TriangleMesh* mesh);
+
+// Counts self-intersections (core/mesh/self_intersections.h) and prints a
+// warning line on stderr when there are any. Returns the count, or -1 if
+// the test was skipped (the reason goes to `skipped_because`).
+long long WarnAboutSelfIntersections(const std::string& path,
+                                     const TriangleMesh& mesh,
+                                     std::string* skipped_because = nullptr);
+
+// What `fit` and `param` read: the MESH with the limits of the options,
+// repaired if asked, checked to be closed genus 0 (one sentence naming
+// `path` otherwise), with a warning if it intersects itself.
+StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,
+                                        const std::string& path);
 
 }  // namespace sdcb::cli
 

@@ -16,6 +16,7 @@ int RunDump(const std::vector<std::string>& args);
 int RunEval(const std::vector<std::string>& args);
 int RunCompare(const std::vector<std::string>& args);
 int RunCage(const std::vector<std::string>& args);
+int RunExport(const std::vector<std::string>& args);
 
 }  // namespace sdcb::cli
 

@@ -2,6 +2,7 @@
 //          [--max-rounds R] [--max-control-points M] [--lambda L]
 //          [--threads T] [--regularization R] [--store-parameters]
 //          [--quantize BITS] [--json FILE] [--plot FILE.svg] [--quiet]
+//          [--repair] [--max-file-mb N] [--max-memory-mb N]
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -20,11 +21,13 @@
 namespace sdcb::cli {
 
 int RunFit(const std::vector<std::string>& argv) {
-  const Args args(argv,
-                  {"output", "degree", "rmse", "knots-per-round", "max-rounds",
-                   "max-control-points", "lambda", "threads", "json", "plot",
-                   "regularization", "quantize"},
-                  {"quiet", "store-parameters"});
+  const Args args(
+      argv,
+      Concat({"output", "degree", "rmse", "knots-per-round", "max-rounds",
+              "max-control-points", "lambda", "threads", "json", "plot",
+              "regularization", "quantize"},
+             kMeshValueOptions),
+      Concat({"quiet", "store-parameters"}, kMeshFlagOptions));
   args.RequirePositionals(
       1, "MESH (usage: sdcb fit MESH -o MODEL.sdcb [options])");
   const std::string& path = args.positionals()[0];
@@ -50,10 +53,13 @@ int RunFit(const std::vector<std::string>& argv) {
   write_options.store_parameters = options.store_parameters;
   write_options.quantize_bits = args.GetInt("quantize", 0, 8, 30);
 
-  StatusOr<TriangleMesh> mesh = ReadMesh(path);
+  // Outputs are checked before the work; the mesh is read, repaired if
+  // asked, checked (tools/cli.h).
+  const Status outputs =
+      PrepareOutputs({output, args.Get("json"), args.Get("plot")});
+  if (!outputs.ok()) return ReportError(outputs);
+  StatusOr<TriangleMesh> mesh = ReadFittableMesh(args, path);
   if (!mesh.ok()) return ReportError(mesh.status());
-  const Status intake = RequireClosedGenusZero(*mesh);
-  if (!intake.ok()) return ReportError(intake.WithPrefix(path));
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
   options.progress = [bar = progress.Callback()](const FitProgress& p) {

@@ -8,6 +8,7 @@
 
 #include "tools/cli.h"
 #include "tools/commands.h"
+#include "tools/interrupts.h"
 
 namespace {
 
@@ -16,8 +17,13 @@ constexpr const char* kUsage = R"(usage: sdcb COMMAND [ARGS]
 Turns closed genus-0 triangle meshes into one smooth spherical DCB-spline.
 
 commands:
-  check MESH [--json FILE]   Report the mesh's topology; exit 1 unless it is a
-                             closed, manifold, single-component genus-0 mesh.
+  check MESH [--json FILE] [--repair]
+                             Report the mesh's topology and self-intersections;
+                             exit 1 unless it is a closed, manifold,
+                             single-component genus-0 mesh. --repair first
+                             merges duplicate vertices, drops degenerate and
+                             duplicate faces, orients the faces and fills
+                             small holes, and says what it changed.
   param MESH -o SPHERE_MESH [--lambda L] [--json FILE] [--colors angle|area]
                              Map the mesh onto the unit sphere without folds
                              (same vertices and faces; .obj/.off/.ply);
@@ -26,13 +32,14 @@ commands:
   fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
       [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
       [--regularization R] [--store-parameters] [--quantize BITS]
-      [--json FILE] [--plot FILE.svg] [--quiet]
+      [--json FILE] [--plot FILE.svg] [--quiet] [--repair]
                              Fit one smooth spherical DCB-spline (defaults:
                              degree 4, rmse 0.05 %, 100 knots per round, 30
                              rounds); --plot draws the error per round;
                              --store-parameters keeps each vertex's sphere
                              point; --quantize BITS (8..30) stores the control
-                             points in BITS bits, the error bound reported.
+                             points in BITS bits, the error bound reported;
+                             --repair as for check.
   info MODEL.sdcb [--json FILE]
                              Summary of a model (format version, size,
                              quantization bound).
@@ -42,6 +49,8 @@ commands:
                              Evaluate the surface at directions (x y z per
                              line, normalized onto the sphere); writes x y z
                              in the input's coordinates (+ unit normal).
+                             A zero direction, or a model whose values are
+                             not finite there, is an error: nothing written.
   compare MODEL.sdcb MESH [--json FILE] [--samples N]
                              Two-sided distance between the surface and a
                              mesh (dense samples of both), folded area.
@@ -53,9 +62,28 @@ commands:
                              two-sided rms is within PCT (default 0.1) or the
                              cage would exceed N faces (default 20000).
 
+  export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb} [--tolerance PCT]
+      [--angle DEG] [--uniform N] [--draco [--qp BITS] [--cl LEVEL]]
+      [--meshopt [--qp BITS]] [--colors none|error|curvature|gaussian]
+      [--mesh MESH] [--json FILE] [--quiet]
+                             Triangulate the surface: adaptive (every
+                             triangle within PCT, default 0.1, of the
+                             surface and its normals within DEG, default
+                             20) or --uniform (icosahedral, about N
+                             vertices); glTF optionally Draco- or
+                             meshopt-compressed (quantization from PCT
+                             unless --qp); per-vertex colors (.ply/.gltf/
+                             .glb): distance to --mesh, mean or Gaussian
+                             curvature. docs/EXPORT.md.
+
 PCT values are percent of the largest side of the input's bounding box.
 
-Meshes: .obj .off .ply .stl (ascii or binary). '--json -' writes to stdout.
+Meshes: .obj .off .ply .stl (ascii or binary). Commands that read a MESH
+refuse files over --max-file-mb N (default 4096) and reads needing more than
+--max-memory-mb N (default 8192, estimated before allocating).
+Outputs are checked before any work and written atomically; an interrupted
+run (SIGINT, SIGTERM, SIGHUP) leaves no temporary file.
+'--json -' writes to stdout.
 Exit codes: 0 success, 1 bad input (the reason is printed), 2 bad usage.
 )";
 
@@ -63,6 +91,9 @@ Exit codes: 0 success, 1 bad input (the reason is printed), 2 bad usage.
 
 int main(int argc, char** argv) {
   using namespace sdcb::cli;
+  // Before any thread starts: an interrupted run removes its temporary
+  // output files.
+  InstallInterruptCleanup();
   if (argc < 2) {
     std::cerr << kUsage;
     return kExitUsage;
@@ -88,6 +119,7 @@ int main(int argc, char** argv) {
     if (command == "eval") return RunEval(args);
     if (command == "compare") return RunCompare(args);
     if (command == "cage") return RunCage(args);
+    if (command == "export") return RunExport(args);
     std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;
   } catch (const UsageError& e) {

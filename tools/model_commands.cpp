@@ -20,6 +20,8 @@ int RunInfo(const std::vector<std::string>& argv) {
   args.RequirePositionals(1,
                           "MODEL (usage: sdcb info MODEL.sdcb [--json FILE])");
   const std::string& path = args.positionals()[0];
+  const Status outputs = PrepareOutputs({args.Get("json")});
+  if (!outputs.ok()) return ReportError(outputs);
   SdcbFileInfo file;
   StatusOr<SplineModel> model = ReadSdcbFile(path, &file);
   if (!model.ok()) return ReportError(model.status());
@@ -29,6 +31,7 @@ int RunInfo(const std::vector<std::string>& argv) {
   for (const auto& set : m.configurations.sets)
     configurations += set.boundaries.size();
   const RoundStatistics& f = m.statistics.final_result;
+  const bool dense = m.statistics.error_measure == ErrorMeasure::kDenseTwoSided;
   if (args.Has("json")) {
     nlohmann::ordered_json j;
     j["file"] = path;
@@ -40,6 +43,9 @@ int RunInfo(const std::vector<std::string>& argv) {
     j["configurations"] = configurations;
     j["rmse_percent"] = f.rmse_percent;
     j["max_error_percent"] = f.max_error_percent;
+    j["error_measure"] = dense ? "dense_two_sided" : "vertices";
+    j["folded_area_percent"] = f.folded_area_percent;
+    j["reached_target"] = m.statistics.reached_target;
     j["rounds"] = m.statistics.rounds.size();
     j["source"] = {{"file_name", m.source.file_name},
                    {"vertices", m.source.num_vertices},
@@ -66,8 +72,14 @@ int RunInfo(const std::vector<std::string>& argv) {
     std::printf("  %-22s %lld\n", "control points",
                 static_cast<long long>(m.control_points.rows()));
     std::printf("  %-22s %zu\n", "configurations", configurations);
-    std::printf("  %-22s %.5f%%\n", "rmse", f.rmse_percent);
+    std::printf("  %-22s %.5f%% (%s)\n", "rmse", f.rmse_percent,
+                dense ? "two-sided, dense" : "at the vertices");
     std::printf("  %-22s %.5f%%\n", "max error", f.max_error_percent);
+    if (dense) {
+      std::printf("  %-22s %.5f%%\n", "folded area", f.folded_area_percent);
+    }
+    std::printf("  %-22s %s\n", "reached target",
+                m.statistics.reached_target ? "yes" : "no");
     std::printf("  %-22s %zu\n", "rounds", m.statistics.rounds.size());
     std::printf("  %-22s %s (%lld vertices, %lld faces)\n", "source",
                 m.source.file_name.c_str(),
@@ -93,6 +105,8 @@ int RunDump(const std::vector<std::string>& argv) {
                           "MODEL (usage: sdcb dump MODEL.sdcb -o MODEL.json)");
   const std::string output = args.Get("output");
   if (output.empty()) throw UsageError{"missing -o MODEL.json"};
+  const Status outputs = PrepareOutputs({output});
+  if (!outputs.ok()) return ReportError(outputs);
   StatusOr<SplineModel> model = ReadSdcbFile(args.positionals()[0]);
   if (!model.ok()) return ReportError(model.status());
   const Status s = WriteTextOutput(output, ModelToJson(*model));
@@ -110,10 +124,14 @@ int RunEval(const std::vector<std::string>& argv) {
   StatusOr<SplineModel> model = ReadSdcbFile(args.positionals()[0]);
   if (!model.ok()) return ReportError(model.status());
 
+  const Status outputs = PrepareOutputs({output});
+  if (!outputs.ok()) return ReportError(outputs);
+
   // Points: three numbers per non-empty line (a '#' starts a comment).
   std::ifstream in(input);
   if (!in) return ReportError(IoError(input + ": cannot open the points file"));
   std::vector<Eigen::Vector3d> points;
+  std::vector<long long> line_numbers;
   std::string line;
   for (long long number = 1; std::getline(in, line); ++number) {
     const size_t hash = line.find('#');
@@ -132,16 +150,20 @@ int RunEval(const std::vector<std::string>& argv) {
       values.push_back(v);
     }
     if (values.empty()) continue;
-    const Eigen::Vector3d p(values.size() == 3 ? values[0] : 0,
-                            values.size() == 3 ? values[1] : 0,
-                            values.size() == 3 ? values[2] : 0);
-    if (values.size() != 3 || !(p.norm() > 0)) {
+    // Scaled by its largest coordinate first, a direction normalizes
+    // without overflow (1e300) or underflow (1e-200); only zero cannot.
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    if (values.size() == 3)
+      p = Eigen::Vector3d(values[0], values[1], values[2]);
+    const double largest = p.cwiseAbs().maxCoeff();
+    if (values.size() != 3 || !(largest > 0)) {
       return ReportError(InvalidInputError(input + ": line " +
                                            std::to_string(number) +
                                            " must hold three numbers, not all "
                                            "zero (a direction on the sphere)"));
     }
-    points.push_back(p.normalized());
+    points.push_back((p / largest).normalized());
+    line_numbers.push_back(number);
   }
   StatusOr<SphericalSpline> surface = SurfaceFromModel(*model);
   if (!surface.ok()) {
@@ -164,6 +186,20 @@ int RunEval(const std::vector<std::string>& argv) {
     positions = surface->EvaluateMany(directions);
   }
   positions = model->transform.ToInput(positions);
+  // Nothing non-finite is ever written: a model whose numbers overflow
+  // (e.g. an extreme transform) is refused at the first such direction.
+  for (Eigen::Index i = 0; i < positions.rows(); ++i) {
+    const bool finite = positions.row(i).allFinite() &&
+                        (!derivatives || normals.row(i).allFinite());
+    if (!finite) {
+      return ReportError(InvalidInputError(
+          args.positionals()[0] +
+          ": the surface has no finite value at the "
+          "direction on line " +
+          std::to_string(line_numbers[i]) + " of " + input +
+          " (the model's numbers overflow); nothing was written"));
+    }
+  }
   std::string text;
   char buffer[160];
   for (Eigen::Index i = 0; i < positions.rows(); ++i) {

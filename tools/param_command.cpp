@@ -65,7 +65,9 @@ VertexColors VertexDistortionColors(const TriangleMesh& mesh,
 }  // namespace
 
 int RunParam(const std::vector<std::string>& argv) {
-  const Args args(argv, {"lambda", "json", "colors", "threads"}, {"quiet"});
+  const Args args(
+      argv, Concat({"lambda", "json", "colors", "threads"}, kMeshValueOptions),
+      {"quiet"});
   args.RequirePositionals(1, std::string("MESH (") + kParamUsage + ")");
   if (!args.Has("output"))
     throw UsageError{std::string("missing -o SPHERE_MESH (") + kParamUsage +
@@ -97,10 +99,10 @@ int RunParam(const std::vector<std::string>& argv) {
     };
   }
 
-  StatusOr<TriangleMesh> mesh = ReadMesh(path);
+  const Status outputs = PrepareOutputs({output, args.Get("json")});
+  if (!outputs.ok()) return ReportError(outputs);
+  StatusOr<TriangleMesh> mesh = ReadFittableMesh(args, path);
   if (!mesh.ok()) return ReportError(mesh.status());
-  const Status intake = RequireClosedGenusZero(*mesh);
-  if (!intake.ok()) return ReportError(intake.WithPrefix(path));
 
   const auto start = std::chrono::steady_clock::now();
   StatusOr<SphericalParameterization> param =

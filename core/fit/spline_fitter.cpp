@@ -51,6 +51,8 @@ constexpr double kRoundStageStart[] = {
     0.55,  // solve
     0.75,  // measure
 };
+// Rounds before a fit may stop because its error falls too slowly.
+constexpr int kMinRoundsBeforeRateStop = 5;
 // Knots of a round that only removes folds: at least this many.
 constexpr int kMinFoldKnots = 10;
 // Rounds assumed before two rounds show the error's decay.
@@ -263,13 +265,11 @@ struct SplineFitter::State {
     options.progress(p);
   }
 
-  // Whether round statistics `a` are a better fallback than `b`.
+  // Whether round statistics `a` are a better fallback than `b`: a round
+  // without folds beats one with; otherwise the smaller rms.
   static bool Better(const RoundStatistics& a, const RoundStatistics& b) {
     if ((a.folded_area_percent == 0) != (b.folded_area_percent == 0)) {
       return a.folded_area_percent == 0;
-    }
-    if (a.folded_area_percent != b.folded_area_percent) {
-      return a.folded_area_percent < b.folded_area_percent;
     }
     return a.rmse_percent < b.rmse_percent;
   }
@@ -292,6 +292,23 @@ struct SplineFitter::State {
   }
 
   Status RunRound();
+
+ private:
+  struct Problem;
+  StatusOr<Problem> BuildProblem(const Eigen::MatrixX3d& knots,
+                                 const DelaunayConfigurations& configurations,
+                                 const DelaunayConfigurations& knot_triangles,
+                                 RoundDetails* details) const;
+  StatusOr<Eigen::MatrixX3d> Solve(const Problem& problem) const;
+  StatusOr<SurfaceDeviation> Measure(const SphericalSpline& surface,
+                                     const Eigen::MatrixX3d& vertex_points,
+                                     bool final_measurement) const;
+  void NextDensity(const Problem& problem, const Eigen::MatrixX3d& fitted,
+                   const Eigen::VectorXd& vertex_errors,
+                   const SurfaceDeviation& deviation);
+  // Rounds still needed at the recent rate of decay (updating
+  // estimated_rounds), or -1 if the error does not fall.
+  int EstimateRounds();
 };
 
 StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
@@ -377,32 +394,188 @@ Status SplineFitter::AddRound() {
   return state_->InArena([&] { return state_->RunRound(); });
 }
 
+// The round's least-squares problem: the basis on the round's knots, the data
+// term's samples and design matrix, and the bending rows.
+struct SplineFitter::State::Problem {
+  DcbBasis basis;
+  FitSamples samples;
+  DesignMatrix data;
+  BendingQuadrature bending;
+  ChartHessianRows hessian;
+};
+
+StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
+    const Eigen::MatrixX3d& knots, const DelaunayConfigurations& configurations,
+    const DelaunayConfigurations& knot_triangles, RoundDetails* details) const {
+  const FitOptions& o = options;
+  SDCB_ASSIGN_OR_RETURN(DcbBasis basis,
+                        DcbBasis::Create(knots, configurations));
+  FitSampleOptions sample_options;
+  sample_options.samples_per_spacing = o.samples_per_spacing;
+  FitSamples samples = BuildFitSamples(mesh, u, knots, sample_options);
+  DesignMatrix data =
+      BuildFormDesignMatrix(basis, samples.points, o.basis_form);
+  BendingQuadrature bending = MakeBendingQuadrature(knots, knot_triangles);
+  ChartHessianRows hessian =
+      o.fairness > 0
+          ? BuildChartHessianRows(basis, bending.points, o.basis_form)
+          : ChartHessianRows{};
+  details->data_samples = static_cast<int>(samples.points.rows());
+  details->split_triangles = samples.split_triangles;
+  // Samples, and input vertices (the first rows), in each basis function's
+  // support.
+  std::vector<int> per_column(basis.size(), 0), vertices(basis.size(), 0);
+  const int vertex_nonzeros = data.outerIndexPtr()[samples.num_vertices];
+  for (int k = 0; k < data.nonZeros(); ++k) {
+    ++per_column[data.innerIndexPtr()[k]];
+    if (k < vertex_nonzeros) ++vertices[data.innerIndexPtr()[k]];
+  }
+  if (!per_column.empty()) {
+    details->min_samples_per_basis =
+        *std::min_element(per_column.begin(), per_column.end());
+    details->min_vertices_per_basis =
+        *std::min_element(vertices.begin(), vertices.end());
+  }
+  return Problem{std::move(basis), std::move(samples), std::move(data),
+                 std::move(bending), std::move(hessian)};
+}
+
+StatusOr<Eigen::MatrixX3d> SplineFitter::State::Solve(const Problem& p) const {
+  // sqrt(w) rows of the data term, sqrt(fairness * area / 4 pi * weight)
+  // rows of the bending energy (uv counted twice) with zero targets.
+  const FitOptions& o = options;
+  const Eigen::VectorXd data_scale = p.samples.weights.cwiseSqrt();
+  std::vector<std::pair<const DesignMatrix*, const Eigen::VectorXd*>> parts = {
+      {&p.data, &data_scale}};
+  Eigen::VectorXd bend_scale, bend_scale_uv;
+  if (o.fairness > 0) {
+    bend_scale =
+        (o.fairness * mesh_area / (4.0 * M_PI) * p.bending.weights).cwiseSqrt();
+    bend_scale_uv = std::sqrt(2.0) * bend_scale;
+    parts.push_back({&p.hessian.uu, &bend_scale});
+    parts.push_back({&p.hessian.uv, &bend_scale_uv});
+    parts.push_back({&p.hessian.vv, &bend_scale});
+  }
+  const DesignMatrix design = StackScaledRows(parts);
+  Eigen::MatrixX3d targets = Eigen::MatrixX3d::Zero(design.rows(), 3);
+  targets.topRows(p.data.rows()) = data_scale.asDiagonal() * p.samples.targets;
+  const Eigen::MatrixX3d prior = GrevillePrior(
+      p.data, p.samples.targets,
+      NearestSamplePrior(p.basis, *parameter_tree, mesh.vertices));
+  LeastSquaresOptions ls;
+  ls.regularization = o.regularization;
+  return SolveRegularizedLeastSquares(design, targets, prior, ls);
+}
+
+StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
+    const SphericalSpline& surface, const Eigen::MatrixX3d& vertex_points,
+    bool final_measurement) const {
+  // Rounds: a lattice with round_samples_per_knot samples per knot, mesh ->
+  // surface bounded by |F(u_i) - x_i|. The final one: at least
+  // final_surface_samples, and the closest points on the spline.
+  DeviationOptions measure;
+  const int per_knot =
+      options.round_samples_per_knot * static_cast<int>(surface.knots().rows());
+  measure.min_surface_samples =
+      final_measurement ? std::max(options.final_surface_samples, per_knot)
+                        : per_knot;
+  measure.closest_points = final_measurement;
+  return MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points);
+}
+
+void SplineFitter::State::NextDensity(const Problem& p,
+                                      const Eigen::MatrixX3d& fitted,
+                                      const Eigen::VectorXd& vertex_errors,
+                                      const SurfaceDeviation& deviation) {
+  // The error of a vertex is the largest of its parametric residual, those
+  // of the data samples inside its triangles, and the surface -> mesh
+  // distance of the surface samples nearest to it on the sphere. A folded
+  // sample counts as the largest error: knots go there. In a round after the
+  // target was met, only there.
+  const Eigen::Index nv = mesh.vertices.rows();
+  Eigen::VectorXd error = vertex_errors;
+  for (size_t r = 0; r < p.samples.triangle.size(); ++r) {
+    const double e =
+        100.0 * (fitted.row(nv + r) - p.samples.targets.row(nv + r)).norm();
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.faces(p.samples.triangle[r], k);
+      error[v] = std::max(error[v], e);
+    }
+  }
+  if (fold_round) error.setConstant(0.0);
+  const double worst =
+      std::max(error.maxCoeff(),
+               deviation.surface_sample_distance_percent.size()
+                   ? deviation.surface_sample_distance_percent.maxCoeff()
+                   : 0.0);
+  for (Eigen::Index i = 0; i < deviation.surface_sample_points.rows(); ++i) {
+    const PointKdTree::Neighbor n = parameter_tree->Nearest(
+        deviation.surface_sample_points.row(i).transpose());
+    if (n.index < 0) continue;
+    const double e = deviation.surface_sample_folded[i] ? worst
+                     : fold_round
+                         ? 0.0
+                         : deviation.surface_sample_distance_percent[i];
+    error[n.index] = std::max(error[n.index], e);
+  }
+  if (!(error.maxCoeff() > 0)) return;  // keep the last density
+  // A floor keeps the density positive everywhere (the CVT needs it).
+  error = error.cwiseMax(1e-3 * error.maxCoeff());
+  StatusOr<Eigen::VectorXd> values = DensityFromValues(error, options.alpha);
+  if (values.ok()) density.values = std::move(values).value();
+}
+
+int SplineFitter::State::EstimateRounds() {
+  // The decay per round of the rms over the last (up to) three rounds.
+  const auto& rounds = result.model.statistics.rounds;
+  const int n = static_cast<int>(rounds.size());
+  if (n < 2) return -1;
+  const int window = std::min(3, n - 1);
+  const double now = rounds[n - 1].rmse_percent;
+  const double decay =
+      std::pow(now / rounds[n - 1 - window].rmse_percent, 1.0 / window);
+  if (!(decay > 0 && decay < 1)) return -1;
+  const double more =
+      std::ceil(std::log(options.rmse_percent / now) / std::log(decay));
+  const int needed = static_cast<int>(std::clamp(more, 1.0, 1e6));
+  estimated_rounds = std::min(options.max_rounds, n + needed);
+  return needed;
+}
+
 Status SplineFitter::State::RunRound() {
   const FitOptions& o = options;
   SplineModel& model = result.model;
   FitStatistics& stats = model.statistics;
   const int round = static_cast<int>(stats.rounds.size());
   const Stopwatch round_clock;
+  RoundDetails details;
+
+  // 1. Knot placement with the existing knots fixed. No room for the
+  // round's knots: the rounds so far are the result.
+  Report(FitStage::kKnotPlacement, round, kRoundStageStart[0]);
+  Stopwatch stage;
   const int new_knots = round == 0 && o.initial_knots > 0 ? o.initial_knots
                         : fold_round
                             ? std::max(kMinFoldKnots, o.knots_per_round / 4)
                             : o.knots_per_round;
-  // Knot placement with the existing knots fixed.
-  Report(FitStage::kKnotPlacement, round, kRoundStageStart[0]);
-  RoundDetails details;
-  Stopwatch stage;
-  SDCB_ASSIGN_OR_RETURN(
-      KnotPlacement placement,
-      PlaceKnots(density, model.knots, new_knots, CvtOptions()));
+  StatusOr<KnotPlacement> placed =
+      PlaceKnots(density, model.knots, new_knots, CvtOptions());
+  if (!placed.ok() && round > 0 &&
+      placed.status().code() == StatusCode::kUnsupported) {
+    Finish(false, "no room for more knots (" + placed.status().message() + ")");
+    return Status::Ok();
+  }
+  SDCB_RETURN_IF_ERROR(placed.status());
+  KnotPlacement placement = std::move(placed).value();
+  const Eigen::MatrixX3d& knots = placement.knots;
   details.timings.knot_placement = stage.Seconds();
   details.cvt_initial_energy = placement.initial_energy;
   details.cvt_final_energy = placement.final_energy;
   details.cvt_iterations = placement.iterations;
   details.min_knot_separation = placement.min_separation;
-  const Eigen::MatrixX3d& knots = placement.knots;
 
-  // Configurations; a round that would exceed the control-point cap is not
-  // added.
+  // 2. Configurations; a round that would exceed the control-point cap is
+  // not added.
   Report(FitStage::kConfigurations, round, kRoundStageStart[1]);
   stage = Stopwatch();
   SDCB_ASSIGN_OR_RETURN(DelaunayConfigurations configurations,
@@ -417,91 +590,45 @@ Status SplineFitter::State::RunRound() {
     return Status::Ok();
   }
 
-  // Basis, the data term's design matrix and the bending rows.
+  // 3. Basis, samples, design matrix; 4. least squares.
   Report(FitStage::kBasis, round, kRoundStageStart[2]);
   stage = Stopwatch();
-  SDCB_ASSIGN_OR_RETURN(DcbBasis basis,
-                        DcbBasis::Create(knots, configurations));
-  FitSampleOptions sample_options;
-  sample_options.samples_per_spacing = o.samples_per_spacing;
-  const FitSamples samples = BuildFitSamples(mesh, u, knots, sample_options);
-  const DesignMatrix data =
-      BuildFormDesignMatrix(basis, samples.points, o.basis_form);
-  const BendingQuadrature bending =
-      MakeBendingQuadrature(knots, knot_triangles);
-  const ChartHessianRows hessian =
-      o.fairness > 0
-          ? BuildChartHessianRows(basis, bending.points, o.basis_form)
-          : ChartHessianRows{};
-  details.data_samples = static_cast<int>(samples.points.rows());
-  details.split_triangles = samples.split_triangles;
-  {
-    std::vector<int> per_column(basis.size(), 0);
-    for (Eigen::Index k = 0; k < data.nonZeros(); ++k) {
-      ++per_column[data.innerIndexPtr()[k]];
-    }
-    details.min_samples_per_basis =
-        per_column.empty()
-            ? 0
-            : *std::min_element(per_column.begin(), per_column.end());
-  }
+  SDCB_ASSIGN_OR_RETURN(
+      Problem problem,
+      BuildProblem(knots, configurations, knot_triangles, &details));
   details.timings.basis = stage.Seconds();
-
-  // Least squares: sqrt(w) rows of the data term, sqrt(fairness * area /
-  // 4 pi * weight) rows of the bending energy (uv counted twice) with zero
-  // targets.
   Report(FitStage::kSolve, round, kRoundStageStart[3]);
   stage = Stopwatch();
-  const Eigen::VectorXd data_scale = samples.weights.cwiseSqrt();
-  std::vector<std::pair<const DesignMatrix*, const Eigen::VectorXd*>> parts = {
-      {&data, &data_scale}};
-  Eigen::VectorXd bend_scale, bend_scale_uv;
-  if (o.fairness > 0) {
-    bend_scale =
-        (o.fairness * mesh_area / (4.0 * M_PI) * bending.weights).cwiseSqrt();
-    bend_scale_uv = std::sqrt(2.0) * bend_scale;
-    parts.push_back({&hessian.uu, &bend_scale});
-    parts.push_back({&hessian.uv, &bend_scale_uv});
-    parts.push_back({&hessian.vv, &bend_scale});
-  }
-  const DesignMatrix design = StackScaledRows(parts);
-  Eigen::MatrixX3d targets = Eigen::MatrixX3d::Zero(design.rows(), 3);
-  targets.topRows(data.rows()) = data_scale.asDiagonal() * samples.targets;
-  const Eigen::MatrixX3d prior =
-      GrevillePrior(data, samples.targets,
-                    NearestSamplePrior(basis, *parameter_tree, mesh.vertices));
-  LeastSquaresOptions ls;
-  ls.regularization = o.regularization;
-  SDCB_ASSIGN_OR_RETURN(
-      const Eigen::MatrixX3d control_points,
-      SolveRegularizedLeastSquares(design, targets, prior, ls));
-  const Eigen::MatrixX3d fitted = data * control_points;
+  SDCB_ASSIGN_OR_RETURN(const Eigen::MatrixX3d control_points, Solve(problem));
+  const Eigen::MatrixX3d fitted = problem.data * control_points;
   details.timings.solve = stage.Seconds();
 
-  // Measure: surface -> mesh at a lattice over the knot triangles, mesh ->
-  // surface bounded by |F(u_i) - x_i| (the closest points come with the
-  // final measurement).
+  // 5. Measure; a round that meets the target is confirmed by the final
+  // measurement.
   Report(FitStage::kMeasure, round, kRoundStageStart[4]);
   stage = Stopwatch();
-  SDCB_ASSIGN_OR_RETURN(
-      SphericalSpline surface,
-      SphericalSpline::Create(std::move(basis), control_points, o.basis_form));
-  DeviationOptions measure;
-  measure.min_surface_samples =
-      o.round_samples_per_knot * static_cast<int>(knots.rows());
-  measure.closest_points = false;
-  const Eigen::MatrixX3d vertex_points = fitted.topRows(mesh.vertices.rows());
-  SDCB_ASSIGN_OR_RETURN(
-      SurfaceDeviation deviation,
-      MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points));
-  details.timings.measure += stage.Seconds();
-  details.surface_samples = deviation.surface_samples;
-
-  // Parametric errors at the vertices (the paper's measure).
+  SDCB_ASSIGN_OR_RETURN(const SphericalSpline surface,
+                        SphericalSpline::Create(std::move(problem.basis),
+                                                control_points, o.basis_form));
   const Eigen::Index nv = mesh.vertices.rows();
-  const Eigen::VectorXd vertex_errors =
-      100.0 * (fitted.topRows(nv) - mesh.vertices).rowwise().norm();
+  const Eigen::MatrixX3d vertex_points = fitted.topRows(nv);
+  SDCB_ASSIGN_OR_RETURN(SurfaceDeviation deviation,
+                        Measure(surface, vertex_points, false));
+  auto meets_target = [&] {
+    return deviation.rms_percent <= o.rmse_percent &&
+           deviation.folded_area_percent == 0;
+  };
+  if (meets_target()) {
+    SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, vertex_points, true));
+    details.closest_points = true;
+  }
+  const bool reached = meets_target();
+  details.surface_samples = deviation.surface_samples;
+  details.timings.measure = stage.Seconds();
 
+  // The round's statistics; the vertex errors are the paper's measure.
+  const Eigen::VectorXd vertex_errors =
+      100.0 * (vertex_points - mesh.vertices).rowwise().norm();
   RoundStatistics rs;
   rs.round = round;
   rs.knots = static_cast<int>(knots.rows());
@@ -512,37 +639,13 @@ Status SplineFitter::State::RunRound() {
       std::sqrt(vertex_errors.squaredNorm() / std::max<Eigen::Index>(nv, 1));
   rs.vertex_max_error_percent = nv > 0 ? vertex_errors.maxCoeff() : 0;
   rs.folded_area_percent = deviation.folded_area_percent;
-
   model.knots = knots;
   model.configurations = std::move(configurations);
   model.control_points = control_points;
   result.vertex_errors_percent = vertex_errors;
-
-  // A round that meets the target is confirmed by the final measurement:
-  // dense surface samples and closest points on the spline.
-  bool reached = false;
-  if (rs.rmse_percent <= o.rmse_percent && rs.folded_area_percent == 0) {
-    Report(FitStage::kMeasure, round, kRoundStageStart[4]);
-    stage = Stopwatch();
-    DeviationOptions measure;
-    measure.min_surface_samples =
-        std::max(o.final_surface_samples,
-                 o.round_samples_per_knot * static_cast<int>(knots.rows()));
-    SDCB_ASSIGN_OR_RETURN(
-        deviation,
-        MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points));
-    details.timings.measure += stage.Seconds();
-    details.surface_samples = deviation.surface_samples;
-    details.closest_points = true;
-    rs.rmse_percent = deviation.rms_percent;
-    rs.max_error_percent = deviation.hausdorff_percent;
-    rs.folded_area_percent = deviation.folded_area_percent;
-    reached = rs.rmse_percent <= o.rmse_percent && rs.folded_area_percent == 0;
-  }
-
-  details.timings.total = round_clock.Seconds();
   stats.rounds.push_back(rs);
   stats.final_result = rs;
+  details.timings.total = round_clock.Seconds();
   StageTimings& t = result.timings;
   t.knot_placement += details.timings.knot_placement;
   t.configurations += details.timings.configurations;
@@ -555,12 +658,12 @@ Status SplineFitter::State::RunRound() {
     best_vertex_errors = vertex_errors;
   }
 
+  // 6. Stop, or go on. Met the target but folded: the next rounds put fewer
+  // knots, only where the surface folds, a few times at most.
   if (reached) {
     Finish(true, "");
     return Status::Ok();
   }
-  // Met the target but folded: the next rounds put fewer knots, only where
-  // the surface folds, a few times at most.
   const bool only_folds =
       rs.rmse_percent <= o.rmse_percent && rs.folded_area_percent > 0;
   const std::string folds_left =
@@ -579,55 +682,21 @@ Status SplineFitter::State::RunRound() {
   }
   fold_round = only_folds;
   if (only_folds) ++fold_rounds;
-  // The number of rounds, estimated from the decay of the RMSE.
-  if (stats.rounds.size() >= 2) {
-    const double previous = stats.rounds[stats.rounds.size() - 2].rmse_percent;
-    const double decay = rs.rmse_percent / previous;
-    if (decay > 0 && decay < 1) {
-      const double more = std::ceil(std::log(o.rmse_percent / rs.rmse_percent) /
-                                    std::log(decay));
-      estimated_rounds = std::min<int>(
-          o.max_rounds, round + 1 + static_cast<int>(std::max(1.0, more)));
-    }
+  // A fit whose error falls too slowly to reach the target within the
+  // rounds left (judged after six rounds) stops now rather than later.
+  const int needed = EstimateRounds();
+  const int left = o.max_rounds - round - 1;
+  if (!only_folds && round >= kMinRoundsBeforeRateStop &&
+      (needed < 0 || needed > left)) {
+    Finish(false, needed < 0
+                      ? "the error stopped falling"
+                      : "at its current rate the error needs about " +
+                            std::to_string(needed) +
+                            " more rounds, more than --max-rounds leaves (" +
+                            std::to_string(left) + ")");
+    return Status::Ok();
   }
-
-  // Next round's density: the error, normalized, to the power alpha. The
-  // error of a vertex is the largest of its parametric residual, those of
-  // the data samples inside its triangles, and the surface -> mesh distance
-  // of the surface samples nearest to it on the sphere.
-  Eigen::VectorXd error = vertex_errors;
-  for (size_t r = 0; r < samples.triangle.size(); ++r) {
-    const double e =
-        100.0 * (fitted.row(nv + r) - samples.targets.row(nv + r)).norm();
-    for (int k = 0; k < 3; ++k) {
-      const int v = mesh.faces(samples.triangle[r], k);
-      error[v] = std::max(error[v], e);
-    }
-  }
-  // A folded sample counts as the largest error: knots go there. In a round
-  // after the target was met, only there.
-  if (fold_round) error.setConstant(0.0);
-  const double worst =
-      std::max(error.maxCoeff(),
-               deviation.surface_sample_distance_percent.size()
-                   ? deviation.surface_sample_distance_percent.maxCoeff()
-                   : 0.0);
-  for (Eigen::Index i = 0; i < deviation.surface_sample_points.rows(); ++i) {
-    const PointKdTree::Neighbor n = parameter_tree->Nearest(
-        deviation.surface_sample_points.row(i).transpose());
-    if (n.index >= 0) {
-      const double e = deviation.surface_sample_folded[i] ? worst
-                       : fold_round
-                           ? 0.0
-                           : deviation.surface_sample_distance_percent[i];
-      error[n.index] = std::max(error[n.index], e);
-    }
-  }
-  if (error.maxCoeff() > 0) {
-    // A floor keeps the density positive everywhere (the CVT needs it).
-    error = error.cwiseMax(1e-3 * error.maxCoeff());
-    SDCB_ASSIGN_OR_RETURN(density.values, DensityFromValues(error, o.alpha));
-  }
+  NextDensity(problem, fitted, vertex_errors, deviation);
   return Status::Ok();
 }
 

@@ -117,6 +117,7 @@ struct RoundDetails {
   int data_samples = 0;            // rows of the data term
   int split_triangles = 0;         // mesh triangles with interior samples
   int min_samples_per_basis = 0;   // fewest data samples in one support
+  int min_vertices_per_basis = 0;  // fewest input vertices in one support
   // The measurement of this round (surface samples; mesh -> surface as the
   // parametric bound |F(u_i) - x_i| unless `closest_points`).
   int64_t surface_samples = 0;
@@ -158,8 +159,8 @@ class SplineFitter {
   // meets the target with no fold (confirmed by the denser final measurement),
   // after max_rounds, or when a round would exceed max_control_points (that
   // round is not added). A fit that misses the target returns the round with
-  // the smallest error among those without folds (or, if every round folds, the
-  // least folded), with FitResult::shortfall saying why. kInvalidArgument
+  // the smallest rms among those without folds (or, if every round folds,
+  // among all), with FitResult::shortfall saying why. kInvalidArgument
   // when called after finished().
   Status AddRound();
 

@@ -4,6 +4,8 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -91,6 +93,18 @@ MeshDistance::Closest MeshDistance::Find(const Eigen::Vector3d& query) const {
   out.point = Eigen::Vector3d(hit.first.x(), hit.first.y(), hit.first.z());
   out.face = tree_->faces[hit.second - tree_->triangles.begin()];
   out.distance = (out.point - query).norm();
+  return out;
+}
+
+Eigen::VectorXd MeshDistance::Distances(const Eigen::MatrixX3d& points) const {
+  Eigen::VectorXd out(points.rows());
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.rows(), 256),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+                      for (Eigen::Index i = range.begin(); i < range.end();
+                           ++i) {
+                        out[i] = Find(points.row(i).transpose()).distance;
+                      }
+                    });
   return out;
 }
 

@@ -34,6 +34,10 @@ class MeshDistance {
   // at once; deterministic.
   Closest Find(const Eigen::Vector3d& query) const;
 
+  // The distance from each row of `points` (#P by 3) to the mesh; #P values.
+  // Parallel (TBB), deterministic.
+  Eigen::VectorXd Distances(const Eigen::MatrixX3d& points) const;
+
   // Unit normal of triangle `face` (right-hand rule over its corner order),
   // zero for an exactly degenerate triangle.
   Eigen::Vector3d FaceNormal(int face) const;

@@ -3,8 +3,10 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <queue>
 #include <tuple>
+#include <unordered_set>
 
 namespace sdcb {
 namespace {
@@ -18,21 +20,32 @@ class Collapser {
         face_alive_(mesh.num_faces(), true),
         vertex_alive_(mesh.num_vertices(), true),
         vertex_faces_(mesh.num_vertices()),
+        dead_incidences_(mesh.num_vertices(), 0),
         stamp_(mesh.num_vertices(), 0),
         alive_vertices_(mesh.num_vertices()),
         cos_max_turn_(std::cos(options.max_normal_turn_degrees * M_PI / 180.0)),
-        min_quality_(options.min_triangle_quality) {
+        min_quality_(options.min_triangle_quality),
+        max_removed_valence_(options.max_removed_valence) {
     for (int f = 0; f < faces_.rows(); ++f) {
-      for (int i = 0; i < 3; ++i) vertex_faces_[faces_(f, i)].push_back(f);
+      for (int i = 0; i < 3; ++i) {
+        vertex_faces_[faces_(f, i)].push_back(f);
+        edges_.insert(EdgeKey(faces_(f, i), faces_(f, (i + 1) % 3)));
+      }
     }
   }
 
   int alive_vertices() const { return alive_vertices_; }
 
+  // Triangles around x (= its valence on a closed manifold).
+  int Valence(int x) const {
+    return static_cast<int>(vertex_faces_[x].size()) - dead_incidences_[x];
+  }
+
   // Sorted neighbors of x.
   std::vector<int> Neighbors(int x) const {
     std::vector<int> n;
     for (int f : vertex_faces_[x]) {
+      if (!face_alive_[f]) continue;
       for (int i = 0; i < 3; ++i) {
         if (faces_(f, i) != x) n.push_back(faces_(f, i));
       }
@@ -42,23 +55,23 @@ class Collapser {
     return n;
   }
 
-  // Collapses v -> u when allowed; returns whether it did.
+  // Collapses v -> u when allowed; returns whether it did. Costs O(valence
+  // of v) whatever the valence of u, so a vertex of very high valence (the
+  // hub of a CAD fan) never makes the hierarchy quadratic.
   bool TryCollapse(int v, int u, HalfEdgeCollapse* record) {
-    if (alive_vertices_ <= 4) return false;
-    const std::vector<int> nv = Neighbors(v), nu = Neighbors(u);
-    std::vector<int> common;
-    std::set_intersection(nv.begin(), nv.end(), nu.begin(), nu.end(),
-                          std::back_inserter(common));
+    if (alive_vertices_ <= 4 || Valence(v) > max_removed_valence_) return false;
     // Link condition: the only common neighbors are the two opposite
     // vertices of the faces on edge (v, u).
+    int common = 0;
+    for (int w : Neighbors(v)) common += w != u && Adjacent(w, u);
     std::vector<int> edge_faces;
     for (int f : vertex_faces_[v]) {
-      if (Corner(f, u) >= 0) edge_faces.push_back(f);
+      if (face_alive_[f] && Corner(f, u) >= 0) edge_faces.push_back(f);
     }
-    if (edge_faces.size() != 2 || common.size() != 2) return false;
+    if (edge_faces.size() != 2 || common != 2) return false;
     // Normals of the re-pointed faces must not turn too far.
     for (int f : vertex_faces_[v]) {
-      if (Corner(f, u) >= 0) continue;
+      if (!face_alive_[f] || Corner(f, u) >= 0) continue;
       const Eigen::Vector3d before = Normal(f, -1, v);
       const Eigen::Vector3d after = Normal(f, v, u);
       const double nb = before.norm(), na = after.norm();
@@ -74,15 +87,18 @@ class Collapser {
     record->link = OrderedLink(v, u);
     record->deleted_faces = {edge_faces[0], edge_faces[1]};
     record->repointed_faces.clear();
-    // Apply.
+    // Apply. Dead faces stay in the other corners' lists until those are
+    // compacted (erasing from a hub's long list each time is quadratic).
     for (int f : edge_faces) {
       face_alive_[f] = false;
       for (int i = 0; i < 3; ++i) {
         const int w = faces_(f, i);
-        if (w == v) continue;
-        auto& list = vertex_faces_[w];
-        list.erase(std::find(list.begin(), list.end(), f));
+        if (w != v) DropDeadIncidence(w);
       }
+    }
+    for (int w : record->link) {  // all of v's neighbors, u first
+      edges_.erase(EdgeKey(v, w));
+      if (w != u) edges_.insert(EdgeKey(u, w));
     }
     for (int f : vertex_faces_[v]) {
       if (!face_alive_[f]) continue;
@@ -91,6 +107,7 @@ class Collapser {
       record->repointed_faces.push_back(f);
     }
     vertex_faces_[v].clear();
+    dead_incidences_[v] = 0;
     vertex_alive_[v] = false;
     --alive_vertices_;
     return true;
@@ -113,6 +130,23 @@ class Collapser {
   }
 
  private:
+  static uint64_t EdgeKey(int a, int b) {
+    return (static_cast<uint64_t>(std::min(a, b)) << 32) |
+           static_cast<uint32_t>(std::max(a, b));
+  }
+  bool Adjacent(int a, int b) const { return edges_.count(EdgeKey(a, b)) > 0; }
+
+  // Notes that one face of x died; compacts x's list once half of it is
+  // dead (amortized O(1) per face).
+  void DropDeadIncidence(int x) {
+    std::vector<int>& list = vertex_faces_[x];
+    if (2 * ++dead_incidences_[x] <= static_cast<int>(list.size())) return;
+    list.erase(std::remove_if(list.begin(), list.end(),
+                              [&](int f) { return !face_alive_[f]; }),
+               list.end());
+    dead_incidences_[x] = 0;
+  }
+
   int Corner(int f, int x) const {
     for (int i = 0; i < 3; ++i) {
       if (faces_(f, i) == x) return i;
@@ -150,6 +184,7 @@ class Collapser {
   std::vector<int> OrderedLink(int v, int first) const {
     std::vector<std::pair<int, int>> next;  // (a, b) for face (v, a, b)
     for (int f : vertex_faces_[v]) {
+      if (!face_alive_[f]) continue;
       const int c = Corner(f, v);
       next.emplace_back(faces_(f, (c + 1) % 3), faces_(f, (c + 2) % 3));
     }
@@ -167,11 +202,16 @@ class Collapser {
   Eigen::MatrixX3i faces_;
   std::vector<bool> face_alive_;
   std::vector<bool> vertex_alive_;
+  // Faces around each vertex; may hold dead faces (dead_incidences_ counts
+  // them).
   std::vector<std::vector<int>> vertex_faces_;
+  std::vector<int> dead_incidences_;
+  std::unordered_set<uint64_t> edges_;  // EdgeKey of every alive edge
   std::vector<int> stamp_;
   int alive_vertices_;
   double cos_max_turn_;
   double min_quality_;
+  int max_removed_valence_;
 };
 
 // A candidate edge: its length, its end points (a < b) and their stamps
@@ -219,8 +259,16 @@ StatusOr<MeshHierarchy> BuildMeshHierarchy(
       continue;
     }
     // Every vertex whose neighborhood changed gets a new stamp and its edges
-    // are queued again.
-    std::vector<int> changed = record.link;
+    // are queued again; except vertices of high valence, which are never
+    // removed: their edges to unchanged vertices can only have become less
+    // collapsible (more common neighbors), so their queue entries stay, and
+    // their edges to changed vertices are queued from the other end. This
+    // keeps the work per collapse bounded by max_removed_valence.
+    std::vector<int> changed;
+    for (int w : record.link) {
+      if (collapser.Valence(w) <= options.max_removed_valence)
+        changed.push_back(w);
+    }
     for (int w : changed) collapser.Touch(w);
     for (int w : changed) push_edges(w, changed);
     collapses.push_back(record);

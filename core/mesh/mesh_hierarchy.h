@@ -30,6 +30,11 @@ struct MeshHierarchyOptions {
   // A collapse may not make a face worse than this quality (4 sqrt(3) area /
   // sum of squared edges; 1 = equilateral), unless it already was.
   double min_triangle_quality = 0.3;
+  // A vertex with more triangles than this around it is never removed (it
+  // stays in the base mesh). Keeps the work per collapse bounded: without
+  // it, a fan of n triangles around one vertex (a CAD cylinder cap) costs
+  // O(n^2) time and memory.
+  int max_removed_valence = 64;
 };
 
 // One half-edge collapse `removed` -> `kept`.
@@ -58,7 +63,8 @@ struct MeshHierarchy {
 // Builds the hierarchy of `mesh`, which must be a closed, manifold,
 // consistently oriented genus-0 mesh (RequireClosedGenusZero). Collapses are
 // chosen shortest edge first, ties broken by vertex indices, so the result
-// is deterministic.
+// is deterministic. Time O(F log F) for bounded max_removed_valence, whatever
+// the valences in the input.
 StatusOr<MeshHierarchy> BuildMeshHierarchy(
     const TriangleMesh& mesh, const MeshHierarchyOptions& options = {});
 

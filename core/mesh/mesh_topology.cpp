@@ -46,19 +46,9 @@ struct HalfEdge {
 }  // namespace
 
 StatusOr<MeshTopologyReport> AnalyzeMeshTopology(const TriangleMesh& mesh) {
+  SDCB_RETURN_IF_ERROR(CheckFaceIndices(mesh));
   const int nv = mesh.num_vertices();
   const int nf = mesh.num_faces();
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int v = mesh.faces(f, k);
-      if (v < 0 || v >= nv) {
-        return InvalidInputError("face " + std::to_string(f) +
-                                 " refers to vertex " + std::to_string(v) +
-                                 ", but there are only " + std::to_string(nv) +
-                                 " vertices");
-      }
-    }
-  }
 
   MeshTopologyReport r;
   r.vertices = nv;

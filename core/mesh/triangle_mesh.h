@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include "sdcb/core/common/status.h"
+
 namespace sdcb {
 
 struct TriangleMesh {
@@ -17,6 +19,9 @@ struct TriangleMesh {
   int num_vertices() const { return static_cast<int>(vertices.rows()); }
   int num_faces() const { return static_cast<int>(faces.rows()); }
 };
+
+// kInvalidInput naming the first face that refers to a vertex out of range.
+Status CheckFaceIndices(const TriangleMesh& mesh);
 
 }  // namespace sdcb
 

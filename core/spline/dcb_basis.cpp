@@ -189,6 +189,36 @@ StatusOr<DcbBasis> DcbBasis::Create(
     return statuses[i].WithPrefix(where + ")");
   }
   basis.splines_ = std::move(splines);
+  // The great circles bounding each set's spherical convex hull, interior on
+  // the positive side: a point strictly outside one of them is outside the
+  // support (B = 0 there, with all derivatives), so evaluation can skip it.
+  {
+    std::vector<std::vector<Eigen::Vector3d>> hulls(m);
+    tbb::parallel_for(0, m, [&](int i) {
+      if (!basis.splines_[i].has_value()) return;  // no pointed cone: no test
+      const std::vector<int>& set = basis.sets_[i].knots;
+      for (int a : set) {
+        for (int b : set) {
+          if (a == b) continue;
+          const Eigen::Vector3d ka = knots.row(a).transpose();
+          const Eigen::Vector3d kb = knots.row(b).transpose();
+          bool edge = true;
+          for (int c : set) {
+            if (c == a || c == b) continue;
+            edge = edge && Det3Sign(ka, kb, knots.row(c).transpose()) > 0;
+          }
+          if (edge) hulls[i].push_back(ka.cross(kb));
+        }
+      }
+    });
+    basis.hull_start_.assign(m + 1, 0);
+    for (int i = 0; i < m; ++i) {
+      basis.hull_start_[i + 1] =
+          basis.hull_start_[i] + static_cast<int>(hulls[i].size());
+      for (const Eigen::Vector3d& n : hulls[i])
+        basis.hull_normals_.push_back(n);
+    }
+  }
   basis.limit_start_.assign(m + 1, 0);
   for (int i = 0; i < m; ++i) {
     basis.limit_start_[i + 1] =
@@ -345,6 +375,32 @@ ScalarJet DcbBasis::Evaluate(int i, const Eigen::Vector3d& p,
     }
   }
   return jet;
+}
+
+bool DcbBasis::AddPiecePolynomial(int i, const Eigen::Vector3d& q,
+                                  const Eigen::Vector3d& o,
+                                  const Eigen::Vector3d& e1,
+                                  const Eigen::Vector3d& e2,
+                                  double* out) const {
+  constexpr int kSize = PolynomialSize(SimplexSpline::kMaxKnots - 3);
+  double piece[kSize];
+  bool any = false;
+  const int size = PolynomialSize(degree_);
+  if (weights_[i] != 0.0 && splines_[i]->PiecePolynomial(q, o, e1, e2, piece)) {
+    for (int c = 0; c < size; ++c) out[c] += weights_[i] * piece[c];
+    any = true;
+  }
+  for (int t = limit_start_[i]; t < limit_start_[i + 1]; ++t) {
+    // (a . p) M(p | X~ \ x_j), M of degree k - 1.
+    const LimitTerm& term = limit_terms_[t];
+    double child[kSize];
+    if (!term.spline.PiecePolynomial(q, o, e1, e2, child)) continue;
+    const Eigen::Vector3d& a = term.cofactor;
+    AccumulateAffineProduct(a.dot(o), a.dot(e1), a.dot(e2), child, degree_ - 1,
+                            out);
+    any = true;
+  }
+  return any;
 }
 
 void DcbBasis::Candidates(const Eigen::Vector3d& p,

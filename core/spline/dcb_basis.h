@@ -89,6 +89,14 @@ class DcbBasis {
   // B_i and its R^3 derivatives up to `order`.
   ScalarJet Evaluate(int i, const Eigen::Vector3d& p, JetOrder order) const;
 
+  // The polynomial piece of B_i containing q in the chart p(s, t) = o +
+  // s e1 + t e2 (SimplexSpline::PiecePolynomial): adds its
+  // PolynomialSize(degree()) coefficients to `out`. Returns false if B_i
+  // vanishes around q.
+  bool AddPiecePolynomial(int i, const Eigen::Vector3d& q,
+                          const Eigen::Vector3d& o, const Eigen::Vector3d& e1,
+                          const Eigen::Vector3d& e2, double* out) const;
+
   // A permutation of the rows of `points` (#P by 3 unit vectors) that visits
   // them support-grid cell by cell (stable within a cell): evaluating in this
   // order reuses the same few basis functions from cache.
@@ -139,8 +147,19 @@ class DcbBasis {
     const Eigen::Vector3d u = p.normalized();
     for (int j = cell_start_[cell]; j < cell_start_[cell + 1]; ++j) {
       const int i = cell_items_[j];
-      if (caps_[i].axis.dot(u) >= caps_[i].cos_radius) visit(i);
+      if (caps_[i].axis.dot(u) >= caps_[i].cos_radius && !OutsideHull(i, u)) {
+        visit(i);
+      }
     }
+  }
+  // Whether the unit vector u lies strictly outside the spherical convex
+  // hull of set i's knots, by a margin far above rounding (points near the
+  // hull's boundary are never skipped: the exact predicates decide there).
+  bool OutsideHull(int i, const Eigen::Vector3d& u) const {
+    for (int e = hull_start_[i]; e < hull_start_[i + 1]; ++e) {
+      if (hull_normals_[e].dot(u) < -1e-12) return true;
+    }
+    return false;
   }
 
   int degree_ = 0;
@@ -155,6 +174,10 @@ class DcbBasis {
   std::vector<int> limit_start_;
   std::vector<LimitTerm> limit_terms_;
   std::vector<SphericalCap> caps_;
+  // CSR: normals a x b of the hull edges (a, b) of set i, the hull on their
+  // positive side; empty for sets without a simplex spline.
+  std::vector<int> hull_start_;
+  std::vector<Eigen::Vector3d> hull_normals_;
   // Support grid: rows_ x 2 rows_ latitude-longitude cells, CSR lists of
   // basis indices (ascending) whose cap meets each cell.
   int rows_ = 1;

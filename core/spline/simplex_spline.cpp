@@ -326,4 +326,38 @@ ScalarJet SimplexSpline::Evaluate(const Eigen::Vector3d& p,
   return jets[count - 1];
 }
 
+bool SimplexSpline::PiecePolynomial(const Eigen::Vector3d& q,
+                                    const Eigen::Vector3d& o,
+                                    const Eigen::Vector3d& e1,
+                                    const Eigen::Vector3d& e2,
+                                    double* out) const {
+  double leaves[256];
+  if (!LeafValues(q, leaves)) return false;
+  constexpr int kSize = PolynomialSize(kMax - 3);
+  const int count = static_cast<int>(nodes_.size());
+  // Reused per thread: this runs once per region and basis function.
+  thread_local std::vector<std::array<double, kSize>> poly;
+  if (static_cast<int>(poly.size()) < count) poly.resize(count);
+  for (int i = 0; i < num_leaves_; ++i) {
+    poly[i].fill(0.0);
+    poly[i][0] = leaves[i];
+  }
+  for (int i = num_leaves_; i < count; ++i) {
+    const Node& node = nodes_[i];
+    poly[i].fill(0.0);
+    // Eq. 3 with b_j(p(s, t)) = g_j . o + s g_j . e1 + t g_j . e2.
+    const int child_degree = __builtin_popcount(node.mask) - 4;
+    const Eigen::Matrix3d& g = matrices_[node.matrix];
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Vector3d gj = g.row(j).transpose();
+      AccumulateAffineProduct(gj.dot(o), gj.dot(e1), gj.dot(e2),
+                              poly[node.child[j]].data(), child_degree,
+                              poly[i].data());
+    }
+  }
+  const std::array<double, kSize>& top = poly[count - 1];
+  std::copy(top.begin(), top.begin() + PolynomialSize(degree()), out);
+  return true;
+}
+
 }  // namespace sdcb

@@ -38,6 +38,29 @@ struct ScalarJet {
 // How many derivatives to compute: 0 value, 1 + gradient, 2 + Hessian.
 enum class JetOrder { kValue = 0, kGradient = 1, kHessian = 2 };
 
+// Bivariate polynomials in the affine chart p(s, t) = o + s e1 + t e2 of
+// R^3 (the per-piece form used by core/spline/piecewise_surface.h): the
+// coefficient of s^i t^j, i + j <= d, is at index (i + j)(i + j + 1) / 2 + j.
+inline constexpr int PolynomialSize(int degree) {
+  return (degree + 1) * (degree + 2) / 2;
+}
+inline constexpr int MonomialIndex(int i, int j) {
+  return (i + j) * (i + j + 1) / 2 + j;
+}
+// out += (alpha + beta s + gamma t) * in, `in` of degree `degree`.
+inline void AccumulateAffineProduct(double alpha, double beta, double gamma,
+                                    const double* in, int degree, double* out) {
+  for (int n = 0; n <= degree; ++n)
+    for (int j = 0; j <= n; ++j) {
+      const int i = n - j;
+      const double c = in[MonomialIndex(i, j)];
+      if (c == 0.0) continue;
+      out[MonomialIndex(i, j)] += alpha * c;
+      out[MonomialIndex(i + 1, j)] += beta * c;
+      out[MonomialIndex(i, j + 1)] += gamma * c;
+    }
+}
+
 // Three unit knots with |det| at or below this count as lying on one great
 // circle (a zero node of the recursion). The rounding of det is ~1e-16, so
 // 1 / |det| and the barycentric matrix of such a triple are not
@@ -101,6 +124,16 @@ class SimplexSpline {
   // M and, up to `order`, its R^3 gradient and Hessian at p. Entries beyond
   // `order` are left zero.
   ScalarJet Evaluate(const Eigen::Vector3d& p, JetOrder order) const;
+
+  // The polynomial piece of M that contains q (decided by the same exact,
+  // perturbed signs as Value(q)), in the chart p(s, t) = o + s e1 + t e2:
+  // writes PolynomialSize(degree()) coefficients to `out` (see
+  // MonomialIndex) so that M(p(s, t)) = sum c_ij s^i t^j wherever p(s, t)
+  // lies in that piece. Returns false, leaving `out` untouched, if M
+  // vanishes around q (q outside the support).
+  bool PiecePolynomial(const Eigen::Vector3d& q, const Eigen::Vector3d& o,
+                       const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
+                       double* out) const;
 
  private:
   struct Node {

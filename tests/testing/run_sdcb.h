@@ -2,6 +2,7 @@
 #ifndef SDCB_TESTS_TESTING_RUN_SDCB_H_
 #define SDCB_TESTS_TESTING_RUN_SDCB_H_
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -49,6 +50,16 @@ inline RunResult RunSdcb(const std::vector<std::string>& args,
   r.out = ReadBytes(out);
   r.err = ReadBytes(err);
   return r;
+}
+
+// What every failing command must print: one line on stderr naming `file`,
+// and no crash.
+inline void ExpectOneSentenceNaming(const RunResult& r,
+                                    const std::string& file) {
+  EXPECT_FALSE(r.crashed) << r.err;
+  ASSERT_FALSE(r.err.empty());
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+  EXPECT_NE(r.err.find(file), std::string::npos) << r.err;
 }
 
 }  // namespace sdcb::testing

@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <set>
 #include <string>
 
 #include "sdcb/core/mesh/mesh_topology.h"
+#include "testing/fan_mesh.h"
 #include "testing/off_test_mesh.h"
 
 namespace sdcb {
@@ -85,6 +87,37 @@ TEST(MeshHierarchy, CollapsesAreManifoldAndUndoExactly) {
                           [](bool a) { return a; }));
   EXPECT_TRUE(std::all_of(vertex_alive.begin(), vertex_alive.end(),
                           [](bool a) { return a; }));
+}
+
+TEST(MeshHierarchy, FanHubsStayAndRemovedVerticesHaveBoundedValence) {
+  const TriangleMesh mesh = testing::DoubleCone(3000);
+  ASSERT_TRUE(RequireClosedGenusZero(mesh).ok());
+  MeshHierarchyOptions options;
+  auto h = BuildMeshHierarchy(mesh, options);
+  ASSERT_TRUE(h.ok());
+  // The ring collapses down to the base size; the hubs (valence 3000 >
+  // max_removed_valence) stay.
+  const int base = mesh.num_vertices() - static_cast<int>(h->collapses.size());
+  EXPECT_LE(base, options.base_vertices + 10);
+  EXPECT_TRUE(h->vertex_alive[0]);
+  EXPECT_TRUE(h->vertex_alive[1]);
+  for (const HalfEdgeCollapse& c : h->collapses) {
+    ASSERT_LE(static_cast<int>(c.link.size()), options.max_removed_valence);
+  }
+  TriangleMesh base_mesh = AliveMesh(mesh, h->faces, h->face_alive);
+  auto report = AnalyzeMeshTopology(base_mesh);
+  ASSERT_TRUE(report.ok());
+  EXPECT_EQ(report->euler_characteristic, 2);
+  EXPECT_EQ(report->boundary_edges, 0);
+  EXPECT_EQ(report->non_manifold_edges, 0);
+  EXPECT_EQ(report->inconsistently_oriented_edges, 0);
+  // Undoing every collapse gives the input back.
+  Eigen::MatrixX3i faces = h->faces;
+  std::vector<bool> face_alive = h->face_alive, vertex_alive = h->vertex_alive;
+  for (size_t j = h->collapses.size(); j-- > 0;) {
+    UndoCollapse(h->collapses[j], &faces, &face_alive, &vertex_alive);
+  }
+  EXPECT_EQ(faces, mesh.faces);
 }
 
 TEST(MeshHierarchy, RejectsTooSmallBase) {

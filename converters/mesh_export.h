@@ -1,0 +1,22 @@
+// Writes a SurfaceMesh as OBJ (with normals), PLY (binary, normals and
+// colors) or STL (binary) through OpenMesh's writers, atomically.
+#ifndef SDCB_CONVERTERS_MESH_EXPORT_H_
+#define SDCB_CONVERTERS_MESH_EXPORT_H_
+
+#include <string>
+
+#include "sdcb/converters/surface_mesh.h"
+#include "sdcb/core/common/status.h"
+
+namespace sdcb {
+
+// `path` ends in .obj, .ply or .stl (case-insensitive; else
+// kInvalidArgument). OBJ stores 17 significant digits; PLY and STL store
+// float32 coordinates. Colors are written to PLY only (OBJ and STL have no
+// standard vertex colors). kIoError if the file cannot be written; nothing
+// is left at `path` then.
+Status WriteSurfaceMesh(const SurfaceMesh& mesh, const std::string& path);
+
+}  // namespace sdcb
+
+#endif  // SDCB_CONVERTERS_MESH_EXPORT_H_

@@ -1,0 +1,83 @@
+// Adaptive tessellation of a surface over S^2 (a spherical DCB-spline, or any
+// SurfaceSampler): the domain triangulation (sphere_triangulation.h) is
+// refined by longest-edge bisection until every face is certified:
+//   - chordal: the largest distance from the surface patch over the face to
+//     the flat image triangle, sampled on the face's barycentric lattice of
+//     order `lattice` (interior and edge points, not edge midpoints alone),
+//     is at most (1 - 4 / (3 lattice^2)) * tolerance. For a surface that is
+//     quadratic over the face the lattice misses at most that fraction of
+//     the true maximum, so the certified distance bounds the true one.
+//   - angular: the angle between the flat triangle's normal and the
+//     surface normal at every sample and corner is at most `angle_degrees`,
+//     checked only on faces whose image is larger than the tolerance (on
+//     smaller faces a normal error is invisible, and at a fold of the
+//     surface, where the normal flips, no face would ever pass).
+// Then, if `optimize`, edges are collapsed and flipped while every face stays
+// certified (elongated faces along flat directions), which brings the count
+// toward the asymptotic optimum (optimal_triangle_count.h).
+//
+// The result is closed, manifold, genus 0 and consistently oriented by
+// construction (no T-junctions): it is a triangulation of the sphere mapped
+// by the surface. Vertices lie on the surface; normals are the surface's
+// analytic normals. Deterministic for any thread count.
+#ifndef SDCB_CORE_TESSELLATE_ADAPTIVE_TESSELLATION_H_
+#define SDCB_CORE_TESSELLATE_ADAPTIVE_TESSELLATION_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+
+#include "sdcb/core/common/status.h"
+#include "sdcb/core/tessellate/surface_sampler.h"
+
+namespace sdcb {
+
+struct TessellationOptions {
+  // Largest distance between mesh and surface, in the surface's units; > 0.
+  double tolerance = 1e-3;
+  // Largest angle between a face's normal and the surface normals over it,
+  // degrees, in (0, 180]; 180 disables the angular test.
+  double angle_degrees = 20.0;
+  // Order m of the barycentric sample lattice per face, 2..16:
+  // (m + 1)(m + 2) / 2 - 3 samples per face.
+  int lattice = 6;
+  // Collapse and flip edges after refinement.
+  bool optimize = true;
+  // Faces whose shortest domain edge is below this angle (radians) are not
+  // split further; they count as uncertified if they still fail.
+  double min_edge_radians = 1e-7;
+  // Fail with kInvalidInput rather than produce more faces than this.
+  int64_t max_faces = 20'000'000;
+};
+
+struct Tessellation {
+  Eigen::MatrixX3d directions;  // #V by 3 domain points (unit vectors)
+  Eigen::MatrixX3d positions;   // #V by 3 surface points
+  Eigen::MatrixX3d normals;     // #V by 3 analytic unit normals
+  Eigen::MatrixX3i faces;       // #F by 3, counter-clockwise on the domain
+  // Largest sampled distance over all faces (the certificate, scaled back
+  // by 1 / (1 - 4 / (3 m^2))) and the largest normal angle, degrees, over
+  // the faces the angular test applies to.
+  double certified_distance = 0.0;
+  double max_normal_angle_degrees = 0.0;
+  int uncertified_faces = 0;  // failed but too small to split
+  int64_t evaluations = 0;    // surface points sampled
+};
+
+// Tessellates `surface` adaptively (see above). kInvalidArgument for bad
+// options; kInvalidInput when more than max_faces faces would be needed.
+StatusOr<Tessellation> TessellateAdaptively(const SurfaceSampler& surface,
+                                            const TessellationOptions& options);
+
+// The icosahedron subdivided `subdivisions` times (10 * 4^s + 2 vertices,
+// core/mesh/icosphere.h) mapped by the surface: a semi-regular mesh.
+// `subdivisions` in 0..9.
+Tessellation TessellateUniformly(const SurfaceSampler& surface,
+                                 int subdivisions);
+
+// The subdivision level whose vertex count 10 * 4^s + 2 is closest to
+// `vertices` (in log scale), clamped to 0..9.
+int UniformLevelForVertices(int64_t vertices);
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_TESSELLATE_ADAPTIVE_TESSELLATION_H_

@@ -1,0 +1,45 @@
+#include "sdcb/core/tessellate/surface_sampler.h"
+
+#include "sdcb/core/spline/piecewise_surface.h"
+#include "sdcb/core/spline/spherical_spline.h"
+
+namespace sdcb {
+
+void SplineSampler::Sample(const Eigen::MatrixX3d& directions,
+                           Eigen::MatrixX3d* positions,
+                           Eigen::MatrixX3d* normals) const {
+  if (normals == nullptr) {
+    *positions = spline_.EvaluateMany(directions);
+    return;
+  }
+  const std::vector<SurfacePoint> jets =
+      spline_.EvaluateDifferentialMany(directions, JetOrder::kGradient);
+  positions->resize(directions.rows(), 3);
+  normals->resize(directions.rows(), 3);
+  for (size_t i = 0; i < jets.size(); ++i) {
+    positions->row(i) = jets[i].position.transpose();
+    normals->row(i) = jets[i].normal.transpose();
+  }
+}
+
+bool SplineSampler::SampleCurvature(const Eigen::MatrixX3d& directions,
+                                    Eigen::VectorXd* gaussian,
+                                    Eigen::VectorXd* mean) const {
+  const std::vector<SurfacePoint> jets =
+      spline_.EvaluateDifferentialMany(directions, JetOrder::kHessian);
+  gaussian->resize(directions.rows());
+  mean->resize(directions.rows());
+  for (size_t i = 0; i < jets.size(); ++i) {
+    (*gaussian)[i] = jets[i].gaussian_curvature;
+    (*mean)[i] = jets[i].mean_curvature;
+  }
+  return true;
+}
+
+void PiecewiseSplineSampler::Sample(const Eigen::MatrixX3d& directions,
+                                    Eigen::MatrixX3d* positions,
+                                    Eigen::MatrixX3d* normals) const {
+  pieces_.EvaluateMany(directions, positions, normals);
+}
+
+}  // namespace sdcb

@@ -1,0 +1,34 @@
+// Writes small valid .sdcb models (degrees 0..3, a few knots, with and
+// without sphere parameters) into the directory given as the argument: the
+// seeds of corpus/sdcb. The models come from the tests' fixture, whose
+// configurations are found by brute force.
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "sdcb/io/sdcb_file.h"
+#include "testing/spline_model_fixture.h"
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: make_sdcb_seeds DIR\n");
+    return 2;
+  }
+  const struct {
+    int degree, knots, parameters;
+  } models[] = {{0, 8, 0}, {1, 6, 3}, {1, 8, 0}, {2, 8, 2}, {3, 9, 0}};
+  for (const auto& m : models) {
+    const auto bytes = sdcb::SerializeSdcb(
+        sdcb::testing::MakeTestModel(m.degree, m.knots, m.parameters));
+    if (!bytes.ok()) {
+      std::fprintf(stderr, "%s\n", bytes.status().message().c_str());
+      return 1;
+    }
+    const std::string path = std::string(argv[1]) + "/degree" +
+                             std::to_string(m.degree) + "_knots" +
+                             std::to_string(m.knots) + ".sdcb";
+    std::ofstream(path, std::ios::binary) << *bytes;
+    std::printf("%s: %zu bytes\n", path.c_str(), bytes->size());
+  }
+  return 0;
+}

@@ -1,0 +1,118 @@
+// Tests core/mesh/self_intersections.*: counts known by construction, and a
+// brute-force oracle (every pair of vertex-disjoint triangles through
+// CGAL::do_intersect) for a crumpled sphere.
+#include "sdcb/core/mesh/self_intersections.h"
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sdcb/core/mesh/icosphere.h"
+#include "testing/fan_mesh.h"
+
+namespace sdcb {
+namespace {
+
+// A tetrahedron flattened into the plane z = 0: the outer triangle ABC and
+// the three triangles ABD, BCD, CAD around D inside it. ABC overlaps each
+// of the three inner triangles (they lie on the same side of their shared
+// edge); the inner ones only touch along their shared edges.
+TriangleMesh FlatTetrahedron() {
+  TriangleMesh m;
+  m.vertices.resize(4, 3);
+  m.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.25, 0.25, 0;
+  m.faces.resize(4, 3);
+  m.faces << 0, 2, 1,  // ABC (seen from below: the outside of the solid)
+      0, 1, 3, 1, 2, 3, 2, 0, 3;
+  return m;
+}
+
+// Pairs of triangles without a common vertex that intersect (exactly).
+int64_t BruteForceDisjointPairs(const TriangleMesh& m) {
+  using K = CGAL::Exact_predicates_exact_constructions_kernel;
+  auto triangle = [&](int f) {
+    auto p = [&](int k) {
+      const int v = m.faces(f, k);
+      return K::Point_3(m.vertices(v, 0), m.vertices(v, 1), m.vertices(v, 2));
+    };
+    return K::Triangle_3(p(0), p(1), p(2));
+  };
+  int64_t pairs = 0;
+  for (int f = 0; f < m.num_faces(); ++f) {
+    for (int g = f + 1; g < m.num_faces(); ++g) {
+      bool share = false;
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) share |= m.faces(f, a) == m.faces(g, b);
+      }
+      if (!share && CGAL::do_intersect(triangle(f), triangle(g))) ++pairs;
+    }
+  }
+  return pairs;
+}
+
+TEST(SelfIntersections, SphereHasNone) {
+  auto r = FindSelfIntersections(MakeIcosphere(3));
+  ASSERT_TRUE(r.ok());
+  EXPECT_TRUE(r->checked);
+  EXPECT_EQ(r->intersecting_pairs, 0);
+}
+
+TEST(SelfIntersections, FlatTetrahedronHasThreeOverlaps) {
+  auto r = FindSelfIntersections(FlatTetrahedron());
+  ASSERT_TRUE(r.ok());
+  EXPECT_TRUE(r->checked);
+  EXPECT_EQ(r->intersecting_pairs, 3);
+}
+
+TEST(SelfIntersections, CrumpledSphereAgreesWithBruteForce) {
+  // One vertex pushed through the sphere to the far side: its fan pierces
+  // the opposite triangles.
+  TriangleMesh m = MakeIcosphere(2);
+  m.vertices.row(0) *= -1.5;
+  const int64_t disjoint = BruteForceDisjointPairs(m);
+  ASSERT_GT(disjoint, 0);
+  auto r = FindSelfIntersections(m);
+  ASSERT_TRUE(r.ok());
+  EXPECT_TRUE(r->checked);
+  // PMP also counts pairs that share a vertex and overlap beyond it.
+  EXPECT_GE(r->intersecting_pairs, disjoint);
+  EXPECT_LE(r->intersecting_pairs, disjoint + 3 * m.num_faces());
+}
+
+TEST(SelfIntersections, NonManifoldIsNotChecked) {
+  TriangleMesh m = FlatTetrahedron();
+  m.faces.conservativeResize(5, 3);
+  m.faces.row(4) << 0, 1, 2;  // a third triangle on edge (0, 1)
+  auto r = FindSelfIntersections(m);
+  ASSERT_TRUE(r.ok());
+  EXPECT_FALSE(r->checked);
+  EXPECT_NE(r->skipped_because.find("manifold"), std::string::npos);
+  m.faces(4, 2) = 7;
+  EXPECT_EQ(FindSelfIntersections(m).status().code(),
+            StatusCode::kInvalidInput);
+}
+
+TEST(SelfIntersections, HugeFansAreSkippedWithinTheBudget) {
+  // Two fans of n triangles around the poles: every pair of triangles of a
+  // fan overlaps in its bounding box at the pole.
+  const int n = 1000;
+  const TriangleMesh m = testing::DoubleCone(n);
+  SelfIntersectionOptions tight;
+  tight.max_pairs_per_face = 10;
+  tight.max_extra_pairs = 0;
+  auto skipped = FindSelfIntersections(m, tight);
+  ASSERT_TRUE(skipped.ok());
+  EXPECT_FALSE(skipped->checked);
+  EXPECT_NE(skipped->skipped_because.find("fan"), std::string::npos);
+  // With room for the n^2 pairs the test runs and finds nothing.
+  SelfIntersectionOptions roomy;
+  roomy.max_extra_pairs = int64_t{4} * n * n;
+  auto checked = FindSelfIntersections(m, roomy);
+  ASSERT_TRUE(checked.ok());
+  EXPECT_TRUE(checked->checked);
+  EXPECT_EQ(checked->intersecting_pairs, 0);
+}
+
+}  // namespace
+}  // namespace sdcb

@@ -1,0 +1,263 @@
+#include "sdcb/core/tessellate/adaptive_tessellation.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <iostream>
+#include <map>
+#include <random>
+
+#include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/tessellate/optimal_triangle_count.h"
+#include "testing/analytic_surfaces.h"
+
+namespace sdcb {
+namespace {
+
+using testing::EllipsoidSampler;
+
+TriangleMesh ToMesh(const Tessellation& t) {
+  TriangleMesh m;
+  m.vertices = t.positions;
+  m.faces = t.faces;
+  return m;
+}
+
+// Largest distance from the flat triangles to the ellipsoid (dense
+// barycentric samples, exact point-ellipsoid distance) and from dense
+// surface samples to the mesh (CGAL's AABB tree): independent of the
+// tessellator's certificate.
+double MeasuredHausdorff(const Tessellation& t, const EllipsoidSampler& s,
+                         int order) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Triangles = std::vector<K::Triangle_3>;
+  using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::iterator>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+  Triangles triangles;
+  auto point = [&](int v) {
+    return K::Point_3(t.positions(v, 0), t.positions(v, 1), t.positions(v, 2));
+  };
+  for (Eigen::Index f = 0; f < t.faces.rows(); ++f) {
+    triangles.emplace_back(point(t.faces(f, 0)), point(t.faces(f, 1)),
+                           point(t.faces(f, 2)));
+  }
+  Tree tree(triangles.begin(), triangles.end());
+  tree.accelerate_distance_queries();
+  double worst = 0.0;
+  std::vector<Eigen::Vector3d> directions;
+  for (Eigen::Index f = 0; f < t.faces.rows(); ++f) {
+    for (int i = 0; i <= order; ++i)
+      for (int j = 0; i + j <= order; ++j) {
+        const double a = double(i) / order, b = double(j) / order,
+                     c = 1.0 - a - b;
+        const Eigen::Vector3d x =
+            a * t.positions.row(t.faces(f, 0)).transpose() +
+            b * t.positions.row(t.faces(f, 1)).transpose() +
+            c * t.positions.row(t.faces(f, 2)).transpose();
+        worst = std::max(worst, s.Distance(x));
+        directions.push_back((a * t.directions.row(t.faces(f, 0)) +
+                              b * t.directions.row(t.faces(f, 1)) +
+                              c * t.directions.row(t.faces(f, 2)))
+                                 .normalized()
+                                 .transpose());
+      }
+  }
+  Eigen::MatrixX3d d(directions.size(), 3), p;
+  for (size_t i = 0; i < directions.size(); ++i) d.row(i) = directions[i];
+  s.Sample(d, &p, nullptr);
+  for (Eigen::Index i = 0; i < p.rows(); ++i) {
+    const double d2 =
+        tree.squared_distance(K::Point_3(p(i, 0), p(i, 1), p(i, 2)));
+    worst = std::max(worst, std::sqrt(d2));
+  }
+  return worst;
+}
+
+TEST(AdaptiveTessellationTest, SphereIsClosedWithinToleranceNearOptimum) {
+  const double r = 2.0, eps = 1e-3;
+  EllipsoidSampler sphere(Eigen::Vector3d(r, r, r));
+  TessellationOptions options;
+  options.tolerance = eps;
+  StatusOr<Tessellation> t = TessellateAdaptively(sphere, options);
+  ASSERT_TRUE(t.ok()) << t.status().message();
+  StatusOr<MeshTopologyReport> topology = AnalyzeMeshTopology(ToMesh(*t));
+  ASSERT_TRUE(topology.ok());
+  EXPECT_TRUE(topology->ok) << DescribeTopologyProblem(*topology);
+  // Flat points are inside the sphere: their distance is r - |x|.
+  double worst = 0.0;
+  for (Eigen::Index f = 0; f < t->faces.rows(); ++f) {
+    for (int i = 0; i <= 12; ++i)
+      for (int j = 0; i + j <= 12; ++j) {
+        const Eigen::Vector3d x =
+            (i * t->positions.row(t->faces(f, 0)) +
+             j * t->positions.row(t->faces(f, 1)) +
+             (12 - i - j) * t->positions.row(t->faces(f, 2))) /
+            12.0;
+        worst = std::max(worst, r - x.norm());
+      }
+  }
+  EXPECT_LE(worst, eps);
+  EXPECT_LE(t->certified_distance, eps);
+  EXPECT_GE(worst, 0.5 * eps);  // not grossly over-refined
+  EXPECT_EQ(t->uncertified_faces, 0);
+  // N_opt(eps) = 8 pi r / (3 sqrt(3) eps) for a sphere.
+  const double optimum = 8.0 * M_PI * r / (3.0 * std::sqrt(3.0) * eps);
+  const double ratio = t->faces.rows() / optimum;
+  std::cout << "sphere: " << t->faces.rows() << " faces, " << ratio
+            << " x N_opt, measured " << worst << "\n";
+  EXPECT_GE(ratio, 1.0);
+  EXPECT_LE(ratio, 2.5) << t->faces.rows() << " faces";
+  // Vertices on the sphere with the analytic (radial) normals.
+  for (Eigen::Index v = 0; v < t->positions.rows(); ++v) {
+    EXPECT_NEAR(t->positions.row(v).norm(), r, 1e-12);
+    EXPECT_NEAR(t->normals.row(v).dot(t->directions.row(v)), 1.0, 1e-12);
+  }
+}
+
+TEST(AdaptiveTessellationTest, EllipsoidWithinToleranceBothWays) {
+  EllipsoidSampler ellipsoid(Eigen::Vector3d(1.0, 0.5, 0.2));
+  for (double eps : {1e-2, 1e-3}) {
+    TessellationOptions options;
+    options.tolerance = eps;
+    StatusOr<Tessellation> t = TessellateAdaptively(ellipsoid, options);
+    ASSERT_TRUE(t.ok());
+    StatusOr<MeshTopologyReport> topology = AnalyzeMeshTopology(ToMesh(*t));
+    ASSERT_TRUE(topology.ok());
+    EXPECT_TRUE(topology->ok) << DescribeTopologyProblem(*topology);
+    const double measured = MeasuredHausdorff(*t, ellipsoid, 10);
+    EXPECT_LE(measured, eps) << "eps " << eps;
+    EXPECT_GE(measured, 0.4 * eps) << "eps " << eps;
+  }
+}
+
+TEST(AdaptiveTessellationTest, AngleToleranceHolds) {
+  EllipsoidSampler ellipsoid(Eigen::Vector3d(1.0, 0.5, 0.2));
+  TessellationOptions options;
+  options.tolerance = 0.05;  // coarse: the angle decides
+  options.angle_degrees = 10.0;
+  StatusOr<Tessellation> t = TessellateAdaptively(ellipsoid, options);
+  ASSERT_TRUE(t.ok());
+  // Independent: the analytic normal at dense points of each face's domain
+  // against the flat face normal, for faces larger than the tolerance.
+  for (Eigen::Index f = 0; f < t->faces.rows(); ++f) {
+    const Eigen::Vector3d a = t->positions.row(t->faces(f, 0)),
+                          b = t->positions.row(t->faces(f, 1)),
+                          c = t->positions.row(t->faces(f, 2));
+    if (std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()}) <=
+        options.tolerance) {
+      continue;
+    }
+    const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+    Eigen::MatrixX3d d(66, 3), p, normals;
+    int row = 0;
+    for (int i = 0; i <= 10; ++i)
+      for (int j = 0; i + j <= 10; ++j) {
+        d.row(row++) = (i * t->directions.row(t->faces(f, 0)) +
+                        j * t->directions.row(t->faces(f, 1)) +
+                        (10 - i - j) * t->directions.row(t->faces(f, 2)))
+                           .normalized();
+      }
+    ellipsoid.Sample(d, &p, &normals);
+    for (int k = 0; k < 66; ++k) {
+      // The lattice of order 6 misses a little between its points.
+      EXPECT_GE(normals.row(k).dot(n), std::cos(10.5 * M_PI / 180.0));
+    }
+  }
+}
+
+TEST(AdaptiveTessellationTest, DeterministicAndOptionsChecked) {
+  EllipsoidSampler ellipsoid(Eigen::Vector3d(1.0, 0.7, 0.4));
+  TessellationOptions options;
+  options.tolerance = 2e-3;
+  StatusOr<Tessellation> a = TessellateAdaptively(ellipsoid, options);
+  StatusOr<Tessellation> b = TessellateAdaptively(ellipsoid, options);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a->faces, b->faces);
+  EXPECT_EQ(a->positions, b->positions);
+  options.tolerance = 0.0;
+  EXPECT_FALSE(TessellateAdaptively(ellipsoid, options).ok());
+  options.tolerance = 1e-3;
+  options.angle_degrees = 0.0;
+  EXPECT_FALSE(TessellateAdaptively(ellipsoid, options).ok());
+  options.angle_degrees = 20.0;
+  options.max_faces = 100;
+  StatusOr<Tessellation> capped = TessellateAdaptively(ellipsoid, options);
+  EXPECT_EQ(capped.status().code(), StatusCode::kInvalidInput);
+}
+
+TEST(AdaptiveTessellationTest, UniformLevels) {
+  EXPECT_EQ(UniformLevelForVertices(12), 0);
+  EXPECT_EQ(UniformLevelForVertices(40962), 6);
+  EXPECT_EQ(UniformLevelForVertices(30000), 6);
+  EllipsoidSampler sphere(Eigen::Vector3d(1, 1, 1));
+  const Tessellation t = TessellateUniformly(sphere, 3);
+  EXPECT_EQ(t.positions.rows(), 642);
+  EXPECT_EQ(t.faces.rows(), 1280);
+}
+
+TEST(OptimalTriangleCountTest, SphereClosedForm) {
+  const double r = 3.0;
+  EllipsoidSampler sphere(Eigen::Vector3d(r, r, r));
+  const Tessellation coarse = TessellateUniformly(sphere, 4);
+  StatusOr<CurvatureIntegrals> k =
+      IntegrateCurvature(sphere, coarse.directions, coarse.faces, 1);
+  ASSERT_TRUE(k.ok());
+  // Inscribed flat triangles: the area converges to 4 pi r^2 from below.
+  EXPECT_NEAR(k->area, 4 * M_PI * r * r, 2e-3 * 4 * M_PI * r * r);
+  EXPECT_NEAR(k->convex, 4 * M_PI * r, 2e-3 * 4 * M_PI * r);
+  EXPECT_EQ(k->saddle, 0.0);
+  EXPECT_NEAR(OptimalTriangleCount(*k, 1e-3), 4.8368 * r / 1e-3,
+              3e-3 * 4.8368 * r / 1e-3);
+}
+
+// max |q - L| over a triangle for q = (x^2 - y^2) / 2, L its linear
+// interpolant, by dense sampling (the brute-force oracle).
+double SaddleError(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                   const Eigen::Vector2d& c) {
+  auto q = [](const Eigen::Vector2d& p) {
+    return 0.5 * (p.x() * p.x() - p.y() * p.y());
+  };
+  double worst = 0.0;
+  const int n = 60;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j) {
+      const double u = double(i) / n, v = double(j) / n, w = 1 - u - v;
+      const Eigen::Vector2d p = u * a + v * b + w * c;
+      worst =
+          std::max(worst, std::abs(q(p) - (u * q(a) + v * q(b) + w * q(c))));
+    }
+  return worst;
+}
+
+TEST(OptimalTriangleCountTest, SaddleConstantIsTheBestAreaPerError) {
+  // The claimed optimum: edges (s, 0), (-s/2, sqrt(5) s / 2) has area per
+  // error 2 sqrt 5 (N = integral / (2 sqrt 5 eps)).
+  const double s = 1.0;
+  const Eigen::Vector2d a(0, 0), b(s, 0), c(s / 2, std::sqrt(5.0) * s / 2);
+  const double area =
+      0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+  EXPECT_NEAR(area / SaddleError(a, b, c), 2 * std::sqrt(5.0), 1e-6);
+  // No random triangle does better (the metric is invariant under
+  // hyperbolic rotations, so random shapes cover all cases).
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g;
+  double best = 0.0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const Eigen::Vector2d p(g(rng), g(rng)), q(g(rng), g(rng)),
+        r(g(rng), g(rng));
+    const double ar =
+        0.5 * std::abs((q - p).x() * (r - p).y() - (q - p).y() * (r - p).x());
+    best = std::max(best, ar / SaddleError(p, q, r));
+  }
+  EXPECT_LE(best, 2 * std::sqrt(5.0) * (1 + 1e-3));
+  EXPECT_GE(best, 0.5 * 2 * std::sqrt(5.0));
+  EXPECT_NEAR(kSaddleTriangleConstant, 1.0 / (2.0 * std::sqrt(5.0)), 1e-15);
+  EXPECT_NEAR(kConvexTriangleConstant, 2.0 / (3.0 * std::sqrt(3.0)), 1e-15);
+}
+
+}  // namespace
+}  // namespace sdcb

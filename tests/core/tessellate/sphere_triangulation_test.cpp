@@ -1,0 +1,91 @@
+#include "sdcb/core/tessellate/sphere_triangulation.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <map>
+#include <random>
+#include <set>
+
+namespace sdcb {
+namespace {
+
+// Closed, manifold, consistently oriented, genus 0, every face positively
+// oriented on the sphere: checked from the faces alone.
+void ExpectSphereTriangulation(const SphereTriangulation& t) {
+  const Eigen::MatrixX3i f = t.Faces();
+  const std::vector<int> alive = t.AliveVertices();
+  Eigen::MatrixX3d v(alive.size(), 3);
+  for (size_t i = 0; i < alive.size(); ++i) v.row(i) = t.vertex(alive[i]);
+  std::map<std::pair<int, int>, int> directed;
+  std::set<int> used;
+  for (Eigen::Index i = 0; i < f.rows(); ++i) {
+    const Eigen::Vector3d a = v.row(f(i, 0)), b = v.row(f(i, 1)),
+                          c = v.row(f(i, 2));
+    EXPECT_GT(a.cross(b).dot(c), 0.0) << "face " << i << " is inverted";
+    for (int k = 0; k < 3; ++k) {
+      ++directed[{f(i, k), f(i, (k + 1) % 3)}];
+      used.insert(f(i, k));
+    }
+  }
+  for (const auto& [e, count] : directed) {
+    EXPECT_EQ(count, 1) << "edge used twice in one direction";
+    EXPECT_EQ(directed.count({e.second, e.first}), 1u) << "boundary edge";
+  }
+  const long long edges = static_cast<long long>(directed.size()) / 2;
+  EXPECT_EQ(static_cast<long long>(used.size()) - edges + f.rows(), 2);
+  EXPECT_EQ(used.size(), alive.size());
+  // The spherical triangles tile the sphere: their areas sum to 4 pi.
+  double area = 0.0;
+  for (Eigen::Index i = 0; i < f.rows(); ++i) {
+    const Eigen::Vector3d a = v.row(f(i, 0)), b = v.row(f(i, 1)),
+                          c = v.row(f(i, 2));
+    // Van Oosterom & Strackee's solid angle.
+    area += 2.0 *
+            std::atan2(a.dot(b.cross(c)), 1.0 + a.dot(b) + b.dot(c) + c.dot(a));
+  }
+  EXPECT_NEAR(area, 4.0 * M_PI, 1e-9);
+}
+
+TEST(SphereTriangulationTest, IcosahedronIsASphere) {
+  const auto t = SphereTriangulation::Icosahedron([](int, int) { return 1.0; });
+  EXPECT_EQ(t.num_vertices(), 12);
+  EXPECT_EQ(t.num_faces(), 20);
+  ExpectSphereTriangulation(t);
+}
+
+TEST(SphereTriangulationTest, RandomBisectionsStayConforming) {
+  // Domain lengths scaled by a random factor in [1, 1.5] per edge (fixed
+  // per edge: a surface metric), random faces: long LEPP paths.
+  std::mt19937 rng(3);
+  SphereTriangulation* current = nullptr;
+  const auto length = [&](int a, int b) {
+    return (current->vertex(a) - current->vertex(b)).norm() *
+           std::uniform_real_distribution<>(1.0, 1.5)(rng);
+  };
+  SphereTriangulation t = SphereTriangulation::Icosahedron([](int a, int b) {
+    return 1.0 + 0.01 * std::min(a, b) + 0.001 * std::max(a, b);
+  });
+  current = &t;
+  int created = 0;
+  for (int step = 0; step < 2000; ++step) {
+    std::vector<int> alive;
+    for (int f = 0; f < t.num_face_slots(); ++f) {
+      if (t.alive(f)) alive.push_back(f);
+    }
+    const int f = alive[rng() % alive.size()];
+    const int before = t.num_vertices();
+    t.Bisect(f, length, [&](int v) {
+      EXPECT_GE(v, before);
+      ++created;
+    });
+    EXPECT_FALSE(t.alive(f));
+  }
+  EXPECT_EQ(t.num_vertices(), 12 + created);
+  ExpectSphereTriangulation(t);
+  // Each split adds one vertex and two faces.
+  EXPECT_EQ(t.num_faces(), 20 + 2 * created);
+}
+
+}  // namespace
+}  // namespace sdcb

@@ -1,0 +1,82 @@
+// Surfaces over S^2 with closed-form geometry, as SurfaceSamplers: oracles
+// for the tessellator and the optimal-count quadrature.
+#ifndef SDCB_TESTS_TESTING_ANALYTIC_SURFACES_H_
+#define SDCB_TESTS_TESTING_ANALYTIC_SURFACES_H_
+
+#include <Eigen/Core>
+#include <cmath>
+
+#include "sdcb/core/tessellate/surface_sampler.h"
+
+namespace sdcb::testing {
+
+// The ellipsoid S(u) = diag(a) u (a sphere of radius r for a = (r, r, r)).
+class EllipsoidSampler : public SurfaceSampler {
+ public:
+  explicit EllipsoidSampler(const Eigen::Vector3d& axes) : axes_(axes) {}
+  void Sample(const Eigen::MatrixX3d& d, Eigen::MatrixX3d* positions,
+              Eigen::MatrixX3d* normals) const override {
+    positions->resize(d.rows(), 3);
+    if (normals) normals->resize(d.rows(), 3);
+    for (Eigen::Index i = 0; i < d.rows(); ++i) {
+      const Eigen::Vector3d u = d.row(i).transpose();
+      positions->row(i) = axes_.cwiseProduct(u).transpose();
+      // Gradient of sum x_i^2 / a_i^2 at x = a u: u / a.
+      if (normals) normals->row(i) = u.cwiseQuotient(axes_).normalized();
+    }
+  }
+  bool SampleCurvature(const Eigen::MatrixX3d& d, Eigen::VectorXd* gaussian,
+                       Eigen::VectorXd* mean) const override {
+    gaussian->resize(d.rows());
+    mean->resize(d.rows());
+    const double abc = axes_.prod();
+    for (Eigen::Index i = 0; i < d.rows(); ++i) {
+      const Eigen::Vector3d x = axes_.cwiseProduct(d.row(i).transpose());
+      double s = 0;
+      for (int k = 0; k < 3; ++k) s += x[k] * x[k] / std::pow(axes_[k], 4);
+      (*gaussian)[i] = 1.0 / (abc * abc * s * s);
+      (*mean)[i] = std::nan("");  // not needed by the tests
+    }
+    return true;
+  }
+  // Distance from x to the ellipsoid (Eberly's root of
+  // sum (a_k x_k / (t + a_k^2))^2 = 1), by bisection on t.
+  double Distance(const Eigen::Vector3d& x) const {
+    auto f = [&](double t) {
+      double s = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double r = axes_[k] * x[k] / (t + axes_[k] * axes_[k]);
+        s += r * r;
+      }
+      return s - 1.0;
+    };
+    const double amin = axes_.minCoeff();
+    double lo = -amin * amin, hi = x.norm() * axes_.maxCoeff() + 1.0;
+    // f decreases from +inf (or a finite value) on (lo, inf).
+    lo += 1e-15 * amin * amin;
+    if (f(lo) < 0) {
+      // x deep inside along the shortest axis: the root is at lo.
+      hi = lo;
+    }
+    for (int it = 0; it < 200; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      if (f(mid) > 0)
+        lo = mid;
+      else
+        hi = mid;
+    }
+    const double t = 0.5 * (lo + hi);
+    Eigen::Vector3d y;
+    for (int k = 0; k < 3; ++k) {
+      y[k] = axes_[k] * axes_[k] * x[k] / (t + axes_[k] * axes_[k]);
+    }
+    return (x - y).norm();
+  }
+
+ private:
+  Eigen::Vector3d axes_;
+};
+
+}  // namespace sdcb::testing
+
+#endif  // SDCB_TESTS_TESTING_ANALYTIC_SURFACES_H_

@@ -1,0 +1,81 @@
+#include "tools/interrupts.h"
+
+#include <pthread.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "sdcb/io/atomic_file.h"
+
+namespace sdcb::cli {
+namespace {
+
+// The registered outputs' temporary-file prefixes. Process-wide state, in
+// the CLI only.
+std::mutex g_mutex;
+std::vector<std::string> g_prefixes;
+
+sigset_t HandledSignals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGHUP);
+  return set;
+}
+
+void RemoveTemporaries() {
+  namespace fs = std::filesystem;
+  std::lock_guard<std::mutex> lock(g_mutex);
+  for (const std::string& prefix : g_prefixes) {
+    const fs::path p(prefix);
+    const fs::path folder = p.parent_path().empty() ? "." : p.parent_path();
+    const std::string name = p.filename().string();
+    std::error_code ec;
+    for (fs::directory_iterator it(folder, ec), end; !ec && it != end;
+         it.increment(ec)) {
+      if (it->path().filename().string().rfind(name, 0) == 0) {
+        fs::remove(it->path(), ec);
+      }
+    }
+  }
+}
+
+// Waits for a handled signal, cleans up, and ends the process by it.
+void WaitForInterrupt() {
+  const sigset_t set = HandledSignals();
+  int signal_number = 0;
+  while (sigwait(&set, &signal_number) != 0) {
+  }
+  RemoveTemporaries();
+  // Default action, delivered to this thread only: the process ends as if
+  // it had never caught the signal (exit status 128 + N in shells).
+  struct sigaction action = {};
+  action.sa_handler = SIG_DFL;
+  sigaction(signal_number, &action, nullptr);
+  sigset_t one;
+  sigemptyset(&one);
+  sigaddset(&one, signal_number);
+  pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
+  raise(signal_number);
+  _exit(128 + signal_number);  // not reached
+}
+
+}  // namespace
+
+void InstallInterruptCleanup() {
+  const sigset_t set = HandledSignals();
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  std::thread(WaitForInterrupt).detach();
+}
+
+void RemoveTemporariesOnInterrupt(const std::string& output_path) {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  g_prefixes.push_back(TemporaryFilePrefix(output_path));
+}
+
+}  // namespace sdcb::cli
