@@ -8,7 +8,9 @@ PACKAGES=(build-essential cmake ninja-build pkg-config
   libeigen3-dev libcgal-dev libcgal-demo libopenmesh-dev libtinygltf-dev
   nlohmann-json3-dev libosd-dev libdraco-dev libgtest-dev libtbb-dev
   libsuitesparse-dev zlib1g-dev libmeshoptimizer-dev
-  clang libclang-rt-14-dev)
+  clang libclang-rt-14-dev
+  libocct-foundation-dev libocct-modeling-data-dev
+  libocct-modeling-algorithms-dev libocct-data-exchange-dev)
 
 as_root() {
   if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi

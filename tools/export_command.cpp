@@ -185,18 +185,28 @@ int RunExport(const std::vector<std::string>& argv) {
   omout().disable();
   const Args args(argv,
                   {"output", "tolerance", "angle", "uniform", "qp", "cl",
-                   "colors", "mesh", "json", "measure-samples"},
+                   "colors", "mesh", "json", "measure-samples", "max-patches"},
                   {"draco", "meshopt", "quiet", "no-optimize"});
-  args.RequirePositionals(
-      1, "MODEL (usage: sdcb export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb})");
+  args.RequirePositionals(1,
+                          "MODEL (usage: sdcb export MODEL.sdcb "
+                          "-o OUT.{obj,ply,stl,gltf,glb,step,stp,igs,iges})");
   const std::string model_path = args.positionals()[0];
   const std::string output = args.Get("output");
-  if (output.empty()) throw UsageError{"missing -o OUT.{obj,ply,stl,gltf,glb}"};
+  if (output.empty()) {
+    throw UsageError{"missing -o OUT.{obj,ply,stl,gltf,glb,step,stp,igs,iges}"};
+  }
   const std::string ext = Extension(output);
+  if (IsCadExtension(ext)) return RunCadExport(args, ext);
+  if (args.Has("max-patches")) {
+    throw UsageError{
+        "--max-patches goes with a .step, .stp, .igs or .iges "
+        "output"};
+  }
   const bool gltf = ext == ".gltf" || ext == ".glb";
   if (!gltf && ext != ".obj" && ext != ".ply" && ext != ".stl") {
     throw UsageError{"unknown output extension '" + ext + "' in " + output +
-                     " (use .obj, .ply, .stl, .gltf or .glb)"};
+                     " (use .obj, .ply, .stl, .gltf, .glb, .step, .stp, .igs "
+                     "or .iges)"};
   }
   const bool draco = args.Has("draco"), meshopt = args.Has("meshopt");
   if (draco && meshopt)
