@@ -62,9 +62,11 @@ struct CadPatchOptions {
   int max_rounds = 30;
   // Fit samples per face: k by k grid centres; per edge: k inner points.
   int fit_samples_per_side = 8;
-  // Each round checks every face on a (k + 1) by (k + 1) lattice.
+  // Each round checks every face on an (n + 1) by (n + 1) lattice, n at
+  // least k and large enough for `measure_samples` points in all; once every
+  // face is within, on one with 3 n: that measurement is the one returned
+  // (and may send faces back for refinement).
   int check_samples_per_side = 10;
-  // The returned patches are measured at this many points at least.
   int measure_samples = 100000;
   // Called after every round: round, patches, the round's largest distance.
   std::function<void(int, int, double)> on_round;
@@ -75,7 +77,7 @@ struct CadPatchSet {
   // seen from outside (dB/du x dB/dv points out).
   std::vector<BicubicPatch> patches;
   SphereCage layout;
-  // Parametric distance to the spline on the final lattice (percent).
+  // Parametric distance to the spline on the final (fine) lattice, percent.
   std::vector<double> patch_max_percent;
   // Angle between the patch's normal and the spline's on that lattice,
   // degrees (points where the spline is singular are skipped).

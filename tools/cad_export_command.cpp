@@ -1,5 +1,5 @@
 // sdcb export MODEL.sdcb -o OUT.{step,stp,igs,iges} [--tolerance PCT]
-//   [--max-patches N] [--json FILE] [--quiet]
+//   [--angle DEG] [--max-patches N] [--json FILE] [--quiet]
 //
 // The surface as bicubic B-spline patches sewn into one solid
 // (converters/cad_patches.h, converters/cad_file.h; docs/CAD.md).
@@ -52,8 +52,8 @@ int RunCadExport(const Args& args, const std::string& ext) {
   // the process, so it silences them.
   SilenceOpenCascadeMessages();
   for (const char* mesh_only :
-       {"angle", "uniform", "qp", "cl", "colors", "mesh", "measure-samples",
-        "draco", "meshopt", "no-optimize"}) {
+       {"uniform", "qp", "cl", "colors", "mesh", "measure-samples", "draco",
+        "meshopt", "no-optimize"}) {
     if (args.Has(mesh_only)) {
       throw UsageError{std::string("--") + mesh_only + " does not apply to a " +
                        ext + " output"};
@@ -65,6 +65,8 @@ int RunCadExport(const Args& args, const std::string& ext) {
   CadPatchOptions options;
   options.tolerance_percent =
       args.GetDouble("tolerance", options.tolerance_percent, 1e-6, 50.0);
+  options.max_normal_degrees =
+      args.GetDouble("angle", options.max_normal_degrees, 1e-3, 180.0);
   options.max_patches =
       args.GetInt("max-patches", options.max_patches, 96, 2000000);
   const bool quiet = args.Has("quiet") || json_path == "-";
@@ -92,10 +94,12 @@ int RunCadExport(const Args& args, const std::string& ext) {
   if (!fit->within_tolerance) {
     char message[400];
     std::snprintf(message, sizeof(message),
-                  "%d patches reach a max distance of %.4g%% to the spline, "
-                  "not the tolerance %.4g%% (%s); nothing written",
+                  "%d patches reach a max distance of %.4g%% to the spline "
+                  "and normals within %.3g deg, not the tolerance %.4g%% "
+                  "and %.3g deg (%s); nothing written",
                   static_cast<int>(fit->patches.size()),
-                  fit->max_deviation_percent, options.tolerance_percent,
+                  fit->max_deviation_percent, fit->max_normal_deviation_degrees,
+                  options.tolerance_percent, options.max_normal_degrees,
                   fit->stop_reason.c_str());
     return ReportError(InvalidInputError(model_path + ": " + message));
   }
@@ -114,6 +118,7 @@ int RunCadExport(const Args& args, const std::string& ext) {
   j["unit"] = "mm";
   j["patches"] = fit->patches.size();
   j["tolerance_percent"] = options.tolerance_percent;
+  j["angle_degrees"] = options.max_normal_degrees;
   j["max_deviation_percent"] = fit->max_deviation_percent;
   j["rms_deviation_percent"] = fit->rms_deviation_percent;
   j["measured_points"] = fit->measured_points;
