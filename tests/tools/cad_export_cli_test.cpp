@@ -23,13 +23,20 @@ const std::string kModel = testing::TestDataPath("cow_round0_v1.sdcb");
 
 TEST(CadExportCliTest, StepAndIgesAreOneValidSolidInInputCoordinates) {
   const std::string dir = testing::FreshTestDir();
+  // The cow's own frame has scale 1: the model is moved to millimetres of a
+  // 250 mm cow away from the origin, so input coordinates are not the
+  // normalized ones.
   auto model = ReadSdcbFile(kModel);
   ASSERT_TRUE(model.ok());
+  model->transform.scale = 250.0;
+  model->transform.translation = Eigen::Vector3d(1000.0, -500.0, 20.0);
+  const std::string moved = dir + "/cow_mm.sdcb";
+  ASSERT_TRUE(WriteSdcbFile(*model, moved).ok());
   const double scale = model->transform.scale;
   for (const std::string name : {"cow.step", "cow.stp", "cow.igs"}) {
     const std::string out = dir + "/" + name;
     const auto r =
-        RunSdcb({"export", kModel, "-o", out, "--tolerance", "0.2", "--angle",
+        RunSdcb({"export", moved, "-o", out, "--tolerance", "0.2", "--angle",
                  "180", "--json", out + ".json", "--quiet"},
                 dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -49,10 +56,15 @@ TEST(CadExportCliTest, StepAndIgesAreOneValidSolidInInputCoordinates) {
     EXPECT_TRUE(s.valid);
     EXPECT_EQ(s.faces, j["patches"].get<int>());
     EXPECT_NEAR(s.volume / j["volume"].get<double>(), 1.0, 1e-6);
-    // Input coordinates: the normalized model's volume times scale^3 (the
-    // cow's normalized volume is of order 0.01 .. 1, far from scale^0).
-    EXPECT_GT(s.volume, 1e-3 * scale * scale * scale);
-    EXPECT_LT(s.volume, scale * scale * scale);
+    // Input coordinates: the surfaces' bounding box is the input mesh's
+    // (largest side `scale`, centred at `translation`) up to the fit error
+    // (this first-round model is up to 3.6 % from the mesh).
+    const testing::SurfaceLattice lattice = testing::SampleSurfaces(s, 4);
+    const Eigen::Vector3d lo = lattice.mesh.vertices.colwise().minCoeff();
+    const Eigen::Vector3d hi = lattice.mesh.vertices.colwise().maxCoeff();
+    EXPECT_NEAR((hi - lo).maxCoeff() / scale, 1.0, 0.036);
+    EXPECT_LT(((hi + lo) / 2 - model->transform.translation).norm(),
+              0.036 * scale);
   }
 }
 
