@@ -44,19 +44,6 @@ SphericalSpline BlobbySpline() {
   return std::move(*spline);
 }
 
-// Volume and area of a closed triangle mesh (divergence theorem).
-void VolumeAndArea(const Eigen::MatrixX3d& v, const Eigen::MatrixX3i& f,
-                   double* volume, double* area) {
-  *volume = 0.0;
-  *area = 0.0;
-  for (Eigen::Index t = 0; t < f.rows(); ++t) {
-    const Eigen::Vector3d a = v.row(f(t, 0)), b = v.row(f(t, 1)),
-                          c = v.row(f(t, 2));
-    *volume += a.dot(b.cross(c)) / 6.0;
-    *area += 0.5 * (b - a).cross(c - a).norm();
-  }
-}
-
 class CadExportTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -168,69 +155,30 @@ void CheckReread(const SphericalSpline& spline, const CadPatchSet& patches,
   EXPECT_TRUE(r.valid);
   EXPECT_EQ(r.faces, static_cast<int>(patches.patches.size()));
 
-  // The spline's volume and area from a fine adaptive tessellation.
-  const PiecewiseSurface pieces(spline);
-  const PiecewiseSplineSampler sampler(spline, pieces);
-  TessellationOptions options;
-  options.tolerance = 2e-5;
-  auto t = TessellateAdaptively(sampler, options);
-  ASSERT_TRUE(t.ok());
-  double volume, area;
-  VolumeAndArea(t->positions, t->faces, &volume, &area);
-  EXPECT_NEAR(r.volume / volume, 1.0, 1e-3) << r.volume << " vs " << volume;
-  EXPECT_NEAR(r.area / area, 1.0, 1e-3) << r.area << " vs " << area;
+  // The spline's volume and area from a fine adaptive tessellation; the
+  // distances both ways (testing/occt_reread.h).
+  const testing::RereadComparison c = testing::CompareWithSpline(
+      r, spline, NormalizingTransform(), 2e-5, 100000, 20000);
+  ASSERT_TRUE(c.ok);
+  EXPECT_NEAR(r.volume / c.spline_volume, 1.0, 1e-3)
+      << r.volume << " vs " << c.spline_volume;
+  EXPECT_NEAR(r.area / c.spline_area, 1.0, 1e-3)
+      << r.area << " vs " << c.spline_area;
   std::printf("%s: %d faces, volume %.6f (spline %.6f), area %.6f (%.6f)\n",
-              iges ? "IGES" : "STEP", r.faces, r.volume, volume, r.area, area);
+              iges ? "IGES" : "STEP", r.faces, r.volume, c.spline_volume,
+              r.area, c.spline_area);
   if (!distances) return;  // the same surfaces as the STEP file's
-
-  // Re-read surfaces -> spline, at >= 100K exact points of the re-read
-  // surfaces: the distance to the fine tessellation plus its certified
-  // distance to the spline bounds the distance to the spline from above.
-  const int n = static_cast<int>(std::ceil(std::sqrt(100000.0 / r.faces)));
-  const testing::SurfaceLattice lattice = testing::SampleSurfaces(r, n);
-  ASSERT_GE(lattice.mesh.vertices.rows(), 100000);
-  TriangleMesh tessellation;
-  tessellation.vertices = t->positions;
-  tessellation.faces = t->faces;
-  auto spline_mesh = MeshDistance::Create(tessellation);
-  ASSERT_TRUE(spline_mesh.ok());
-  const double to_spline =
-      100.0 * (spline_mesh->Distances(lattice.mesh.vertices).maxCoeff() +
-               t->certified_distance);
-  EXPECT_LE(to_spline, tolerance);
-
-  // Spline -> re-read surfaces, at >= 20K points of the spline (vertices of
-  // its tessellation, exact spline points): the nearest lattice triangle
-  // names a face; OpenCASCADE projects the point onto that face's surface
-  // (or the nearest lattice vertex of that triangle, an exact surface
-  // point, is nearer).
-  auto surface_mesh = MeshDistance::Create(lattice.mesh);
-  ASSERT_TRUE(surface_mesh.ok());
-  const Eigen::Index stride =
-      std::max<Eigen::Index>(1, t->positions.rows() / 20000);
-  double to_surfaces = 0.0;
-  int64_t spline_points = 0;
-  for (Eigen::Index s = 0; s < t->positions.rows(); s += stride) {
-    const Eigen::Vector3d x = t->positions.row(s);
-    const MeshDistance::Closest c = surface_mesh->Find(x);
-    double best = testing::DistanceToFace(r, lattice.triangle_face[c.face], x);
-    for (int k = 0; k < 3; ++k) {
-      best = std::min(best,
-                      (lattice.mesh.vertices.row(lattice.mesh.faces(c.face, k))
-                           .transpose() -
-                       x)
-                          .norm());
-    }
-    to_surfaces = std::max(to_surfaces, 100.0 * best);
-    ++spline_points;
-  }
-  EXPECT_GE(spline_points, 20000);
-  EXPECT_LE(to_surfaces, tolerance);
+  EXPECT_GE(c.surface_points, 100000);
+  EXPECT_GE(c.spline_points, 20000);
+  EXPECT_LE(c.to_spline_percent, tolerance);
+  EXPECT_LE(c.from_spline_percent, tolerance);
+  const double to_spline = c.to_spline_percent;
+  const double to_surfaces = c.from_spline_percent;
   // The fitter's parametric figure bounds both (it is the distance to the
   // spline point of the same sphere point), up to the spacing of its
   // lattice and the tessellation's certificate.
-  EXPECT_LE(to_spline, patches.max_deviation_percent * 1.05 +
-                           100.0 * t->certified_distance);
+  EXPECT_LE(to_spline,
+            patches.max_deviation_percent * 1.05 + c.certified_percent);
   EXPECT_LE(to_surfaces, patches.max_deviation_percent * 1.05);
   std::printf("to spline %.5f%%, from spline %.5f%% (reported %.5f%%)\n",
               to_spline, to_surfaces, patches.max_deviation_percent);
