@@ -17,8 +17,8 @@ for m in bunny00 cow bull; do
   [ "$m" = bunny00 ] && exts="step igs"
   for ext in $exts; do
     f="$out/$m.$ext"
-    /usr/bin/time -f "%e s wall, %M KB peak" ./build/sdcb export "$out/$m.sdcb" \
-      -o "$f" --json "$f.json" --quiet
+    [ -f "$f.json" ] || /usr/bin/time -f "%e s wall, %M KB peak" \
+      ./build/sdcb export "$out/$m.sdcb" -o "$f" --json "$f.json" --quiet
     python3 -c "
 import json, sys
 j = json.load(open(sys.argv[1]))
