@@ -9,7 +9,9 @@ PACKAGES=(build-essential cmake ninja-build pkg-config
   nlohmann-json3-dev libosd-dev libdraco-dev libgtest-dev libtbb-dev
   libsuitesparse-dev zlib1g-dev libmeshoptimizer-dev
   clang libclang-rt-14-dev
-  slurmctld slurmd slurm-client munge)
+  slurmctld slurmd slurm-client munge
+  libocct-foundation-dev libocct-modeling-data-dev
+  libocct-modeling-algorithms-dev libocct-data-exchange-dev)
 
 as_root() {
   if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi

@@ -32,6 +32,12 @@ int RunExport(const std::vector<std::string>& args);
 int RunBatch(const std::vector<std::string>& args);
 int RunCage(const std::vector<std::string>& args);
 
+class Args;
+// `sdcb export` to STEP / IGES (tools/cad_export_command.cpp), called by
+// RunExport for those extensions.
+bool IsCadExtension(const std::string& ext);
+int RunCadExport(const Args& args, const std::string& ext);
+
 }  // namespace sdcb::cli
 
 #endif  // SDCB_TOOLS_COMMANDS_H_

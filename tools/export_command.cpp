@@ -173,7 +173,7 @@ double Percentile(Eigen::VectorXd values, double q) {
 const CommandOptions& ExportOptionNames() {
   static const CommandOptions names = {
       {"output", "tolerance", "angle", "uniform", "qp", "cl", "colors", "mesh",
-       "json", "measure-samples"},
+       "json", "measure-samples", "max-patches"},
       {"draco", "meshopt", "quiet", "no-optimize"}};
   return names;
 }
@@ -190,16 +190,26 @@ int RunExport(const std::vector<std::string>& argv) {
   omlog().disable();
   omout().disable();
   const Args args(argv, ExportOptionNames().values, ExportOptionNames().flags);
-  args.RequirePositionals(
-      1, "MODEL (usage: sdcb export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb})");
+  args.RequirePositionals(1,
+                          "MODEL (usage: sdcb export MODEL.sdcb "
+                          "-o OUT.{obj,ply,stl,gltf,glb,step,stp,igs,iges})");
   const std::string model_path = args.positionals()[0];
   const std::string output = args.Get("output");
-  if (output.empty()) throw UsageError{"missing -o OUT.{obj,ply,stl,gltf,glb}"};
+  if (output.empty()) {
+    throw UsageError{"missing -o OUT.{obj,ply,stl,gltf,glb,step,stp,igs,iges}"};
+  }
   const std::string ext = LowercaseExtension(output);
+  if (IsCadExtension(ext)) return RunCadExport(args, ext);
+  if (args.Has("max-patches")) {
+    throw UsageError{
+        "--max-patches goes with a .step, .stp, .igs or .iges "
+        "output"};
+  }
   const bool gltf = ext == ".gltf" || ext == ".glb";
   if (!IsExportExtension(ext)) {
     throw UsageError{"unknown output extension '" + ext + "' in " + output +
-                     " (use .obj, .ply, .stl, .gltf or .glb)"};
+                     " (use .obj, .ply, .stl, .gltf, .glb, .step, .stp, .igs "
+                     "or .iges)"};
   }
   const bool draco = args.Has("draco"), meshopt = args.Has("meshopt");
   if (draco && meshopt)

@@ -70,6 +70,14 @@ commands:
                              unless --qp); per-vertex colors (.ply/.gltf/
                              .glb): distance to --mesh, mean or Gaussian
                              curvature. docs/EXPORT.md.
+  export MODEL.sdcb -o OUT.{step,stp,igs,iges} [--tolerance PCT]
+      [--angle DEG] [--max-patches N] [--json FILE] [--quiet]
+                             The surface as bicubic B-spline patches in one
+                             closed solid (STEP AP214 or IGES, millimetres):
+                             every patch within PCT (default 0.05) of the
+                             surface and its normals within DEG (default
+                             10); exit 1, nothing written, when N patches
+                             (default 50000) cannot reach it. docs/CAD.md.
 
   batch MANIFEST [--jobs N] [--shard I/N] [--json-lines FILE]
       [--timeout SECONDS] [--force] [--quiet]

@@ -1,0 +1,57 @@
+// Bicubic patches (converters/cad_patches.h) as one closed B-rep solid in a
+// STEP (AP214) or IGES file, through OpenCASCADE: one Geom_BSplineSurface
+// face per patch; the patches meet pole for pole along the layout's edges,
+// so the shell is assembled from the known topology (BRep_Builder: one
+// vertex per layout vertex, one edge per layout edge whose curve is the
+// common boundary, a straight pcurve in each of its two faces) instead of
+// being sewn (BRepBuilderAPI_Sewing took 35 s for 4000 patches and can merge
+// the wrong edges of tiny patches); made a solid, oriented outward
+// (BRepLib::OrientClosedSolid), checked with BRepCheck_Analyzer; written by
+// STEPControl_Writer (AP214) or IGESControl_Writer (B-rep mode), in
+// millimetres: the patches' coordinates are taken as millimetres.
+//
+// This file (with its .cpp) is the only place of sdcb that includes
+// OpenCASCADE.
+#ifndef SDCB_CONVERTERS_CAD_FILE_H_
+#define SDCB_CONVERTERS_CAD_FILE_H_
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "sdcb/converters/cad_patches.h"
+#include "sdcb/core/common/status.h"
+
+namespace sdcb {
+
+enum class CadFormat { kStep, kIges };
+
+struct CadSolidReport {
+  int faces = 0;
+  // Edges not shared by exactly two faces (0 for a closed shell) and the
+  // tolerance of the vertices, edges and faces.
+  int free_edges = 0;
+  double tolerance = 0.0;
+  bool valid = false;   // BRepCheck_Analyzer
+  double volume = 0.0;  // BRepGProp, in the patches' units
+  double area = 0.0;
+};
+
+// Builds the solid from `patches` (counter-clockwise seen from outside,
+// meeting pole for pole along shared edges) whose corner (0, 0), (1, 0),
+// (1, 1), (0, 1) is the vertex corners[f][0..3] (CadPatchSet::layout.faces)
+// and writes it to `path` atomically. Nothing is written, and a Status says
+// why, when the patches do not close or the solid is not valid.
+StatusOr<CadSolidReport> WriteCadSolid(
+    const std::vector<BicubicPatch>& patches,
+    const std::vector<std::array<int, 4>>& corners, CadFormat format,
+    const std::string& path);
+
+// Process-wide: removes OpenCASCADE's default message printers (its writers
+// print transfer statistics on stdout). For programs that own the process,
+// like the command line; the library itself never calls it.
+void SilenceOpenCascadeMessages();
+
+}  // namespace sdcb
+
+#endif  // SDCB_CONVERTERS_CAD_FILE_H_

@@ -1,0 +1,232 @@
+// Re-reads a STEP or IGES file with OpenCASCADE's own readers (the oracle of
+// the CAD export tests) and measures what was read, independently of sdcb's
+// writer: solids, validity (BRepCheck_Analyzer), free edges of the shells,
+// volume and area (BRepGProp), points on the read surfaces and a fine
+// triangulation of them for distances.
+#ifndef SDCB_TESTS_TESTING_OCCT_REREAD_H_
+#define SDCB_TESTS_TESTING_OCCT_REREAD_H_
+
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepGProp.hxx>
+#include <BRep_Tool.hxx>
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <GProp_GProps.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom_Surface.hxx>
+#include <IGESControl_Reader.hxx>
+#include <STEPControl_Reader.hxx>
+#include <ShapeAnalysis_FreeBounds.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sdcb/core/mesh/mesh_distance.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/core/spline/piecewise_surface.h"
+#include "sdcb/core/spline/spline_model.h"
+#include "sdcb/core/tessellate/adaptive_tessellation.h"
+#include "sdcb/core/tessellate/surface_sampler.h"
+
+namespace sdcb::testing {
+
+struct RereadShape {
+  bool read = false;
+  int solids = 0;
+  int shells = 0;
+  int faces = 0;
+  int free_edges = 0;  // of the shells: 0 when every shell is closed
+  bool valid = false;
+  double volume = 0.0;
+  double area = 0.0;
+  std::vector<Handle(Geom_Surface)> surfaces;  // one per face
+  std::vector<std::array<double, 4>> bounds;   // u0, u1, v0, v1 per face
+};
+
+inline RereadShape Reread(const std::string& path, bool iges) {
+  RereadShape r;
+  TopoDS_Shape shape;
+  if (iges) {
+    IGESControl_Reader reader;
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return r;
+    reader.TransferRoots();
+    shape = reader.OneShape();
+  } else {
+    STEPControl_Reader reader;
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return r;
+    reader.TransferRoots();
+    shape = reader.OneShape();
+  }
+  if (shape.IsNull()) return r;
+  r.read = true;
+  for (TopExp_Explorer it(shape, TopAbs_SOLID); it.More(); it.Next()) {
+    ++r.solids;
+  }
+  for (TopExp_Explorer it(shape, TopAbs_SHELL); it.More(); it.Next()) {
+    ++r.shells;
+    ShapeAnalysis_FreeBounds bounds(it.Current());
+    for (TopExp_Explorer e(bounds.GetOpenWires(), TopAbs_EDGE); e.More();
+         e.Next()) {
+      ++r.free_edges;
+    }
+  }
+  r.valid = BRepCheck_Analyzer(shape).IsValid();
+  GProp_GProps volume, area;
+  BRepGProp::VolumeProperties(shape, volume);
+  BRepGProp::SurfaceProperties(shape, area);
+  r.volume = volume.Mass();
+  r.area = area.Mass();
+  for (TopExp_Explorer it(shape, TopAbs_FACE); it.More(); it.Next()) {
+    const TopoDS_Face face = TopoDS::Face(it.Current());
+    r.surfaces.push_back(BRep_Tool::Surface(face));
+    std::array<double, 4> b;
+    r.surfaces.back()->Bounds(b[0], b[1], b[2], b[3]);
+    r.bounds.push_back(b);
+    ++r.faces;
+  }
+  return r;
+}
+
+// The read surfaces sampled on an (n + 1)^2 lattice of each face's
+// parameter box, triangulated (two triangles per lattice cell), with each
+// triangle's face. Vertices are exact points of the read surfaces.
+struct SurfaceLattice {
+  TriangleMesh mesh;
+  std::vector<int> triangle_face;
+  // The surfaces at the lattice cells' centres (for the chord error).
+  Eigen::MatrixX3d cell_centres;
+};
+
+inline SurfaceLattice SampleSurfaces(const RereadShape& r, int n) {
+  SurfaceLattice s;
+  const int nf = r.faces;
+  const int per_face = (n + 1) * (n + 1);
+  s.mesh.vertices.resize(static_cast<Eigen::Index>(nf) * per_face, 3);
+  s.mesh.faces.resize(static_cast<Eigen::Index>(nf) * n * n * 2, 3);
+  s.cell_centres.resize(static_cast<Eigen::Index>(nf) * n * n, 3);
+  for (int f = 0; f < nf; ++f) {
+    const auto& b = r.bounds[f];
+    for (int j = 0; j <= n; ++j) {
+      for (int i = 0; i <= n; ++i) {
+        const gp_Pnt p = r.surfaces[f]->Value(b[0] + (b[1] - b[0]) * i / n,
+                                              b[2] + (b[3] - b[2]) * j / n);
+        s.mesh.vertices.row(f * per_face + j * (n + 1) + i) << p.X(), p.Y(),
+            p.Z();
+      }
+    }
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        const int v = f * per_face + j * (n + 1) + i;
+        const Eigen::Index t =
+            (static_cast<Eigen::Index>(f) * n * n + j * n + i);
+        s.mesh.faces.row(2 * t) << v, v + 1, v + n + 2;
+        s.mesh.faces.row(2 * t + 1) << v, v + n + 2, v + n + 1;
+        s.triangle_face.push_back(f);
+        s.triangle_face.push_back(f);
+        const gp_Pnt c =
+            r.surfaces[f]->Value(b[0] + (b[1] - b[0]) * (i + 0.5) / n,
+                                 b[2] + (b[3] - b[2]) * (j + 0.5) / n);
+        s.cell_centres.row(t) << c.X(), c.Y(), c.Z();
+      }
+    }
+  }
+  return s;
+}
+
+// The distance from x to the read surface of face `f` (OpenCASCADE's
+// projection; infinity if it finds no point).
+inline double DistanceToFace(const RereadShape& r, int f,
+                             const Eigen::Vector3d& x) {
+  const auto& b = r.bounds[f];
+  GeomAPI_ProjectPointOnSurf projection(gp_Pnt(x.x(), x.y(), x.z()),
+                                        r.surfaces[f], b[0], b[1], b[2], b[3]);
+  if (projection.NbPoints() == 0) return HUGE_VAL;
+  return projection.LowerDistance();
+}
+
+// A re-read shape against the spline it came from (in the frame `transform`
+// maps the spline to; distances in percent of transform.scale):
+// - the spline's volume and area from a fine adaptive tessellation
+//   (core/tessellate, `tessellation_tolerance` in the normalized frame);
+// - re-read surfaces -> spline at >= `surface_points` exact points of the
+//   re-read surfaces: the distance to that tessellation plus its certified
+//   distance to the spline, an upper bound;
+// - spline -> re-read surfaces at >= `spline_points` vertices of the
+//   tessellation (exact spline points): the nearest lattice triangle names a
+//   face, OpenCASCADE projects the point onto that face's surface (or the
+//   triangle's nearest lattice vertex, an exact surface point, is nearer).
+struct RereadComparison {
+  bool ok = false;
+  double spline_volume = 0.0, spline_area = 0.0;
+  double to_spline_percent = 0.0, from_spline_percent = 0.0;
+  double certified_percent = 0.0;
+  int64_t surface_points = 0, spline_points = 0;
+};
+
+inline RereadComparison CompareWithSpline(const RereadShape& r,
+                                          const SphericalSpline& spline,
+                                          const NormalizingTransform& transform,
+                                          double tessellation_tolerance,
+                                          int64_t surface_points,
+                                          int64_t spline_points) {
+  RereadComparison c;
+  const PiecewiseSurface pieces(spline);
+  const PiecewiseSplineSampler sampler(spline, pieces);
+  TessellationOptions options;
+  options.tolerance = tessellation_tolerance;
+  auto t = TessellateAdaptively(sampler, options);
+  if (!t.ok() || r.faces == 0) return c;
+  TriangleMesh tessellation;
+  tessellation.vertices = transform.ToInput(t->positions);
+  tessellation.faces = t->faces;
+  for (Eigen::Index k = 0; k < t->faces.rows(); ++k) {
+    const Eigen::Vector3d a = tessellation.vertices.row(t->faces(k, 0));
+    const Eigen::Vector3d b = tessellation.vertices.row(t->faces(k, 1));
+    const Eigen::Vector3d d = tessellation.vertices.row(t->faces(k, 2));
+    c.spline_volume += a.dot(b.cross(d)) / 6.0;
+    c.spline_area += 0.5 * (b - a).cross(d - a).norm();
+  }
+  const double percent = 100.0 / transform.scale;
+  c.certified_percent = 100.0 * t->certified_distance;  // normalized frame
+
+  const int n = static_cast<int>(
+      std::ceil(std::sqrt(static_cast<double>(surface_points) / r.faces)));
+  const SurfaceLattice lattice = SampleSurfaces(r, n);
+  c.surface_points = lattice.mesh.vertices.rows();
+  auto spline_mesh = MeshDistance::Create(tessellation);
+  if (!spline_mesh.ok()) return c;
+  c.to_spline_percent =
+      percent * spline_mesh->Distances(lattice.mesh.vertices).maxCoeff() +
+      c.certified_percent;
+
+  auto surface_mesh = MeshDistance::Create(lattice.mesh);
+  if (!surface_mesh.ok()) return c;
+  const Eigen::Index stride =
+      std::max<Eigen::Index>(1, tessellation.vertices.rows() / spline_points);
+  for (Eigen::Index s = 0; s < tessellation.vertices.rows(); s += stride) {
+    const Eigen::Vector3d x = tessellation.vertices.row(s);
+    const MeshDistance::Closest closest = surface_mesh->Find(x);
+    double best = DistanceToFace(r, lattice.triangle_face[closest.face], x);
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d v =
+          lattice.mesh.vertices.row(lattice.mesh.faces(closest.face, k));
+      best = std::min(best, (v - x).norm());
+    }
+    c.from_spline_percent = std::max(c.from_spline_percent, percent * best);
+    ++c.spline_points;
+  }
+  c.ok = true;
+  return c;
+}
+
+}  // namespace sdcb::testing
+
+#endif  // SDCB_TESTS_TESTING_OCCT_REREAD_H_
