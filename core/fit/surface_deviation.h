@@ -12,8 +12,10 @@
 //   the closest point y of the lattice's image (an AABB tree over it) gives
 //   the sphere point p_y of the same barycentric coordinates, and
 //   |x - F(p_y)| is a distance to a point of the spline. When that is
-//   more than 1 % farther than |x - y|, Gauss-Newton steps on the exact
-//   spline improve it. Every spline point found bounds the true distance from
+//   more than 1 % farther than |x - y| and at least the mesh -> surface rms
+//   of these first distances (below it a vertex barely moves the rms and
+//   cannot hold the maximum), Gauss-Newton steps on the exact spline
+//   improve it. Every spline point found bounds the true distance from
 //   above, so the figure can only be pessimistic, never flattering (tested:
 //   within 1 % of brute force). Area-weighted over the mesh
 //   (a third of each incident triangle's area per vertex).

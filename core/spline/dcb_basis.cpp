@@ -189,6 +189,15 @@ StatusOr<DcbBasis> DcbBasis::Create(
     return statuses[i].WithPrefix(where + ")");
   }
   basis.splines_ = std::move(splines);
+  basis.forest_handle_.assign(m, -1);
+  if (options.spline.split_seed == 0) {
+    for (int i = 0; i < m; ++i) {
+      if (basis.splines_[i].has_value()) {
+        basis.forest_handle_[i] =
+            basis.forest_.Add(*basis.splines_[i], basis.sets_[i].knots);
+      }
+    }
+  }
   // The great circles bounding each set's spherical convex hull, interior on
   // the positive side: a point strictly outside one of them is outside the
   // support (B = 0 there, with all derivatives), so evaluation can skip it.
@@ -342,7 +351,12 @@ std::vector<Eigen::Index> DcbBasis::LocalityOrder(
 }
 
 double DcbBasis::Value(int i, const Eigen::Vector3d& p) const {
-  double value = weights_[i] == 0.0 ? 0.0 : weights_[i] * splines_[i]->Value(p);
+  double value = 0.0;
+  if (weights_[i] != 0.0) {
+    value = weights_[i] * (forest_handle_[i] >= 0
+                               ? forest_.Value(forest_handle_[i], p)
+                               : splines_[i]->Value(p));
+  }
   for (int t = limit_start_[i]; t < limit_start_[i + 1]; ++t) {
     const LimitTerm& term = limit_terms_[t];
     value += term.cofactor.dot(p) * term.spline.Value(p);
@@ -354,7 +368,8 @@ ScalarJet DcbBasis::Evaluate(int i, const Eigen::Vector3d& p,
                              JetOrder order) const {
   ScalarJet jet;
   if (weights_[i] != 0.0) {
-    jet = splines_[i]->Evaluate(p, order);
+    jet = forest_handle_[i] >= 0 ? forest_.Evaluate(forest_handle_[i], p, order)
+                                 : splines_[i]->Evaluate(p, order);
     jet.value *= weights_[i];
     jet.gradient *= weights_[i];
     jet.hessian *= weights_[i];

@@ -168,6 +168,12 @@ class DcbBasis {
   // splines_[i] is empty iff set i is not in an open hemisphere; weights_[i]
   // is then 0 and the limit terms carry the function.
   std::vector<std::optional<SimplexSpline>> splines_;
+  // The splines with their recursions merged (SimplexSplineForest): a
+  // point's basis values share their knot subsets. forest_handle_[i] is -1
+  // for sets without a spline, or when the splines were built with a
+  // split_seed (their W is then not a function of the subset alone).
+  SimplexSplineForest forest_;
+  std::vector<int> forest_handle_;
   std::vector<double> weights_;
   // CSR: the limit terms of set i are limit_terms_[limit_start_[i] ..
   // limit_start_[i + 1]).

@@ -1,9 +1,12 @@
 #include "sdcb/core/spline/simplex_spline.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -282,48 +285,83 @@ double SimplexSpline::Value(const Eigen::Vector3d& p) const {
   const int count = static_cast<int>(nodes_.size());
   for (int i = num_leaves_; i < count; ++i) {
     const Node& node = nodes_[i];
+    const double v0 = values[node.child[0]], v1 = values[node.child[1]],
+                 v2 = values[node.child[2]];
+    // Most subsets' hulls miss p: skip the barycentric product there.
+    if (v0 == 0.0 && v1 == 0.0 && v2 == 0.0) {
+      values[i] = 0.0;
+      continue;
+    }
     // Eq. 3: M(p|S) = sum_j b_j(p|W) M(p|S \ {w_j}).
     const Eigen::Vector3d b = matrices_[node.matrix] * p;
-    values[i] = b[0] * values[node.child[0]] + b[1] * values[node.child[1]] +
-                b[2] * values[node.child[2]];
+    values[i] = b[0] * v0 + b[1] * v1 + b[2] * v2;
   }
   return values[count - 1];
 }
 
 ScalarJet SimplexSpline::Evaluate(const Eigen::Vector3d& p,
                                   JetOrder order) const {
+  ScalarJet jet;
   if (order == JetOrder::kValue) {
-    ScalarJet jet;
     jet.value = Value(p);
     return jet;
   }
-  double leaves[256];
-  if (!LeafValues(p, leaves)) return ScalarJet();
-  const int count = static_cast<int>(nodes_.size());
+  // Per node: the value, the gradient, the Hessian (row-major) when asked,
+  // and whether the node is identically zero around p (all its leaves are),
+  // so that its derivatives vanish too and it can be skipped.
+  double value[256];
+  if (!LeafValues(p, value)) return jet;
+  double gradient[256][3];
+  double hessian_storage[256][9];
   const bool hessian = order == JetOrder::kHessian;
-  std::vector<ScalarJet> jets(count);
+  double(*hess)[9] = hessian ? hessian_storage : nullptr;
+  bool live[256];
   // Degree 0: piecewise constant, zero derivatives.
-  for (int i = 0; i < num_leaves_; ++i) jets[i].value = leaves[i];
+  for (int i = 0; i < num_leaves_; ++i) {
+    live[i] = value[i] != 0.0;
+    gradient[i][0] = gradient[i][1] = gradient[i][2] = 0.0;
+    if (hessian) std::fill(hess[i], hess[i] + 9, 0.0);
+  }
+  const int count = static_cast<int>(nodes_.size());
   for (int i = num_leaves_; i < count; ++i) {
     const Node& node = nodes_[i];
-    ScalarJet& out = jets[i];
+    double* g_out = gradient[i];
+    value[i] = g_out[0] = g_out[1] = g_out[2] = 0.0;
+    if (hessian) std::fill(hess[i], hess[i] + 9, 0.0);
+    live[i] = live[node.child[0]] || live[node.child[1]] || live[node.child[2]];
+    if (!live[i]) continue;
     // Differentiating eq. 3 (grad b_j = g_j, the rows of G, constant):
     //   grad M = sum_j g_j M_j + b_j grad M_j,
     //   hess M = sum_j g_j grad M_j^T + grad M_j g_j^T + b_j hess M_j.
     const Eigen::Matrix3d& g = matrices_[node.matrix];
     const Eigen::Vector3d b = g * p;
     for (int j = 0; j < 3; ++j) {
-      const ScalarJet& c = jets[node.child[j]];
-      const Eigen::Vector3d gj = g.row(j).transpose();
-      out.value += b[j] * c.value;
-      out.gradient += gj * c.value + b[j] * c.gradient;
+      const int c = node.child[j];
+      if (!live[c]) continue;
+      const double gj[3] = {g(j, 0), g(j, 1), g(j, 2)};
+      const double* gc = gradient[c];
+      value[i] += b[j] * value[c];
+      for (int r = 0; r < 3; ++r) g_out[r] += gj[r] * value[c] + b[j] * gc[r];
       if (hessian) {
-        out.hessian += gj * c.gradient.transpose() +
-                       c.gradient * gj.transpose() + b[j] * c.hessian;
+        double* h = hess[i];
+        const double* hc = hess[c];
+        for (int r = 0; r < 3; ++r)
+          for (int q = 0; q < 3; ++q) {
+            h[3 * r + q] +=
+                gj[r] * gc[q] + gc[r] * gj[q] + b[j] * hc[3 * r + q];
+          }
       }
     }
   }
-  return jets[count - 1];
+  const int top = count - 1;
+  jet.value = value[top];
+  jet.gradient =
+      Eigen::Vector3d(gradient[top][0], gradient[top][1], gradient[top][2]);
+  if (hessian) {
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) jet.hessian(r, q) = hess[top][3 * r + q];
+  }
+  return jet;
 }
 
 bool SimplexSpline::PiecePolynomial(const Eigen::Vector3d& q,
@@ -358,6 +396,250 @@ bool SimplexSpline::PiecePolynomial(const Eigen::Vector3d& q,
   const std::array<double, kSize>& top = poly[count - 1];
   std::copy(top.begin(), top.begin() + PolynomialSize(degree()), out);
   return true;
+}
+
+}  // namespace sdcb
+
+namespace sdcb {
+namespace {
+
+std::uint64_t NextForestId() {
+  static std::atomic<std::uint64_t> next{0};
+  return ++next;
+}
+
+std::array<int, 8> SubsetKey(std::uint32_t mask,
+                             const std::vector<int>& global) {
+  std::array<int, 8> key;
+  key.fill(-1);
+  int n = 0;
+  for (size_t j = 0; j < global.size(); ++j) {
+    if (mask & (1u << j)) key[n++] = global[j];
+  }
+  return key;
+}
+
+}  // namespace
+
+// One point's memo: a node, pair or generation entry is valid iff its stamp
+// equals `generation`, which changes with the point, the order or the forest.
+struct SimplexSplineForest::Scratch {
+  std::uint64_t forest = 0;
+  int order = -1;
+  Eigen::Vector3d p =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  double bound = 0.0;  // The sign filter's bound for p (PairSigns).
+  std::uint64_t generation = 0;
+  std::vector<std::uint64_t> node_stamp;
+  std::vector<double> value;
+  std::vector<char> live;
+  std::vector<std::array<double, 3>> gradient;
+  std::vector<std::array<double, 9>> hessian;
+  std::vector<std::uint64_t> pair_stamp;
+  std::vector<signed char> pair_sign;
+};
+
+std::size_t SimplexSplineForest::KeyHash::operator()(
+    const std::array<int, 8>& key) const {
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  for (int v : key) {
+    h ^= static_cast<std::uint64_t>(static_cast<std::uint32_t>(v)) +
+         0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+  }
+  return static_cast<std::size_t>(h);
+}
+
+SimplexSplineForest::SimplexSplineForest() : id_(NextForestId()) {}
+
+int SimplexSplineForest::Add(const SimplexSpline& spline,
+                             const std::vector<int>& global) {
+  id_ = NextForestId();  // the memo of an earlier copy no longer applies
+  const int m = static_cast<int>(spline.knots_.rows());
+  std::vector<int> pair_map(spline.pair_normals_.size());
+  for (int i = 0, k = 0; i < m; ++i)
+    for (int j = i + 1; j < m; ++j, ++k) {
+      std::array<int, 8> key;
+      key.fill(-1);
+      key[0] = global[i];
+      key[1] = global[j];
+      auto [it, added] = pair_of_.emplace(key, static_cast<int>(pairs_.size()));
+      if (added) {
+        pairs_.push_back({global[i], global[j]});
+        pair_knots_.push_back(spline.knots_.row(i).transpose());
+        pair_knots_.push_back(spline.knots_.row(j).transpose());
+        pair_normals_.push_back(spline.pair_normals_[k]);
+      }
+      pair_map[k] = it->second;
+    }
+  // Children come before parents in spline.nodes_.
+  std::vector<int> node_map(spline.nodes_.size());
+  for (size_t i = 0; i < spline.nodes_.size(); ++i) {
+    const SimplexSpline::Node& local = spline.nodes_[i];
+    auto [it, added] = node_of_.emplace(SubsetKey(local.mask, global),
+                                        static_cast<int>(nodes_.size()));
+    node_map[i] = it->second;
+    if (!added) continue;
+    Node node;
+    if (local.matrix < 0) {
+      node.orientation = local.orientation;
+      node.inv_abs_det = local.inv_abs_det;
+      if (local.pair[0] >= 0) {
+        for (int j = 0; j < 3; ++j) node.pair[j] = pair_map[local.pair[j]];
+      }
+    } else {
+      std::array<int, 8> key;
+      key.fill(-1);
+      for (int j = 0; j < 3; ++j) key[j] = global[local.local[j]];
+      auto [mit, madded] =
+          matrix_of_.emplace(key, static_cast<int>(matrices_.size()));
+      if (madded) matrices_.push_back(spline.matrices_[local.matrix]);
+      node.matrix = mit->second;
+      for (int j = 0; j < 3; ++j) node.child[j] = node_map[local.child[j]];
+    }
+    nodes_.push_back(node);
+  }
+  tops_.push_back(node_map.back());
+  return static_cast<int>(tops_.size()) - 1;
+}
+
+SimplexSplineForest::Scratch& SimplexSplineForest::Begin(
+    const Eigen::Vector3d& p, int order) const {
+  static thread_local Scratch value_scratch, jet_scratch;
+  Scratch& s = order == 0 ? value_scratch : jet_scratch;
+  if (s.forest != id_ || s.order != order || !(s.p.x() == p.x()) ||
+      !(s.p.y() == p.y()) || !(s.p.z() == p.z())) {
+    ++s.generation;
+    s.forest = id_;
+    s.order = order;
+    s.p = p;
+    s.bound = kSignFilter * 3.01 * p.cwiseAbs().sum();
+  }
+  if (s.node_stamp.size() < nodes_.size()) {
+    s.node_stamp.resize(nodes_.size(), 0);
+    s.value.resize(nodes_.size());
+    s.live.resize(nodes_.size());
+  }
+  if (order > 0 && s.gradient.size() < nodes_.size()) {
+    s.gradient.resize(nodes_.size());
+  }
+  if (order > 1 && s.hessian.size() < nodes_.size()) {
+    s.hessian.resize(nodes_.size());
+  }
+  if (s.pair_stamp.size() < pairs_.size()) {
+    s.pair_stamp.resize(pairs_.size(), 0);
+    s.pair_sign.resize(pairs_.size());
+  }
+  return s;
+}
+
+int SimplexSplineForest::PairSign(int pair, Scratch& s) const {
+  if (s.pair_stamp[pair] != s.generation) {
+    s.pair_stamp[pair] = s.generation;
+    s.pair_sign[pair] = static_cast<signed char>(
+        FilteredSign(s.p.dot(pair_normals_[pair]), s.bound, s.p,
+                     pair_knots_[2 * pair], pair_knots_[2 * pair + 1]));
+  }
+  return s.pair_sign[pair];
+}
+
+double SimplexSplineForest::NodeValue(int g, Scratch& s) const {
+  if (s.node_stamp[g] == s.generation) return s.value[g];
+  const Node& n = nodes_[g];
+  double v = 0.0;
+  if (n.matrix < 0) {
+    // Inside [ta, tb, tc) (SimplexSpline::LeafValue).
+    const int o = n.orientation;
+    if (o != 0 && PairSign(n.pair[0], s) == o && PairSign(n.pair[1], s) == -o &&
+        PairSign(n.pair[2], s) == o) {
+      v = n.inv_abs_det;
+    }
+  } else {
+    const double v0 = NodeValue(n.child[0], s);
+    const double v1 = NodeValue(n.child[1], s);
+    const double v2 = NodeValue(n.child[2], s);
+    if (!(v0 == 0.0 && v1 == 0.0 && v2 == 0.0)) {
+      const Eigen::Vector3d b = matrices_[n.matrix] * s.p;
+      v = b[0] * v0 + b[1] * v1 + b[2] * v2;
+    }
+  }
+  s.node_stamp[g] = s.generation;
+  s.value[g] = v;
+  return v;
+}
+
+void SimplexSplineForest::NodeJet(int g, Scratch& s) const {
+  if (s.node_stamp[g] == s.generation) return;
+  const Node& n = nodes_[g];
+  const bool hessian = s.order > 1;
+  double value = 0.0;
+  double gradient[3] = {0.0, 0.0, 0.0};
+  double hess[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  bool live = false;
+  if (n.matrix < 0) {
+    const int o = n.orientation;
+    if (o != 0 && PairSign(n.pair[0], s) == o && PairSign(n.pair[1], s) == -o &&
+        PairSign(n.pair[2], s) == o) {
+      value = n.inv_abs_det;
+    }
+    live = value != 0.0;
+  } else {
+    for (int j = 0; j < 3; ++j) {
+      NodeJet(n.child[j], s);
+      live = live || s.live[n.child[j]];
+    }
+    if (live) {
+      // As SimplexSpline::Evaluate.
+      const Eigen::Matrix3d& g = matrices_[n.matrix];
+      const Eigen::Vector3d b = g * s.p;
+      for (int j = 0; j < 3; ++j) {
+        const int c = n.child[j];
+        if (!s.live[c]) continue;
+        const double gj[3] = {g(j, 0), g(j, 1), g(j, 2)};
+        const double vc = s.value[c];
+        const std::array<double, 3>& gc = s.gradient[c];
+        value += b[j] * vc;
+        for (int r = 0; r < 3; ++r) gradient[r] += gj[r] * vc + b[j] * gc[r];
+        if (hessian) {
+          const std::array<double, 9>& hc = s.hessian[c];
+          for (int r = 0; r < 3; ++r)
+            for (int q = 0; q < 3; ++q) {
+              hess[3 * r + q] +=
+                  gj[r] * gc[q] + gc[r] * gj[q] + b[j] * hc[3 * r + q];
+            }
+        }
+      }
+    }
+  }
+  s.node_stamp[g] = s.generation;
+  s.value[g] = value;
+  s.live[g] = live;
+  s.gradient[g] = {gradient[0], gradient[1], gradient[2]};
+  if (hessian) std::copy(hess, hess + 9, s.hessian[g].begin());
+}
+
+double SimplexSplineForest::Value(int handle, const Eigen::Vector3d& p) const {
+  Scratch& s = Begin(p, 0);
+  return NodeValue(tops_[handle], s);
+}
+
+ScalarJet SimplexSplineForest::Evaluate(int handle, const Eigen::Vector3d& p,
+                                        JetOrder order) const {
+  ScalarJet jet;
+  if (order == JetOrder::kValue) {
+    jet.value = Value(handle, p);
+    return jet;
+  }
+  Scratch& s = Begin(p, static_cast<int>(order));
+  const int top = tops_[handle];
+  NodeJet(top, s);
+  jet.value = s.value[top];
+  jet.gradient = Eigen::Vector3d(s.gradient[top][0], s.gradient[top][1],
+                                 s.gradient[top][2]);
+  if (order == JetOrder::kHessian) {
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) jet.hessian(r, q) = s.hessian[top][3 * r + q];
+  }
+  return jet;
 }
 
 }  // namespace sdcb

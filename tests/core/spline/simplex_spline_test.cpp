@@ -307,5 +307,64 @@ TEST(SimplexSpline, RejectsBadKnotSets) {
   EXPECT_EQ(s.status().code(), StatusCode::kInvalidInput);
 }
 
+// Random k + 3 of `knots`, ascending (the order the forest requires).
+std::vector<int> RandomSubset(int num_knots, int size, unsigned seed) {
+  std::vector<int> all(num_knots);
+  for (int i = 0; i < num_knots; ++i) all[i] = i;
+  for (int i = 0; i < size; ++i) {
+    seed = seed * 1664525u + 1013904223u;
+    std::swap(all[i], all[i + seed % (num_knots - i)]);
+  }
+  std::vector<int> subset(all.begin(), all.begin() + size);
+  std::sort(subset.begin(), subset.end());
+  return subset;
+}
+
+// The forest merges the recursions of splines that share knots; each
+// spline's own recursion (SimplexSpline) is the oracle, bit for bit, with
+// calls interleaved across splines, orders and points (the per-point memo).
+TEST(SimplexSplineForest, MatchesEverySplineBitForBit) {
+  for (int round = 0; round < 2; ++round) {
+    // Two forests in turn, at the same points: the memo of the first must
+    // not leak into the second.
+    const Eigen::MatrixX3d knots =
+        testing::RandomUnitVectorsInCap(11, kCenter, 0.6, 200 + round);
+    SimplexSplineForest forest;
+    std::vector<SimplexSpline> splines;
+    for (int s = 0; s < 30; ++s) {
+      const int size = s % 3 == 0 ? 6 : 7;
+      const std::vector<int> subset = RandomSubset(11, size, 17 * s + round);
+      Eigen::MatrixX3d local(size, 3);
+      for (int j = 0; j < size; ++j) local.row(j) = knots.row(subset[j]);
+      StatusOr<SimplexSpline> spline = SimplexSpline::Create(local);
+      ASSERT_TRUE(spline.ok()) << spline.status().message();
+      EXPECT_EQ(forest.Add(*spline, subset), s);
+      splines.push_back(std::move(spline).value());
+    }
+    // Shared subsets are stored once.
+    int separate = 0;
+    for (const SimplexSpline& s : splines) separate += s.num_nodes();
+    EXPECT_LT(forest.num_nodes(), separate);
+    const Eigen::MatrixX3d points =
+        testing::RandomUnitVectorsInCap(150, kCenter, 0.6, 300);
+    int nonzero = 0;
+    for (Eigen::Index r = 0; r < points.rows(); ++r) {
+      const Eigen::Vector3d p = points.row(r).transpose();
+      for (int s = 0; s < forest.size(); ++s) {
+        const ScalarJet h = forest.Evaluate(s, p, JetOrder::kHessian);
+        const ScalarJet expected = splines[s].Evaluate(p, JetOrder::kHessian);
+        ASSERT_EQ(forest.Value(s, p), splines[s].Value(p));
+        ASSERT_EQ(h.value, expected.value);
+        ASSERT_EQ(h.gradient, expected.gradient);
+        ASSERT_EQ(h.hessian, expected.hessian);
+        const ScalarJet g = forest.Evaluate(s, p, JetOrder::kGradient);
+        ASSERT_EQ(g.gradient, expected.gradient);
+        nonzero += expected.value != 0.0;
+      }
+    }
+    EXPECT_GT(nonzero, 500);  // the points meet the supports
+  }
+}
+
 }  // namespace
 }  // namespace sdcb
