@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -103,6 +104,200 @@ bool SplitTriangles(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
   return true;
 }
 
+// Triangle f's corner vertices, their sphere points and mesh points.
+void Corners(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
+             Eigen::Index f, int corner[3], Eigen::Vector3d s[3],
+             Eigen::Vector3d x[3]) {
+  for (int k = 0; k < 3; ++k) {
+    corner[k] = mesh.faces(f, k);
+    s[k] = sphere.row(corner[k]).transpose();
+    x[k] = mesh.vertices.row(corner[k]).transpose();
+  }
+}
+
+// The mesh point of barycentric b (weights of corners 1 and 2).
+Eigen::Vector3d Target(const Eigen::Vector2d& b, const Eigen::Vector3d x[3]) {
+  return (1.0 - b[0] - b[1]) * x[0] + b[0] * x[1] + b[1] * x[2];
+}
+
+// Barycentric area share of a leaf (affine in the mesh triangle) times the
+// triangle's area.
+double LeafArea(const Sub& t, double area) {
+  const Eigen::Vector2d e0 = t.v[1] - t.v[0], e1 = t.v[2] - t.v[0];
+  return area * std::abs(e0[0] * e1[1] - e0[1] * e1[0]);
+}
+
+// One of 6 x 4 x 4 bins of a direction: the cube face it points to and a
+// 4 x 4 grid on that face (bins about 30 degrees wide).
+int64_t NormalBin(const Eigen::Vector3d& n) {
+  int axis = 0;
+  for (int a = 1; a < 3; ++a) {
+    if (std::abs(n[a]) > std::abs(n[axis])) axis = a;
+  }
+  if (!(std::abs(n[axis]) > 0)) return 0;
+  const int face = 2 * axis + (n[axis] < 0 ? 1 : 0);
+  const double u = n[(axis + 1) % 3] / std::abs(n[axis]);  // in [-1, 1]
+  const double v = n[(axis + 2) % 3] / std::abs(n[axis]);
+  const auto cell = [](double t) {
+    return std::clamp(static_cast<int>(std::floor((t + 1.0) * 2.0)), 0, 3);
+  };
+  return 16 * face + 4 * cell(u) + cell(v);
+}
+
+// The pieces exceed the budget: many triangles sample the same part of the
+// sphere (a fan's needles, each cut along its whole length, cover the same
+// region n times over). Every piece is still integrated at the full density,
+// but its quadrature points are pooled in cells of the sample spacing (the
+// spacing of the nearest knot over samples_per_spacing, in a tangent grid of
+// that knot), each piece by its centroid: one row per cell, at the weighted
+// mean of its sphere points and of its targets, with their summed weight. So
+// the samples stay as dense as the knots ask everywhere, their count bounded by
+// the cells (a few per knot), not by the triangles; the weights still add up to
+// the area. Pieces pool only with pieces of a similar normal (NormalBin), so
+// a crease's two sides are not averaged into a point inside the solid. A
+// cell's row names the triangle that gave it the largest single piece.
+void MergedSamples(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
+                   const Eigen::MatrixX3d& knots,
+                   const Eigen::VectorXd& spacing, const PointKdTree& knot_tree,
+                   const FitSampleOptions& options, FitSamples* out) {
+  const Eigen::Index nv = mesh.vertices.rows(), nf = mesh.faces.rows();
+  struct Cell {
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    Eigen::Vector3d target = Eigen::Vector3d::Zero();
+    double weight = 0.0;
+    int triangle = -1;
+    double triangle_weight = 0.0;
+  };
+  std::map<std::array<int64_t, 4>, Cell> cells;
+  int64_t normal_bin = 0;  // of the triangle being deposited
+  const double per_spacing = options.samples_per_spacing;
+  Eigen::VectorXd vertex_weight = Eigen::VectorXd::Zero(nv);
+  auto deposit = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& x,
+                     double w, int f) {
+    const PointKdTree::Neighbor near = knot_tree.Nearest(p);
+    const int k = std::max(near.index, 0);
+    const Eigen::Vector3d t = knots.row(k).transpose();
+    // A tangent frame at the knot, fixed by the knot alone.
+    const Eigen::Vector3d helper = std::abs(t.x()) < 0.6
+                                       ? Eigen::Vector3d::UnitX()
+                                       : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d e1 = t.cross(helper).normalized();
+    const Eigen::Vector3d e2 = t.cross(e1);
+    const double h = std::max(spacing[k] / per_spacing, 1e-12);
+    const std::array<int64_t, 4> key = {
+        k, static_cast<int64_t>(std::floor(p.dot(e1) / h)),
+        static_cast<int64_t>(std::floor(p.dot(e2) / h)), normal_bin};
+    Cell& c = cells[key];
+    c.point += w * p;
+    c.target += w * x;
+    c.weight += w;
+    // Weight per triangle within the cell is not kept: the triangle of the
+    // heaviest single deposit names the cell.
+    if (w > c.triangle_weight) {
+      c.triangle_weight = w;
+      c.triangle = f;
+    }
+  };
+  out->split_triangles = 0;
+  out->merged_pieces = 0;
+  std::vector<Sub> leaves;
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    int corner[3];
+    Eigen::Vector3d s[3], x[3];
+    Corners(mesh, sphere, f, corner, s, x);
+    const Eigen::Vector3d normal = (x[1] - x[0]).cross(x[2] - x[0]);
+    const double area = 0.5 * normal.norm();
+    normal_bin = NormalBin(normal);
+    const auto length = [&](const Eigen::Vector3d& p) {
+      const PointKdTree::Neighbor near = knot_tree.Nearest(p);
+      return near.index >= 0 ? spacing[near.index] / per_spacing
+                             : std::numeric_limits<double>::infinity();
+    };
+    const double longest = std::max(
+        {(s[1] - s[0]).norm(), (s[2] - s[1]).norm(), (s[0] - s[2]).norm()});
+    if (longest <= length((s[0] + s[1] + s[2]).normalized())) {
+      for (int k = 0; k < 3; ++k) vertex_weight[corner[k]] += area / 3.0;
+      continue;
+    }
+    ++out->split_triangles;
+    // A needle narrower than half the sample spacing: bisection would cut
+    // it along its whole length into pieces far thinner than a cell, and
+    // its neighbours sample the same cells. Instead, strips across it
+    // (parallel to its short edge) at a staggered phase per triangle, as
+    // many as its spherical area asks (and at least 2): neighbouring
+    // needles' strips interleave and fill the cells between, and the work
+    // is bounded by the knots' density, not by the needles' count.
+    int apex = 0;
+    double edge[3];
+    for (int k = 0; k < 3; ++k) {
+      edge[k] = (s[(k + 2) % 3] - s[(k + 1) % 3]).norm();
+      if (edge[k] < edge[apex]) apex = k;
+    }
+    const double sphere_area = 0.5 * (s[1] - s[0]).cross(s[2] - s[0]).norm();
+    double h = length((s[0] + s[1] + s[2]).normalized());
+    for (int k = 0; k < 3; ++k) h = std::min(h, length(s[k]));
+    if (2.0 * sphere_area / longest < 0.5 * h) {
+      const int64_t strips = std::clamp<int64_t>(
+          static_cast<int64_t>(std::ceil(8.0 * sphere_area / (h * h))), 2,
+          static_cast<int64_t>(std::ceil(2.0 * longest / h)));
+      const double phase =
+          std::fmod(0.6180339887498949 * static_cast<double>(f), 1.0);
+      out->merged_pieces += strips + 1;
+      double from = 0.0;
+      for (int64_t j = 0; j <= strips; ++j) {
+        const double to =
+            j == strips ? 1.0 : (static_cast<double>(j) + phase) / strips;
+        const double share = to * to - from * from;  // of the area
+        if (share > 0) {
+          // The strip's centroid, at distance t from the apex along the
+          // median (1 at the short edge).
+          const double t =
+              (2.0 / 3.0) * (to * to * to - from * from * from) / share;
+          double w[3];
+          for (int k = 0; k < 3; ++k) w[k] = k == apex ? 1.0 - t : 0.5 * t;
+          const Eigen::Vector2d b(w[1], w[2]);
+          deposit(OnSphere(b, s), Target(b, x), share * area,
+                  static_cast<int>(f));
+        }
+        from = to;
+      }
+      continue;
+    }
+    leaves.clear();
+    int64_t unlimited = std::numeric_limits<int64_t>::max();
+    const Sub whole{
+        {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)}};
+    Bisect(whole, s, length, options.max_depth, &unlimited, &leaves);
+    out->merged_pieces += static_cast<int64_t>(leaves.size());
+    // A piece is far smaller than its cell: its centroid with its whole
+    // area (the cell's mean is the quadrature).
+    for (const Sub& t : leaves) {
+      const Eigen::Vector2d c = (t.v[0] + t.v[1] + t.v[2]) / 3.0;
+      deposit(OnSphere(c, s), Target(c, x), LeafArea(t, area),
+              static_cast<int>(f));
+    }
+  }
+  // Cells of degenerate (zero-area) pieces only carry no weight: no row.
+  Eigen::Index rows = nv;
+  for (const auto& entry : cells) rows += entry.second.weight > 0 ? 1 : 0;
+  out->points.resize(rows, 3);
+  out->targets.resize(rows, 3);
+  out->weights.resize(rows);
+  out->triangle.assign(rows - nv, -1);
+  out->points.topRows(nv) = sphere;
+  out->targets.topRows(nv) = mesh.vertices;
+  out->weights.head(nv) = vertex_weight;
+  Eigen::Index r = nv;
+  for (const auto& [key, c] : cells) {
+    if (!(c.weight > 0)) continue;
+    out->points.row(r) = c.point.normalized().transpose();
+    out->targets.row(r) = (c.target / c.weight).transpose();
+    out->weights[r] = c.weight;
+    out->triangle[r - nv] = c.triangle;
+    ++r;
+  }
+}
+
 }  // namespace
 
 FitSamples BuildFitSamples(const TriangleMesh& mesh,
@@ -120,24 +315,13 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
   FitSamples out;
   out.num_vertices = nv;
   std::vector<std::vector<Sub>> leaves(nf);
-  double per_spacing = options.samples_per_spacing;
-  for (int halvings = 0;; ++halvings) {
-    if (halvings == 64) {
-      // Only coincident knots (spacing 0) get here: one piece per triangle.
-      FitSampleOptions whole = options;
-      whole.max_depth = 0;
-      whole.max_pieces = 0;
-      SplitTriangles(mesh, sphere, spacing, knot_tree, per_spacing, whole,
-                     &leaves, &out.split_triangles);
-      break;
-    }
-    if (SplitTriangles(mesh, sphere, spacing, knot_tree, per_spacing, options,
-                       &leaves, &out.split_triangles)) {
-      break;
-    }
-    per_spacing /= 2;
+  out.samples_per_spacing = options.samples_per_spacing;
+  if (!SplitTriangles(mesh, sphere, spacing, knot_tree,
+                      options.samples_per_spacing, options, &leaves,
+                      &out.split_triangles)) {
+    MergedSamples(mesh, sphere, knots, spacing, knot_tree, options, &out);
+    return out;
   }
-  out.samples_per_spacing = per_spacing;
 
   // Rows: the vertices, then per split triangle its new lattice points and
   // its leaves' centroids.
@@ -152,13 +336,9 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
   Eigen::Index next = nv;
   std::map<std::pair<double, double>, Eigen::Index> point_row;
   for (Eigen::Index f = 0; f < nf; ++f) {
-    const int corner[3] = {mesh.faces(f, 0), mesh.faces(f, 1),
-                           mesh.faces(f, 2)};
+    int corner[3];
     Eigen::Vector3d s[3], x[3];
-    for (int k = 0; k < 3; ++k) {
-      s[k] = sphere.row(corner[k]).transpose();
-      x[k] = mesh.vertices.row(corner[k]).transpose();
-    }
+    Corners(mesh, sphere, f, corner, s, x);
     const double area = 0.5 * (x[1] - x[0]).cross(x[2] - x[0]).norm();
     if (leaves[f].empty()) {
       for (int k = 0; k < 3; ++k) out.weights[corner[k]] += area / 3.0;
@@ -166,8 +346,7 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
     }
     auto add_point = [&](const Eigen::Vector2d& b) {
       out.points.row(next) = OnSphere(b, s).transpose();
-      out.targets.row(next) =
-          ((1.0 - b[0] - b[1]) * x[0] + b[0] * x[1] + b[1] * x[2]).transpose();
+      out.targets.row(next) = Target(b, x).transpose();
       out.triangle[next - nv] = static_cast<int>(f);
       return next++;
     };
@@ -181,9 +360,7 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
       return it->second;
     };
     for (const Sub& t : leaves[f]) {
-      // Barycentric area share of the leaf (affine in the mesh triangle).
-      const Eigen::Vector2d e0 = t.v[1] - t.v[0], e1 = t.v[2] - t.v[0];
-      const double leaf_area = area * std::abs(e0[0] * e1[1] - e0[1] * e1[0]);
+      const double leaf_area = LeafArea(t, area);
       for (int k = 0; k < 3; ++k) {
         out.weights[row_of(t.v[k])] += leaf_area / 12.0;
       }

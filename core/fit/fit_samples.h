@@ -29,10 +29,15 @@ struct FitSampleOptions {
   double samples_per_spacing = 2.0;
   // Bisection depth at most (2^depth pieces per triangle at most).
   int max_depth = 14;
-  // Pieces over all split triangles at most (0: no limit). Past it, the
-  // sample spacing doubles until they fit: long needle triangles (a CAD
-  // fan's) would otherwise each be cut along their whole length, n needles
-  // sampling the same region n times over.
+  // Pieces over all split triangles at most (0: no limit). Past it, long
+  // needle triangles (a CAD fan's) are each cut along their whole length,
+  // n needles sampling the same region n times over: the pieces' quadrature
+  // points are then pooled in cells of the sample spacing (a tangent grid
+  // of the nearest knot), one row per cell at the weighted means of its
+  // points and targets, so the rows stay a few per knot, as dense as the
+  // knots ask everywhere; needles narrower than half the sample spacing are
+  // cut into a few strips at a staggered phase instead of along their whole
+  // length (their neighbours' strips fill the cells between).
   int64_t max_pieces = 0;
 };
 
@@ -47,9 +52,11 @@ struct FitSamples {
   std::vector<int> triangle;  // size points.rows() - num_vertices
   Eigen::Index num_vertices = 0;
   int split_triangles = 0;  // triangles split into pieces
-  // The samples per spacing used: options.samples_per_spacing, halved as
-  // often as max_pieces required.
+  // The samples per spacing used (options.samples_per_spacing).
   double samples_per_spacing = 0.0;
+  // Pieces and needle strips pooled into cells when the pieces exceeded
+  // max_pieces; 0 otherwise.
+  int64_t merged_pieces = 0;
 };
 
 // `mesh`: the mesh (any frame); `sphere`: #V by 3 sphere points of its

@@ -102,36 +102,51 @@ Eigen::MatrixX3d AreaWeightedNormals(const TriangleMesh& mesh) {
   return normals;
 }
 
-// True if the points span a 2-D patch of the tangent plane of `normal`
-// (the vertex normal): the smaller principal variance of the points
-// projected onto that plane is at least `min_ratio` times the larger one.
-// Without this, a curved row of points (a thin strip along a long-triangle
-// fan) looks 2-D to CGAL's 3-D PCA, which then takes the strip's own plane
-// as the tangent plane; and CGAL's preconditioning divides by ~0 on a line.
-bool SpansPatch(const std::vector<FitKernel::Point_3>& points,
-                const Eigen::Vector3d& normal, double min_ratio) {
-  Eigen::Vector3d n = normal;
-  if (n.squaredNorm() == 0) return false;
-  n.normalize();
-  const Eigen::Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  std::vector<Eigen::Vector2d> projected;
-  projected.reserve(points.size());
-  for (const auto& p : points) {
-    const Eigen::Vector3d q(p.x(), p.y(), p.z());
-    projected.emplace_back(q.dot(e1), q.dot(e2));
-    mean += projected.back();
+// Whether a growing set of points spans a 2-D patch of the tangent plane of
+// `normal` (the vertex normal): the smaller principal variance of the
+// points projected onto that plane is at least `min_ratio` times the larger
+// one. Without this, a curved row of points (a thin strip along a
+// long-triangle fan) looks 2-D to CGAL's 3-D PCA, which then takes the
+// strip's own plane as the tangent plane; and CGAL's preconditioning
+// divides by ~0 on a line. Running sums (of coordinates relative to the
+// first point, which keeps them well conditioned): each point and each test
+// cost O(1), so a neighbourhood that grows to max_points along a strip
+// costs linear, not quadratic, time.
+class PatchSpread {
+ public:
+  PatchSpread(const Eigen::Vector3d& normal, const Eigen::Vector3d& origin)
+      : origin_(origin) {
+    Eigen::Vector3d n = normal;
+    valid_ = n.squaredNorm() > 0;
+    if (valid_) n.normalize();
+    e1_ = n.unitOrthogonal();
+    e2_ = n.cross(e1_);
   }
-  mean /= static_cast<double>(points.size());
-  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
-  for (const Eigen::Vector2d& q : projected) {
-    covariance += (q - mean) * (q - mean).transpose();
+  void Add(const Eigen::Vector3d& p) {
+    const Eigen::Vector3d d = p - origin_;
+    const Eigen::Vector2d q(d.dot(e1_), d.dot(e2_));
+    sum_ += q;
+    sum_squares_ += q * q.transpose();
+    ++count_;
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(
-      covariance, Eigen::EigenvaluesOnly);
-  const Eigen::Vector2d lambda = solver.eigenvalues();  // ascending
-  return lambda[1] > 0 && lambda[0] >= min_ratio * lambda[1];
-}
+  bool Spans(double min_ratio) const {
+    if (!valid_ || count_ == 0) return false;
+    const Eigen::Vector2d mean = sum_ / static_cast<double>(count_);
+    const Eigen::Matrix2d covariance =
+        sum_squares_ - static_cast<double>(count_) * mean * mean.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(
+        covariance, Eigen::EigenvaluesOnly);
+    const Eigen::Vector2d lambda = solver.eigenvalues();  // ascending
+    return lambda[1] > 0 && lambda[0] >= min_ratio * lambda[1];
+  }
+
+ private:
+  Eigen::Vector3d origin_, e1_, e2_;
+  bool valid_ = false;
+  Eigen::Vector2d sum_ = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d sum_squares_ = Eigen::Matrix2d::Zero();
+  int count_ = 0;
+};
 
 Status ValidateInput(const TriangleMesh& mesh,
                      const CurvatureOptions& options) {
@@ -230,11 +245,13 @@ StatusOr<PrincipalCurvatures> EstimatePrincipalCurvatures(
     // (topological rings would be strips there).
     using Entry = std::pair<double, int>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+    std::vector<Entry> candidates;
     for (int v = range.begin(); v < range.end(); ++v) {
       if (adjacency.offsets[v] == adjacency.offsets[v + 1]) continue;
       const Eigen::Vector3d center = mesh.vertices.row(v);
       const Eigen::Vector3d normal = normals.row(v);
       points.clear();
+      PatchSpread spread(normal, center);
       queue = {};
       queue.emplace(0.0, v);
       mark[v] = v;
@@ -246,12 +263,33 @@ StatusOr<PrincipalCurvatures> EstimatePrincipalCurvatures(
         // The first point is where CGAL evaluates the Monge form.
         points.emplace_back(mesh.vertices(w, 0), mesh.vertices(w, 1),
                             mesh.vertices(w, 2));
+        spread.Add(mesh.vertices.row(w).transpose());
+        // At most max_points more pops can follow, so of a hub's many
+        // neighbours (a CAD fan's centre) only the nearest max_points can
+        // ever be taken: push those (ties included), not all, so that work
+        // stays linear in the hub's valence instead of its square times
+        // log.
+        candidates.clear();
         for (int i = adjacency.offsets[w]; i < adjacency.offsets[w + 1]; ++i) {
           const int u = adjacency.neighbors[i];
           if (mark[u] == v) continue;
-          mark[u] = v;
-          queue.emplace(
+          candidates.emplace_back(
               (mesh.vertices.row(u).transpose() - center).squaredNorm(), u);
+        }
+        const size_t keep = static_cast<size_t>(options.max_points);
+        if (candidates.size() > keep) {
+          std::nth_element(candidates.begin(), candidates.begin() + (keep - 1),
+                           candidates.end());
+          const Entry cut = candidates[keep - 1];
+          candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                          [&](const Entry& e) {
+                                            return e.first > cut.first;
+                                          }),
+                           candidates.end());
+        }
+        for (const Entry& e : candidates) {
+          mark[e.second] = v;
+          queue.push(e);
         }
         // Take all vertices at the same distance (up to rounding) together,
         // so that a symmetric neighbourhood stays symmetric and a rigid
@@ -261,8 +299,7 @@ StatusOr<PrincipalCurvatures> EstimatePrincipalCurvatures(
              queue.top().first <= distance * (1 + 1e-9))) {
           continue;
         }
-        if (points.size() < needed ||
-            !SpansPatch(points, normal, options.min_spread_ratio)) {
+        if (points.size() < needed || !spread.Spans(options.min_spread_ratio)) {
           continue;
         }
         JetFitter fitter;

@@ -8,7 +8,9 @@
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace sdcb {
@@ -23,6 +25,34 @@ using Traits = CGAL::AABB_traits<Kernel, Primitive>;
 using AabbTree = CGAL::AABB_tree<Traits>;
 
 Point ToPoint(const Eigen::Vector3d& v) { return Point(v.x(), v.y(), v.z()); }
+
+// Longest-edge bisection of (a, b, c) until no edge is longer than `limit`:
+// calls emit(a, b, c) per piece, returns the number of pieces (at most
+// 2^depth).
+template <typename Emit>
+int64_t Split(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+              const Eigen::Vector3d& c, double limit, int depth, Emit emit) {
+  const double ab = (b - a).squaredNorm(), bc = (c - b).squaredNorm(),
+               ca = (a - c).squaredNorm();
+  const double longest = std::max({ab, bc, ca});
+  if (depth == 0 || longest <= limit * limit) {
+    emit(a, b, c);
+    return 1;
+  }
+  // Rotate so that (a, b) is the longest edge, then cut it at its middle.
+  if (ab != longest) {
+    return bc == longest ? Split(b, c, a, limit, depth, emit)
+                         : Split(c, a, b, limit, depth, emit);
+  }
+  const Eigen::Vector3d m = 0.5 * (a + b);
+  return Split(a, m, c, limit, depth - 1, emit) +
+         Split(m, b, c, limit, depth - 1, emit);
+}
+
+// Pieces at most 2^kMaxSplitDepth per triangle, and kMaxPiecesPerFace per
+// face over the mesh.
+constexpr int kMaxSplitDepth = 12;
+constexpr int64_t kMaxPiecesPerFace = 8;
 
 }  // namespace
 
@@ -43,6 +73,8 @@ StatusOr<MeshDistance> MeshDistance::Create(const TriangleMesh& mesh) {
   }
   auto t = std::make_unique<Tree>();
   t->normals.resize(mesh.num_faces(), Eigen::Vector3d::Zero());
+  std::vector<int> kept;
+  double area = 0.0;
   for (int f = 0; f < mesh.num_faces(); ++f) {
     const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
     const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
@@ -51,8 +83,43 @@ StatusOr<MeshDistance> MeshDistance::Create(const TriangleMesh& mesh) {
     if (triangle.is_degenerate()) continue;  // exact collinearity test
     const Eigen::Vector3d n = (b - a).cross(c - a);
     if (n.norm() > 0) t->normals[f] = n.normalized();
-    t->triangles.push_back(triangle);
-    t->faces.push_back(f);
+    area += 0.5 * n.norm();
+    kept.push_back(f);
+  }
+  // Long needles (a CAD fan's: every one reaches from the hub to the rim)
+  // have boxes that overlap everything, and a query then tests most of them:
+  // the tree holds pieces of them instead (longest-edge bisection, the same
+  // face), no longer than 8 times the side of a mean-area square, longer
+  // while they would exceed kMaxPiecesPerFace pieces per face. The pieces
+  // tile their triangle, so the closest point is the triangle's. Ordinary
+  // meshes have no such triangle and keep one piece per face.
+  const auto corner = [&](int f, int k) -> Eigen::Vector3d {
+    return mesh.vertices.row(mesh.faces(f, k)).transpose();
+  };
+  const auto ignore = [](const Eigen::Vector3d&, const Eigen::Vector3d&,
+                         const Eigen::Vector3d&) {};
+  double limit = kept.empty()
+                     ? 0.0
+                     : 8.0 * std::sqrt(area / static_cast<double>(kept.size()));
+  for (int attempt = 0; attempt < 64 && limit > 0; ++attempt, limit *= 2) {
+    int64_t pieces = 0;
+    for (int f : kept) {
+      pieces += Split(corner(f, 0), corner(f, 1), corner(f, 2), limit,
+                      kMaxSplitDepth, ignore);
+    }
+    if (pieces <= kMaxPiecesPerFace * static_cast<int64_t>(kept.size())) break;
+  }
+  for (int f : kept) {
+    Split(corner(f, 0), corner(f, 1), corner(f, 2), limit, kMaxSplitDepth,
+          [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+              const Eigen::Vector3d& c) {
+            const Triangle piece(ToPoint(a), ToPoint(b), ToPoint(c));
+            if (piece.is_degenerate())
+              return;  // rounded flat: its
+                       // neighbours cover it
+            t->triangles.push_back(piece);
+            t->faces.push_back(f);
+          });
   }
   if (t->triangles.empty()) {
     return InvalidInputError("the mesh has no non-degenerate triangle");

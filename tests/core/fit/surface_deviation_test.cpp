@@ -17,6 +17,7 @@
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/spline/spherical_spline.h"
+#include "testing/fan_mesh.h"
 
 namespace sdcb {
 namespace {
@@ -94,6 +95,34 @@ TEST(MeshDistanceTest, MatchesBruteForceAtRandomPoints) {
                     mesh.vertices.row(mesh.faces(c.face, 1)),
                     mesh.vertices.row(mesh.faces(c.face, 2))),
                 0.0, 1e-12);
+  }
+}
+
+// A CAD fan's needles are held as pieces in the tree (each needle cut along
+// its length): distances, faces and normals must still be those of the
+// whole triangles.
+TEST(MeshDistanceTest, NeedlesCutIntoPiecesKeepTheirDistancesAndFaces) {
+  const TriangleMesh cone = testing::DoubleCone(3000);
+  auto tree = MeshDistance::Create(cone);
+  ASSERT_TRUE(tree.ok()) << tree.status().message();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> box(-1.2, 1.2);
+  for (int i = 0; i < 150; ++i) {
+    const Eigen::Vector3d q(box(rng), box(rng), box(rng));
+    const MeshDistance::Closest c = tree->Find(q);
+    EXPECT_NEAR(c.distance, BruteForceMeshDistance(cone, q), 1e-12);
+    ASSERT_GE(c.face, 0);
+    ASSERT_LT(c.face, cone.num_faces());
+    EXPECT_NEAR(BruteForceTriangleDistance(
+                    c.point, cone.vertices.row(cone.faces(c.face, 0)),
+                    cone.vertices.row(cone.faces(c.face, 1)),
+                    cone.vertices.row(cone.faces(c.face, 2))),
+                0.0, 1e-12);
+    // Outward-oriented cone: the outward direction from the point is never
+    // opposed, the inward one always (away from the tips and the rim).
+    const Eigen::Vector3d n = tree->FaceNormal(c.face);
+    EXPECT_GT(n.dot(c.point), 0.0);
+    EXPECT_FALSE(tree->Opposes(c, c.point));
   }
 }
 
