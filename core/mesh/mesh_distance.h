@@ -22,8 +22,11 @@ class MeshDistance {
 
   // Builds the tree over every triangle of `mesh` that is not exactly
   // degenerate (three collinear corners: such a triangle lies on its own
-  // edges, which other triangles share in a closed mesh). kInvalidInput if
-  // no triangle is left or a coordinate is not finite.
+  // edges, which other triangles share in a closed mesh). Long needles (a
+  // CAD fan's) are held as pieces (longest-edge bisection, at most 8 pieces
+  // per face over the mesh) so that queries stay local; Find still reports
+  // the whole face. kInvalidInput if no triangle is left or a coordinate is
+  // not finite.
   static StatusOr<MeshDistance> Create(const TriangleMesh& mesh);
 
   MeshDistance(MeshDistance&&) noexcept;
