@@ -244,6 +244,8 @@ struct SplineFitter::State {
   Eigen::MatrixX3d u;  // the vertices' sphere parameters
   double mesh_area = 0;
   std::unique_ptr<PointKdTree> parameter_tree;
+  // The mesh's AABB tree, built once for every round's measurement.
+  std::optional<MeshDistance> mesh_distance;
   SphericalDensity density;  // of the next round's knots
 
   FitResult result;
@@ -386,6 +388,8 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   s.u = param.sphere;
   s.result.timings.parameterization = stage.Seconds();
   s.parameter_tree = std::make_unique<PointKdTree>(s.u);
+  SDCB_ASSIGN_OR_RETURN(
+      s.mesh_distance, s.InArena([&] { return MeshDistance::Create(s.mesh); }));
 
   // 2. Round-0 density: curvedness^alpha (Sec. 4.4).
   stage = Stopwatch();
@@ -512,7 +516,8 @@ StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
       final_measurement ? std::max(options.final_surface_samples, per_knot)
                         : per_knot;
   measure.closest_points = final_measurement;
-  return MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points);
+  return MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points,
+                                 &*mesh_distance);
 }
 
 void SplineFitter::State::NextDensity(const Problem& p,

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "sdcb/core/mesh/mesh_distance.h"
@@ -153,8 +154,8 @@ double ClosestOnSpline(const SphericalSpline& surface, const Eigen::Vector3d& x,
 
 StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     const SphericalSpline& surface, const TriangleMesh& mesh,
-    const DeviationOptions& options,
-    const Eigen::MatrixX3d* vertex_candidates) {
+    const DeviationOptions& options, const Eigen::MatrixX3d* vertex_candidates,
+    const MeshDistance* mesh_distance) {
   if (!(options.length_unit > 0) || !std::isfinite(options.length_unit) ||
       options.min_surface_samples < 1 || options.closest_point_iterations < 0) {
     return InvalidArgumentError(
@@ -167,7 +168,12 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     return InvalidArgumentError(
         "surface deviation: one candidate point per mesh vertex is needed");
   }
-  SDCB_ASSIGN_OR_RETURN(const MeshDistance to_mesh, MeshDistance::Create(mesh));
+  std::optional<MeshDistance> own_distance;
+  if (mesh_distance == nullptr) {
+    SDCB_ASSIGN_OR_RETURN(own_distance, MeshDistance::Create(mesh));
+    mesh_distance = &*own_distance;
+  }
+  const MeshDistance& to_mesh = *mesh_distance;
   SDCB_ASSIGN_OR_RETURN(const DelaunayConfigurations knot_triangles,
                         ComputeDelaunayConfigurations(surface.knots(), 0));
   const double triangles = static_cast<double>(knot_triangles.sets.size());

@@ -36,6 +36,7 @@
 #include <cstdint>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/spline/spherical_spline.h"
 
@@ -103,10 +104,13 @@ struct SurfaceDeviation {
 // the vertex's closest point. kInvalidArgument for bad options or a
 // candidate count that does not match; kInvalidInput for a mesh without a
 // usable triangle. Deterministic for any thread count.
+// `mesh_distance` (optional): the AABB tree of `mesh`, when the caller
+// measures the same mesh repeatedly (the fit's rounds); built here if null.
 StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     const SphericalSpline& surface, const TriangleMesh& mesh,
     const DeviationOptions& options = {},
-    const Eigen::MatrixX3d* vertex_candidates = nullptr);
+    const Eigen::MatrixX3d* vertex_candidates = nullptr,
+    const MeshDistance* mesh_distance = nullptr);
 
 }  // namespace sdcb
 
