@@ -18,6 +18,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxLines = 64;    // bits of a region key
 constexpr int kSplitLines = 24;  // cells with more lines are split
 constexpr int kMaxDepth = 8;
+constexpr Eigen::Index kChunk = Eigen::Index{1} << 18;  // EvaluateMany
 
 // Cube face f: axis a = sign * e_k (f = 2k + (sign < 0)) and e1 = e_i1,
 // e2 = e_i2 with e1 x e2 = a, so the chart (u, v) -> a + u e1 + v e2 is
@@ -117,6 +118,14 @@ struct PiecewiseSurface::Builder {
   // ~10 on average, some a few hundred).
   std::vector<std::unique_ptr<double[]>> blocks;
   int block_capacity = 0, block_used = 0;
+};
+
+// EvaluateMany's buffers for one chunk of rows.
+struct PiecewiseSurface::Scratch {
+  std::vector<uint64_t> order, by_leaf;  // leaf << 32 | row in the chunk
+  std::vector<uint32_t> start;           // counting sort by leaf
+  std::vector<uint32_t> position_of;     // row in the chunk -> place in order
+  std::vector<double> sorted, results;   // directions, results in order
 };
 
 struct PiecewiseSurface::Leaf {
@@ -585,36 +594,55 @@ void PiecewiseSurface::EvaluateMany(const Eigen::MatrixX3d& directions,
     for (Eigen::Index r = 0; r < rows; ++r) evaluate_row(r);
     return;
   }
-  // In chunks of up to 2^20 rows, leaf by leaf (stable), so that a leaf's
+  // In chunks of up to kChunk rows, leaf by leaf (stable), so that a leaf's
   // regions stay in cache: the chunk's directions are copied to that order
-  // (x, y, z together), the results written in it and copied back.
-  constexpr Eigen::Index kChunk = Eigen::Index{1} << 20;
+  // (x, y, z together), the results written in it and copied back. The
+  // buffers are reused from call to call (fresh pages cost more than the
+  // evaluation of a small batch).
+  std::unique_ptr<Scratch> scratch;
+  {
+    std::lock_guard<std::mutex> lock(scratch_mutex_);
+    if (!scratch_.empty()) {
+      scratch = std::move(scratch_.back());
+      scratch_.pop_back();
+    }
+  }
+  if (!scratch) scratch = std::make_unique<Scratch>();
   const int width = normals ? 6 : 3;
-  std::vector<uint64_t> order;        // leaf << 32 | row in the chunk
-  std::vector<uint32_t> position_of;  // row in the chunk -> place in order
-  std::vector<double> sorted, results;
+  std::vector<uint64_t>& order = scratch->order;
+  std::vector<uint32_t>& position_of = scratch->position_of;
+  std::vector<double>& sorted = scratch->sorted;
+  std::vector<double>& results = scratch->results;
   for (Eigen::Index begin = 0; begin < rows; begin += kChunk) {
     const Eigen::Index n = std::min(kChunk, rows - begin);
-    order.resize(n);
+    if (static_cast<Eigen::Index>(order.size()) < n) {
+      order.resize(n);
+      position_of.resize(n);
+      sorted.resize(3 * n);
+    }
+    if (static_cast<Eigen::Index>(results.size()) < width * n) {
+      results.resize(width * n);
+    }
     parallel(n, 4096, [&](Eigen::Index r) {
       double s, t;
       const int leaf = Locate(directions.row(begin + r).transpose(), &s, &t);
       order[r] = static_cast<uint64_t>(leaf) << 32 | static_cast<uint64_t>(r);
     });
     if (n < static_cast<Eigen::Index>(leaves_.size())) {
-      std::sort(order.begin(), order.end());
+      std::sort(order.begin(), order.begin() + n);
     } else {
       // Counting sort by leaf (n >= #leaves: linear).
-      std::vector<uint32_t> start(leaves_.size() + 1, 0);
-      for (uint64_t o : order) ++start[(o >> 32) + 1];
+      std::vector<uint32_t>& start = scratch->start;
+      std::vector<uint64_t>& by_leaf = scratch->by_leaf;
+      start.assign(leaves_.size() + 1, 0);
+      for (Eigen::Index r = 0; r < n; ++r) ++start[(order[r] >> 32) + 1];
       for (size_t l = 0; l < leaves_.size(); ++l) start[l + 1] += start[l];
-      std::vector<uint64_t> by_leaf(n);
-      for (uint64_t o : order) by_leaf[start[o >> 32]++] = o;
+      by_leaf.resize(order.size());
+      for (Eigen::Index r = 0; r < n; ++r) {
+        by_leaf[start[order[r] >> 32]++] = order[r];
+      }
       order.swap(by_leaf);
     }
-    position_of.resize(n);
-    sorted.resize(3 * n);
-    results.resize(width * n);
     parallel(n, 4096, [&](Eigen::Index o) {
       const uint32_t r = static_cast<uint32_t>(order[o]);
       position_of[r] = static_cast<uint32_t>(o);
@@ -639,6 +667,8 @@ void PiecewiseSurface::EvaluateMany(const Eigen::MatrixX3d& directions,
       }
     });
   }
+  std::lock_guard<std::mutex> lock(scratch_mutex_);
+  scratch_.push_back(std::move(scratch));
 }
 
 }  // namespace sdcb

@@ -27,6 +27,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "sdcb/core/spline/spherical_spline.h"
@@ -63,6 +64,7 @@ class PiecewiseSurface {
   struct Leaf;
   struct Table;
   struct Builder;
+  struct Scratch;
   // The leaf cell of p and p's local coordinates (s, t) in it, in [-1, 1]^2.
   int Locate(const Eigen::Vector3d& p, double* s, double* t) const;
   // The coefficients of p's region in `leaf` (monomial m, component d =
@@ -82,6 +84,9 @@ class PiecewiseSurface {
   std::vector<Node> nodes_;                    // 6 * grid^2 roots first
   std::vector<std::unique_ptr<Leaf>> leaves_;  // depth-first per root
   std::vector<std::array<int, 2>> segments_;   // knot pairs a < b
+  // EvaluateMany's buffers, kept for the next call.
+  mutable std::mutex scratch_mutex_;
+  mutable std::vector<std::unique_ptr<Scratch>> scratch_;
 };
 
 }  // namespace sdcb
