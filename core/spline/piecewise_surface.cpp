@@ -16,7 +16,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxLines = 64;    // bits of a region key
-constexpr int kSplitLines = 24;  // cells with more lines are split
+constexpr int kSplitLines = 40;  // cells with more lines are split
 constexpr int kMaxDepth = 8;
 constexpr Eigen::Index kChunk = Eigen::Index{1} << 18;  // EvaluateMany
 

@@ -5,7 +5,7 @@
 // pieces are the cells of the arrangement of the knot segments [t_a, t_b] of
 // every configuration set. The sphere is covered by a cube map: each face a G x
 // G grid of cells in gnomonic coordinates (great circles are straight lines
-// there), each cell split into quadrants while more than 24 segments cross it.
+// there), each cell split into quadrants while more than 40 segments cross it.
 // A leaf cell keeps the knot segments that cross it and the basis functions
 // whose support meets it; a point's exact, perturbed signs against those
 // segments' great circles (the predicate SimplexSpline uses) name its region,
