@@ -5,19 +5,21 @@
 // pieces are the cells of the arrangement of the knot segments [t_a, t_b] of
 // every configuration set. The sphere is covered by a cube map: each face a G x
 // G grid of cells in gnomonic coordinates (great circles are straight lines
-// there), each cell split into quadrants while more than 24 segments cross it.
-// A cell keeps the knot segments that cross it and the basis functions whose
-// support meets it; a point's exact, perturbed signs against those segments'
-// great circles (the predicate SimplexSpline uses) name its region, and each
-// region gets, the first time a point falls in it, the bivariate
-// polynomials of N and I in the cell's local gnomonic coordinates, built
-// once by the simplex-spline recursion applied to polynomials. Evaluating is
-// then a few sign tests and two polynomial evaluations (Horner-free, on
-// shared monomials); positions agree with SphericalSpline::Evaluate to
-// rounding (~1e-13 relative). Cells still crossed by more than 64 segments
-// after 8 splits fall back to SphericalSpline. Thread-safe (regions are added
-// under a per-cell lock); results do not depend on the evaluation order or
-// thread count.
+// there), each cell split into quadrants while more than 40 segments cross it.
+// A leaf cell keeps the knot segments that cross it and the basis functions
+// whose support meets it; a point's exact, perturbed signs against those
+// segments' great circles (the predicate SimplexSpline uses) name its region,
+// and each region gets, the first time a point falls in it, the bivariate
+// polynomials of N and I in the cell's local gnomonic coordinates. A basis
+// function's piece depends only on the signs against its own segments, so a
+// cell builds each piece once (simplex-spline recursion applied to
+// polynomials) and a region is a weighted sum of the pieces it holds.
+// Evaluating is a few sign tests, a lock-free hash probe and two polynomial
+// evaluations; positions agree with SphericalSpline::Evaluate to rounding
+// (~1e-13 relative). Cells still crossed by more than 64 segments after 8
+// splits fall back to SphericalSpline. Thread-safe (regions are added under a
+// per-cell lock and published atomically); results do not depend on the
+// evaluation order or thread count.
 #ifndef SDCB_CORE_SPLINE_PIECEWISE_SURFACE_H_
 #define SDCB_CORE_SPLINE_PIECEWISE_SURFACE_H_
 
@@ -25,6 +27,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "sdcb/core/spline/spherical_spline.h"
@@ -57,20 +60,33 @@ class PiecewiseSurface {
                     Eigen::MatrixX3d* normals) const;
 
  private:
-  struct Cell;
-  // The cell of p and p's local coordinates (s, t) in it, in [-1, 1]^2.
-  const Cell& Locate(const Eigen::Vector3d& p, double* s, double* t) const;
-  // The coefficients (N_x, N_y, N_z, I; PolynomialSize(k) each) of p's
-  // region in `cell`, built on first use.
-  const double* Region(const Cell& cell, const Eigen::Vector3d& p) const;
+  struct Node;
+  struct Leaf;
+  struct Table;
+  struct Builder;
+  struct Scratch;
+  // The leaf cell of p and p's local coordinates (s, t) in it, in [-1, 1]^2.
+  int Locate(const Eigen::Vector3d& p, double* s, double* t) const;
+  // The coefficients of p's region in `leaf` (monomial m, component d =
+  // N_x, N_y, N_z, I at index 4 m + d), built on first use.
+  const double* Region(const Leaf& leaf, const Eigen::Vector3d& p) const;
+  const double* BuildRegion(const Leaf& leaf, const Eigen::Vector3d& p,
+                            uint64_t key) const;
   void Eval(const Eigen::Vector3d& p, Eigen::Vector3d* position,
             Eigen::Vector3d* normal) const;
+  template <int K>
+  void EvalDegree(const Eigen::Vector3d& p, Eigen::Vector3d* position,
+                  Eigen::Vector3d* normal) const;
 
   const SphericalSpline& spline_;
   int grid_ = 0;
-  int size_ = 0;                              // PolynomialSize(degree)
-  std::vector<std::unique_ptr<Cell>> cells_;  // 6 * grid^2
-  std::vector<std::array<int, 2>> segments_;  // knot pairs a < b
+  int size_ = 0;                               // PolynomialSize(degree)
+  std::vector<Node> nodes_;                    // 6 * grid^2 roots first
+  std::vector<std::unique_ptr<Leaf>> leaves_;  // depth-first per root
+  std::vector<std::array<int, 2>> segments_;   // knot pairs a < b
+  // EvaluateMany's buffers, kept for the next call.
+  mutable std::mutex scratch_mutex_;
+  mutable std::vector<std::unique_ptr<Scratch>> scratch_;
 };
 
 }  // namespace sdcb
