@@ -197,6 +197,7 @@ StatusOr<DcbBasis> DcbBasis::Create(
             basis.forest_.Add(*basis.splines_[i], basis.sets_[i].knots);
       }
     }
+    basis.forest_.FinishAdding();
   }
   // The great circles bounding each set's spherical convex hull, interior on
   // the positive side: a point strictly outside one of them is outside the

@@ -502,6 +502,12 @@ int SimplexSplineForest::Add(const SimplexSpline& spline,
   return static_cast<int>(tops_.size()) - 1;
 }
 
+void SimplexSplineForest::FinishAdding() {
+  node_of_ = {};
+  matrix_of_ = {};
+  pair_of_ = {};
+}
+
 SimplexSplineForest::Scratch& SimplexSplineForest::Begin(
     const Eigen::Vector3d& p, int order) const {
   static thread_local Scratch value_scratch, jet_scratch;

@@ -188,6 +188,10 @@ class SimplexSplineForest {
   // ascending, one per knot); returns its handle (0, 1, ... in call order).
   int Add(const SimplexSpline& spline, const std::vector<int>& global);
 
+  // Frees the lookup tables that Add uses to share nodes (splines added
+  // later are still correct, but share nothing with earlier ones).
+  void FinishAdding();
+
   int size() const { return static_cast<int>(tops_.size()); }
   // Distinct nodes over all splines added (for benchmarks).
   int num_nodes() const { return static_cast<int>(nodes_.size()); }
