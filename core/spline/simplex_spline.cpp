@@ -430,13 +430,20 @@ struct SimplexSplineForest::Scratch {
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   double bound = 0.0;  // The sign filter's bound for p (PairSigns).
   std::uint64_t generation = 0;
-  std::vector<std::uint64_t> node_stamp;
-  std::vector<double> value;
+  // A node's stamp and value side by side: one cache line per lookup.
+  struct NodeMemo {
+    std::uint64_t stamp = 0;
+    double value = 0.0;
+  };
+  struct PairMemo {
+    std::uint64_t stamp = 0;
+    int sign = 0;
+  };
+  std::vector<NodeMemo> node;
   std::vector<char> live;
   std::vector<std::array<double, 3>> gradient;
   std::vector<std::array<double, 9>> hessian;
-  std::vector<std::uint64_t> pair_stamp;
-  std::vector<signed char> pair_sign;
+  std::vector<PairMemo> pair;
 };
 
 std::size_t SimplexSplineForest::KeyHash::operator()(
@@ -520,9 +527,8 @@ SimplexSplineForest::Scratch& SimplexSplineForest::Begin(
     s.p = p;
     s.bound = kSignFilter * 3.01 * p.cwiseAbs().sum();
   }
-  if (s.node_stamp.size() < nodes_.size()) {
-    s.node_stamp.resize(nodes_.size(), 0);
-    s.value.resize(nodes_.size());
+  if (s.node.size() < nodes_.size()) {
+    s.node.resize(nodes_.size());
     s.live.resize(nodes_.size());
   }
   if (order > 0 && s.gradient.size() < nodes_.size()) {
@@ -531,25 +537,25 @@ SimplexSplineForest::Scratch& SimplexSplineForest::Begin(
   if (order > 1 && s.hessian.size() < nodes_.size()) {
     s.hessian.resize(nodes_.size());
   }
-  if (s.pair_stamp.size() < pairs_.size()) {
-    s.pair_stamp.resize(pairs_.size(), 0);
-    s.pair_sign.resize(pairs_.size());
+  if (s.pair.size() < pairs_.size()) {
+    s.pair.resize(pairs_.size());
   }
   return s;
 }
 
 int SimplexSplineForest::PairSign(int pair, Scratch& s) const {
-  if (s.pair_stamp[pair] != s.generation) {
-    s.pair_stamp[pair] = s.generation;
-    s.pair_sign[pair] = static_cast<signed char>(
-        FilteredSign(s.p.dot(pair_normals_[pair]), s.bound, s.p,
-                     pair_knots_[2 * pair], pair_knots_[2 * pair + 1]));
+  Scratch::PairMemo& memo = s.pair[pair];
+  if (memo.stamp != s.generation) {
+    memo.stamp = s.generation;
+    memo.sign =
+        (FilteredSign(s.p.dot(pair_normals_[pair]), s.bound, s.p,
+                      pair_knots_[2 * pair], pair_knots_[2 * pair + 1]));
   }
-  return s.pair_sign[pair];
+  return memo.sign;
 }
 
 double SimplexSplineForest::NodeValue(int g, Scratch& s) const {
-  if (s.node_stamp[g] == s.generation) return s.value[g];
+  if (s.node[g].stamp == s.generation) return s.node[g].value;
   const Node& n = nodes_[g];
   double v = 0.0;
   if (n.matrix < 0) {
@@ -568,13 +574,12 @@ double SimplexSplineForest::NodeValue(int g, Scratch& s) const {
       v = b[0] * v0 + b[1] * v1 + b[2] * v2;
     }
   }
-  s.node_stamp[g] = s.generation;
-  s.value[g] = v;
+  s.node[g] = {s.generation, v};
   return v;
 }
 
 void SimplexSplineForest::NodeJet(int g, Scratch& s) const {
-  if (s.node_stamp[g] == s.generation) return;
+  if (s.node[g].stamp == s.generation) return;
   const Node& n = nodes_[g];
   const bool hessian = s.order > 1;
   double value = 0.0;
@@ -601,7 +606,7 @@ void SimplexSplineForest::NodeJet(int g, Scratch& s) const {
         const int c = n.child[j];
         if (!s.live[c]) continue;
         const double gj[3] = {g(j, 0), g(j, 1), g(j, 2)};
-        const double vc = s.value[c];
+        const double vc = s.node[c].value;
         const std::array<double, 3>& gc = s.gradient[c];
         value += b[j] * vc;
         for (int r = 0; r < 3; ++r) gradient[r] += gj[r] * vc + b[j] * gc[r];
@@ -616,8 +621,7 @@ void SimplexSplineForest::NodeJet(int g, Scratch& s) const {
       }
     }
   }
-  s.node_stamp[g] = s.generation;
-  s.value[g] = value;
+  s.node[g] = {s.generation, value};
   s.live[g] = live;
   s.gradient[g] = {gradient[0], gradient[1], gradient[2]};
   if (hessian) std::copy(hess, hess + 9, s.hessian[g].begin());
@@ -638,7 +642,7 @@ ScalarJet SimplexSplineForest::Evaluate(int handle, const Eigen::Vector3d& p,
   Scratch& s = Begin(p, static_cast<int>(order));
   const int top = tops_[handle];
   NodeJet(top, s);
-  jet.value = s.value[top];
+  jet.value = s.node[top].value;
   jet.gradient = Eigen::Vector3d(s.gradient[top][0], s.gradient[top][1],
                                  s.gradient[top][2]);
   if (order == JetOrder::kHessian) {
