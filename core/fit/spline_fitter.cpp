@@ -516,6 +516,7 @@ StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
       final_measurement ? std::max(options.final_surface_samples, per_knot)
                         : per_knot;
   measure.closest_points = final_measurement;
+  measure.search_all_vertices = false;
   return MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points,
                                  &*mesh_distance);
 }

@@ -299,12 +299,13 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
           }
         });
     // Then a search on the spline itself where the spline point is farther
-    // than the lattice image suggests and the vertex matters to the
-    // figures: at or above the mesh -> surface rms so far (below it, a
-    // vertex barely moves the rms and cannot hold the maximum).
+    // than the lattice image suggests (and, unless all are searched, the
+    // vertex is at or above the mesh -> surface rms so far).
     const Eigen::VectorXd area = VertexAreas(mesh);
-    const double floor = std::sqrt(area.dot(distance.cwiseAbs2()) /
-                                   std::max(area.sum(), 1e-300));
+    const double floor = options.search_all_vertices
+                             ? 0.0
+                             : std::sqrt(area.dot(distance.cwiseAbs2()) /
+                                         std::max(area.sum(), 1e-300));
     tbb::parallel_for(
         tbb::blocked_range<Eigen::Index>(0, nv, 64),
         [&](const tbb::blocked_range<Eigen::Index>& range) {

@@ -12,10 +12,10 @@
 //   the closest point y of the lattice's image (an AABB tree over it) gives
 //   the sphere point p_y of the same barycentric coordinates, and
 //   |x - F(p_y)| is a distance to a point of the spline. When that is
-//   more than 1 % farther than |x - y| and at least the mesh -> surface rms
-//   of these first distances (below it a vertex barely moves the rms and
-//   cannot hold the maximum), Gauss-Newton steps on the exact spline
-//   improve it. Every spline point found bounds the true distance from
+//   more than 1 % farther than |x - y| (and, with
+//   DeviationOptions::search_all_vertices false, at least the mesh ->
+//   surface rms of these first distances), Gauss-Newton steps on the exact
+//   spline improve it. Every spline point found bounds the true distance from
 //   above, so the figure can only be pessimistic, never flattering (tested:
 //   within 1 % of brute force). Area-weighted over the mesh
 //   (a third of each incident triangle's area per vertex).
@@ -54,6 +54,13 @@ struct DeviationOptions {
   // false: mesh -> surface is |x - candidate| at the given vertex candidates
   // (an upper bound of the distance, no search; needs vertex_candidates).
   bool closest_points = true;
+  // false: the closest-point search runs only for vertices at or above the
+  // mesh -> surface rms of the first distances (below it a vertex barely
+  // moves the rms and cannot hold the maximum). The fit's final
+  // measurement: bunny00 searches 3,938 vertices instead of 15,030, rms
+  // 0.04662 % instead of 0.04648 %, same maximum; per-vertex distances
+  // below the rms stay the (pessimistic) first ones.
+  bool search_all_vertices = true;
 };
 
 struct SurfaceDeviation {
