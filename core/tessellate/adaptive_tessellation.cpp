@@ -5,8 +5,11 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <queue>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "sdcb/core/mesh/icosphere.h"
@@ -17,6 +20,19 @@ namespace sdcb {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// The optimizer aims its predicted errors at the certificate's threshold
+// itself: faces the prediction underestimates are split afterwards, which
+// costs fewer faces than aiming every face lower.
+// The remesher aims its metric edge lengths at kRemeshScale of that (its
+// faces spread around the aim; the tail above it is split) for
+// kRemeshIterations rounds; then at most kPasses rounds of greedy
+// collapses, flips and moves.
+constexpr double kRemeshScale = 0.9;
+constexpr int kRemeshIterations = 16;
+constexpr int kPasses = 6;
+// The local optimizer (the alternative to the remesher) aims lower: its
+// failures are bisected along LEPP paths.
+constexpr double kLocalAim = 0.85;
 
 // Result of certifying one face.
 struct FaceCheck {
@@ -35,6 +51,24 @@ std::vector<Eigen::Vector3d> LatticeWeights(int m) {
       w.emplace_back(i, j, k);
     }
   return w;
+}
+
+// The edge (a, b), a < b, of face t with the largest measure(a, b); the
+// first of equals in the face's order.
+template <typename Measure>
+std::array<int, 2> LongestEdgeBy(const SphereTriangulation::Face& t,
+                                 const Measure& measure) {
+  std::array<int, 2> longest{};
+  double best = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    const int a = t[k], b = t[(k + 1) % 3];
+    const double l = measure(a, b);
+    if (l > best) {
+      best = l;
+      longest = {std::min(a, b), std::max(a, b)};
+    }
+  }
+  return longest;
 }
 
 // The tessellator's state: the domain triangulation plus the surface at its
@@ -60,6 +94,9 @@ class Tessellator {
     // opposite corner than the split edge was long, and the path never ends.
     return (triangulation_.vertex(a) - triangulation_.vertex(b)).norm();
   }
+  double ImageLength(int a, int b) const {
+    return (positions_[a] - positions_[b]).norm();
+  }
   void AddVertex(int v) {
     Eigen::MatrixX3d d(1, 3), p, n;
     d.row(0) = triangulation_.vertex(v);
@@ -74,10 +111,42 @@ class Tessellator {
   }
   // Splits faces until every face reachable from `pending` is certified.
   Status Refine(std::vector<int> pending);
+  // Certifies `pending` and splits the longest image edge of each face that
+  // fails (no LEPP path: after remeshing, the neighbours' longest edges are
+  // unrelated and the paths would split far more than needed), until every
+  // face is certified or too small to split.
+  Status RefineBySplits(std::vector<int> pending);
   double PredictedError(int a, int b, int c) const;
-  // Edge collapses and flips guided by PredictedError.
+  double WorstPredicted(
+      const std::vector<SphereTriangulation::Face>& faces) const;
+  // The worst predicted error after collapsing v into w (inf if invalid).
+  double CollapseCost(int v, int w,
+                      std::vector<SphereTriangulation::Face>* scratch) const;
+  // The remesher, then greedy collapses, flips and vertex moves, all guided
+  // by PredictedError.
   void Optimize();
-  int Smooth(double target);
+  // Collapses (shortest edges first), flips and moves from the refined
+  // pattern, aiming at kLocalAim of the certificate.
+  void OptimizeLocally();
+  int CollapseShortestFirst(double target);
+  int CollapsePass(double target);
+  int FlipPass(double target);
+  // Vertex moves that lower the largest predicted error of their faces;
+  // `weighted` adds candidates pulled toward the worst faces.
+  int Smooth(double target, bool weighted);
+  // The remesher (Optimize's first stage): edges measured in the metric of
+  // the predicted error, split when long, collapsed when short, flipped and
+  // relaxed toward metric-equilateral faces.
+  double MetricLength2(int a, int b, double target) const;
+  // Splits the given edges at their domain midpoints (one batch of surface
+  // evaluations).
+  int SplitEdges(const std::vector<std::array<int, 2>>& edges);
+  int SplitLong(double target);
+  int CollapseShort(double target);
+  int Relax(double target);
+  // Splits the metric-longest edge of every face predicted above `target`
+  // until none is (or `rounds` rounds).
+  void SplitOverTarget(double target, int rounds);
   // Certifies `faces` (alive face slots) in one batch.
   std::vector<FaceCheck> Check(const std::vector<int>& faces);
   double ShortestDomainEdge(int f) const {
@@ -180,6 +249,35 @@ Status Tessellator::Refine(std::vector<int> pending) {
   return Status::Ok();
 }
 
+Status Tessellator::RefineBySplits(std::vector<int> pending) {
+  while (!pending.empty()) {
+    const std::vector<FaceCheck> checks = Check(pending);
+    const int first_new = triangulation_.num_face_slots();
+    std::vector<std::array<int, 2>> edges;
+    for (size_t i = 0; i < pending.size(); ++i) {
+      const int f = pending[i];
+      if (checks[i].pass) continue;
+      if (ShortestDomainEdge(f) < options_.min_edge_radians) continue;
+      edges.push_back(LongestEdgeBy(triangulation_.face(f), [&](int a, int b) {
+        return ImageLength(a, b);
+      }));
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    SplitEdges(edges);
+    if (triangulation_.num_faces() > options_.max_faces) {
+      return InvalidInputError("the tolerance needs more than " +
+                               std::to_string(options_.max_faces) +
+                               " triangles");
+    }
+    pending.clear();
+    for (int f = first_new; f < triangulation_.num_face_slots(); ++f) {
+      if (triangulation_.alive(f)) pending.push_back(f);
+    }
+  }
+  return Status::Ok();
+}
+
 // Chordal error of face (a, b, c) predicted from its corners' positions and
 // normals: for a quadratic surface over the triangle, linear interpolation
 // misses by (1/2) |sum_{i<j} l_i l_j Q_ij| at barycentric point l, with
@@ -220,82 +318,392 @@ double Tessellator::PredictedError(int a, int b, int c) const {
   return 0.5 * worst;
 }
 
-void Tessellator::Optimize() {
+double Tessellator::WorstPredicted(
+    const std::vector<SphereTriangulation::Face>& faces) const {
+  double w = 0.0;
+  for (const auto& t : faces) w = std::max(w, PredictedError(t[0], t[1], t[2]));
+  return w;
+}
+
+double Tessellator::CollapseCost(
+    int v, int w, std::vector<SphereTriangulation::Face>* scratch) const {
+  if (!triangulation_.PreviewCollapse(v, w, scratch)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return WorstPredicted(*scratch);
+}
+
+// Greedy half-edge collapses, cheapest first: the cost of collapsing v into
+// w is the largest predicted error of the faces that replace v's; only
+// collapses within `target` are done. Costs go stale as the mesh changes:
+// a popped candidate is re-evaluated and re-queued if it got dearer.
+int Tessellator::CollapsePass(double target) {
   const auto length = [this](int a, int b) { return EdgeLength(a, b); };
-  // Predictions are checked by the final certificate; aim a little lower
-  // so that few faces fail it.
-  const double target = 0.85 * accept_;
-  std::vector<SphereTriangulation::Face> faces, old_faces;
-  auto worst = [&](const std::vector<SphereTriangulation::Face>& fs) {
-    double w = 0.0;
-    for (const auto& t : fs) w = std::max(w, PredictedError(t[0], t[1], t[2]));
-    return w;
+  struct Candidate {
+    double cost;
+    int from, to;
+    bool operator>(const Candidate& o) const {
+      return std::tie(cost, from, to) > std::tie(o.cost, o.from, o.to);
+    }
   };
-  for (int pass = 0; pass < 6; ++pass) {
-    int changes = 0;
-    std::vector<std::array<int, 2>> edges = triangulation_.Edges();
-    std::vector<double> lengths(edges.size());
-    for (size_t i = 0; i < edges.size(); ++i) {
-      lengths[i] = (positions_[edges[i][0]] - positions_[edges[i][1]]).norm();
+  std::priority_queue<Candidate, std::vector<Candidate>,
+                      std::greater<Candidate>>
+      heap;
+  std::vector<SphereTriangulation::Face> scratch;
+  auto push_best = [&](int a, int b) {
+    const double ab = CollapseCost(a, b, &scratch);
+    const double ba = CollapseCost(b, a, &scratch);
+    if (std::min(ab, ba) > target) return;
+    if (ab <= ba) {
+      heap.push({ab, a, b});
+    } else {
+      heap.push({ba, b, a});
     }
-    std::vector<size_t> order(edges.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) {
-      return lengths[x] < lengths[y];
+  };
+  const std::vector<std::array<int, 2>> edges = triangulation_.Edges();
+  {
+    // Initial costs in parallel (read-only), queued in edge order.
+    std::vector<Candidate> initial(edges.size());
+    tbb::parallel_for(size_t{0}, edges.size(), [&](size_t i) {
+      std::vector<SphereTriangulation::Face> local;
+      const int a = edges[i][0], b = edges[i][1];
+      const double ab = CollapseCost(a, b, &local);
+      const double ba = CollapseCost(b, a, &local);
+      initial[i] = ab <= ba ? Candidate{ab, a, b} : Candidate{ba, b, a};
     });
-    // Collapses, shortest edges first.
-    for (size_t o : order) {
-      const int a = edges[o][0], b = edges[o][1];
-      if (!triangulation_.HasEdge(a, b)) continue;
-      double best = target;
-      int from = -1, to = -1;
-      for (const auto& [v, w] : {std::make_pair(a, b), std::make_pair(b, a)}) {
-        if (!triangulation_.PreviewCollapse(v, w, &faces)) continue;
-        const double e = worst(faces);
-        if (e <= best) {
-          best = e;
-          from = v;
-          to = w;
-        }
-      }
-      if (from >= 0) {
-        triangulation_.Collapse(from, to, length);
-        ++changes;
-      }
+    for (const Candidate& c : initial) {
+      if (c.cost <= target) heap.push(c);
     }
-    // Flips that lower the larger predicted error of the two faces.
-    for (const auto& [a, b] : triangulation_.Edges()) {
-      if (!triangulation_.HasEdge(a, b)) continue;
-      if (!triangulation_.PreviewFlip(a, b, &faces)) continue;
-      const double after = worst(faces);
-      // New faces (a, d, c), (d, b, c) replace (a, b, c), (b, a, d).
-      const int c = faces[0][2], d = faces[0][1];
-      old_faces = {{a, b, c}, {b, a, d}};
-      if (after < 0.98 * worst(old_faces) && after <= target) {
-        triangulation_.Flip(a, b, length);
-        ++changes;
-      }
+  }
+  int collapsed = 0;
+  while (!heap.empty()) {
+    const Candidate c = heap.top();
+    heap.pop();
+    if (!triangulation_.vertex_alive(c.from) ||
+        !triangulation_.vertex_alive(c.to) ||
+        !triangulation_.HasEdge(c.from, c.to)) {
+      continue;
     }
-    changes += Smooth(target);
+    const double cost = CollapseCost(c.from, c.to, &scratch);
+    if (cost > target) continue;
+    if (cost > c.cost) {
+      heap.push({cost, c.from, c.to});
+      continue;
+    }
+    triangulation_.Collapse(c.from, c.to, length);
+    ++collapsed;
+    for (int x : triangulation_.Ring(c.to)) push_best(c.to, x);
+  }
+  return collapsed;
+}
+
+// One sweep of half-edge collapses, shortest image edges first, each to the
+// end that gives the lower predicted error, within `target`.
+int Tessellator::CollapseShortestFirst(double target) {
+  const auto length = [this](int a, int b) { return EdgeLength(a, b); };
+  const std::vector<std::array<int, 2>> edges = triangulation_.Edges();
+  std::vector<double> lengths(edges.size());
+  for (size_t i = 0; i < edges.size(); ++i) {
+    lengths[i] = (positions_[edges[i][0]] - positions_[edges[i][1]]).norm();
+  }
+  std::vector<size_t> order(edges.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t x, size_t y) { return lengths[x] < lengths[y]; });
+  std::vector<SphereTriangulation::Face> scratch;
+  int collapsed = 0;
+  for (size_t o : order) {
+    const int a = edges[o][0], b = edges[o][1];
+    if (!triangulation_.HasEdge(a, b)) continue;
+    const double ab = CollapseCost(a, b, &scratch);
+    const double ba = CollapseCost(b, a, &scratch);
+    if (std::min(ab, ba) > target) continue;
+    if (ab <= ba) {
+      triangulation_.Collapse(a, b, length);
+    } else {
+      triangulation_.Collapse(b, a, length);
+    }
+    ++collapsed;
+  }
+  return collapsed;
+}
+
+void Tessellator::OptimizeLocally() {
+  const double target = kLocalAim * accept_;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    int changes = CollapseShortestFirst(target);
+    changes += FlipPass(target);
+    changes += Smooth(target, false);
     if (changes == 0) break;
   }
 }
 
-// Moves each vertex halfway toward the centroid of its neighbours on the
-// domain where that lowers the largest predicted error of its faces
-// (equalizing errors leaves room for more collapses). One batch of surface
-// evaluations for all candidate positions; acceptance is sequential.
-int Tessellator::Smooth(double target) {
+// Flips that lower the larger predicted error of the two faces.
+int Tessellator::FlipPass(double target) {
   const auto length = [this](int a, int b) { return EdgeLength(a, b); };
-  std::vector<int> vertices = triangulation_.AliveVertices();
+  std::vector<SphereTriangulation::Face> faces, old_faces;
+  int flipped = 0;
+  for (const auto& [a, b] : triangulation_.Edges()) {
+    if (!triangulation_.HasEdge(a, b)) continue;
+    if (!triangulation_.PreviewFlip(a, b, &faces)) continue;
+    const double after = WorstPredicted(faces);
+    // New faces (a, d, c), (d, b, c) replace (a, b, c), (b, a, d).
+    const int c = faces[0][2], d = faces[0][1];
+    old_faces = {{a, b, c}, {b, a, d}};
+    if (after < 0.98 * WorstPredicted(old_faces) && after <= target) {
+      triangulation_.Flip(a, b, length);
+      ++flipped;
+    }
+  }
+  return flipped;
+}
+
+// |Q_ab| / (6 target) with Q_ab = (n_b - n_a) . (p_b - p_a) = d^T H d: the
+// squared length of edge (a, b) in the metric of the second fundamental
+// form, in units of the side of the equilateral face whose predicted error
+// (at its centroid, Q / 6) is `target`. A face whose three edges have
+// length <= 1 is predicted within `target` (the error is at most
+// max |Q| / 6 for any H). 0 where a normal is missing.
+double Tessellator::MetricLength2(int a, int b, double target) const {
+  const Eigen::Vector3d& na = normals_[a];
+  const Eigen::Vector3d& nb = normals_[b];
+  if (na.isZero(0.0) || nb.isZero(0.0)) return 0.0;
+  return std::abs((nb - na).dot(positions_[b] - positions_[a])) /
+         (6.0 * target);
+}
+
+int Tessellator::SplitEdges(const std::vector<std::array<int, 2>>& edges) {
+  const auto length = [this](int a, int b) { return EdgeLength(a, b); };
+  Eigen::MatrixX3d midpoints(edges.size(), 3);
+  for (size_t i = 0; i < edges.size(); ++i) {
+    midpoints.row(i) = (triangulation_.vertex(edges[i][0]) +
+                        triangulation_.vertex(edges[i][1]))
+                           .normalized()
+                           .transpose();
+  }
+  Eigen::MatrixX3d positions, normals;
+  surface_.Sample(midpoints, &positions, &normals);
+  evaluations_ += midpoints.rows();
+  int split = 0;
+  for (size_t i = 0; i < edges.size(); ++i) {
+    if (!triangulation_.HasEdge(edges[i][0], edges[i][1])) continue;
+    triangulation_.SplitEdge(edges[i][0], edges[i][1], length, [&](int v) {
+      if (static_cast<int>(positions_.size()) <= v) {
+        positions_.resize(v + 1);
+        normals_.resize(v + 1);
+      }
+      positions_[v] = positions.row(i).transpose();
+      normals_[v] = normals.row(i).transpose();
+    });
+    ++split;
+  }
+  return split;
+}
+
+int Tessellator::SplitLong(double target) {
+  constexpr double kLong2 = (4.0 / 3.0) * (4.0 / 3.0);
+  std::vector<std::array<int, 2>> long_edges;
+  for (const auto& e : triangulation_.Edges()) {
+    if (MetricLength2(e[0], e[1], target) > kLong2) long_edges.push_back(e);
+  }
+  return SplitEdges(long_edges);
+}
+
+// Half-edge collapses of metric-short edges (shortest first) whose new
+// edges stay short of the split threshold.
+int Tessellator::CollapseShort(double target) {
+  const auto length = [this](int a, int b) { return EdgeLength(a, b); };
+  constexpr double kShort2 = (4.0 / 5.0) * (4.0 / 5.0);
+  constexpr double kLong2 = (4.0 / 3.0) * (4.0 / 3.0);
+  std::vector<std::pair<double, std::array<int, 2>>> short_edges;
+  for (const auto& e : triangulation_.Edges()) {
+    const double l2 = MetricLength2(e[0], e[1], target);
+    if (l2 < kShort2) short_edges.push_back({l2, e});
+  }
+  std::sort(short_edges.begin(), short_edges.end());
+  std::vector<SphereTriangulation::Face> faces;
+  int collapsed = 0;
+  for (const auto& [l2, e] : short_edges) {
+    if (!triangulation_.HasEdge(e[0], e[1])) continue;
+    for (const auto& [v, w] :
+         {std::make_pair(e[0], e[1]), std::make_pair(e[1], e[0])}) {
+      if (!triangulation_.PreviewCollapse(v, w, &faces)) continue;
+      bool fine = true;
+      for (const auto& t : faces) {
+        fine = fine && MetricLength2(t[1], t[0], target) < kLong2 &&
+               MetricLength2(t[1], t[2], target) < kLong2 &&
+               std::isfinite(PredictedError(t[0], t[1], t[2]));
+      }
+      if (!fine) continue;
+      triangulation_.Collapse(v, w, length);
+      ++collapsed;
+      break;
+    }
+  }
+  return collapsed;
+}
+
+// Tangential relaxation on the domain: each vertex moves halfway toward the
+// centroid of its faces' domain centroids weighted by their predicted errors
+// (for metric-equilateral faces the error is proportional to the metric
+// area, so this is a centroidal step in the metric), where its faces stay
+// positively oriented.
+int Tessellator::Relax(double target) {
+  const auto length = [this](int a, int b) { return EdgeLength(a, b); };
+  const std::vector<int> vertices = triangulation_.AliveVertices();
   Eigen::MatrixX3d candidates(vertices.size(), 3);
+  tbb::parallel_for(size_t{0}, vertices.size(), [&](size_t i) {
+    const int v = vertices[i];
+    const std::vector<int> ring = triangulation_.Ring(v);
+    const int n = static_cast<int>(ring.size());
+    const Eigen::Vector3d& x = triangulation_.vertex(v);
+    Eigen::Vector3d pull = Eigen::Vector3d::Zero();
+    double weight = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d& y = triangulation_.vertex(ring[k]);
+      const Eigen::Vector3d& z = triangulation_.vertex(ring[(k + 1) % n]);
+      double e = PredictedError(v, ring[k], ring[(k + 1) % n]);
+      if (!std::isfinite(e)) e = 0.0;
+      // Faces of no predicted error (flat) still hold the vertex in place.
+      e = std::max(e, 1e-3 * target);
+      pull += e * (x + y + z) / 3.0;
+      weight += e;
+    }
+    candidates.row(i) = (x + (pull / weight).normalized()).normalized();
+  });
+  Eigen::MatrixX3d positions, normals;
+  surface_.Sample(candidates, &positions, &normals);
+  evaluations_ += candidates.rows();
+  int moved = 0;
+  // Per vertex: whether all its faces were predictable before the move
+  // (then they must stay so).
+  std::vector<char> predictable(vertices.size(), 0);
   for (size_t i = 0; i < vertices.size(); ++i) {
     const int v = vertices[i];
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (int x : triangulation_.Ring(v)) centroid += triangulation_.vertex(x);
-    candidates.row(i) =
-        (triangulation_.vertex(v) + centroid.normalized()).normalized();
+    const std::vector<int> ring = triangulation_.Ring(v);
+    const int n = static_cast<int>(ring.size());
+    predictable[i] = 1;
+    for (int k = 0; k < n && predictable[i]; ++k) {
+      predictable[i] =
+          std::isfinite(PredictedError(v, ring[k], ring[(k + 1) % n]));
+    }
+    const Eigen::Vector3d old_direction = triangulation_.vertex(v);
+    triangulation_.MoveVertex(v, candidates.row(i).transpose(), length);
+    const Eigen::Vector3d old_position = positions_[v],
+                          old_normal = normals_[v];
+    positions_[v] = positions.row(i).transpose();
+    normals_[v] = normals.row(i).transpose();
+    // Valid: positive on the domain, and no face the prediction rejects
+    // (normal test, turned-over image) that was not predictable before.
+    bool valid = normals.row(i).squaredNorm() > 0.0;
+    for (int k = 0; k < n && valid; ++k) {
+      valid = triangulation_.IsPositive(v, ring[k], ring[(k + 1) % n]) &&
+              (!predictable[i] ||
+               std::isfinite(PredictedError(v, ring[k], ring[(k + 1) % n])));
+    }
+    if (!valid) {
+      positions_[v] = old_position;
+      normals_[v] = old_normal;
+      triangulation_.MoveVertex(v, old_direction, length);
+      continue;
+    }
+    ++moved;
   }
+  return moved;
+}
+
+void Tessellator::SplitOverTarget(double target, int rounds) {
+  for (int round = 0; round < rounds; ++round) {
+    std::vector<std::array<int, 2>> edges;
+    for (int f = 0; f < triangulation_.num_face_slots(); ++f) {
+      if (!triangulation_.alive(f)) continue;
+      const auto& t = triangulation_.face(f);
+      const double error = PredictedError(t[0], t[1], t[2]);
+      if (error <= target) continue;
+      // Faces too small to split, and rejected faces (normal test) whose
+      // image is within the tolerance (where the certificate does not test
+      // normals: at a fold of the surface no face would pass), are left to
+      // the certificate.
+      if (ShortestDomainEdge(f) < options_.min_edge_radians) continue;
+      if (!std::isfinite(error)) {
+        const Eigen::Vector3d& pa = positions_[t[0]];
+        const Eigen::Vector3d& pb = positions_[t[1]];
+        const Eigen::Vector3d& pc = positions_[t[2]];
+        if (std::max({(pa - pb).norm(), (pb - pc).norm(), (pc - pa).norm()}) <=
+            options_.tolerance) {
+          continue;
+        }
+      }
+      // The metric-longest edge (domain length for ties and missing
+      // normals); the image-longest where the prediction rejects the face.
+      edges.push_back(LongestEdgeBy(t, [&](int a, int b) {
+        return std::isfinite(error)
+                   ? MetricLength2(a, b, target) + 1e-9 * EdgeLength(a, b)
+                   : ImageLength(a, b);
+      }));
+    }
+    if (edges.empty()) return;
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    SplitEdges(edges);
+  }
+}
+
+void Tessellator::Optimize() {
+  const double target = accept_;
+  const double remesh_target = kRemeshScale * target;
+  for (int it = 0; it < kRemeshIterations; ++it) {
+    SplitLong(remesh_target);
+    CollapseShort(remesh_target);
+    FlipPass(std::numeric_limits<double>::infinity());
+    Relax(remesh_target);
+  }
+  SplitOverTarget(target, 12);
+  for (int pass = 0; pass < kPasses; ++pass) {
+    int changes = CollapsePass(target);
+    changes += FlipPass(target);
+    changes += Smooth(target, true);
+    if (changes == 0) break;
+  }
+}
+
+// Moves vertices on the domain where that lowers the largest predicted
+// error of their faces (equalizing errors leaves room for more collapses).
+// Candidates per vertex: half and full steps toward the centroid of its
+// neighbours, and toward the centroid of its faces weighted by their
+// errors (which shrinks the worst faces). One batch of surface evaluations
+// for all candidates; acceptance is sequential, best candidate first.
+int Tessellator::Smooth(double target, bool weighted) {
+  const auto length = [this](int a, int b) { return EdgeLength(a, b); };
+  const std::vector<int> vertices = triangulation_.AliveVertices();
+  const int kCandidates = weighted ? 4 : 1;
+  Eigen::MatrixX3d candidates(vertices.size() * kCandidates, 3);
+  tbb::parallel_for(size_t{0}, vertices.size(), [&](size_t i) {
+    const int v = vertices[i];
+    const std::vector<int> ring = triangulation_.Ring(v);
+    const int n = static_cast<int>(ring.size());
+    const Eigen::Vector3d& x = triangulation_.vertex(v);
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    Eigen::Vector3d pull = Eigen::Vector3d::Zero();
+    double weight = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d& y = triangulation_.vertex(ring[k]);
+      const Eigen::Vector3d& z = triangulation_.vertex(ring[(k + 1) % n]);
+      centroid += y;
+      const double e = PredictedError(v, ring[k], ring[(k + 1) % n]);
+      const double w = std::isfinite(e) ? e * e * e * e : 0.0;
+      pull += w * ((x + y + z) / 3.0);
+      weight += w;
+    }
+    centroid = centroid.normalized();
+    const Eigen::Vector3d pulled =
+        weight > 0.0 ? Eigen::Vector3d(pull / weight).normalized() : x;
+    candidates.row(i * kCandidates + 0) = (x + centroid).normalized();
+    if (kCandidates == 1) return;
+    candidates.row(i * kCandidates + 1) = centroid;
+    candidates.row(i * kCandidates + 2) = (x + pulled).normalized();
+    candidates.row(i * kCandidates + 3) = pulled;
+  });
   Eigen::MatrixX3d positions, normals;
   surface_.Sample(candidates, &positions, &normals);
   evaluations_ += candidates.rows();
@@ -304,23 +712,40 @@ int Tessellator::Smooth(double target) {
     const int v = vertices[i];
     const std::vector<int> ring = triangulation_.Ring(v);
     const int n = static_cast<int>(ring.size());
-    double before = 0.0;
-    for (int k = 0; k < n; ++k) {
-      before = std::max(before, PredictedError(v, ring[k], ring[(k + 1) % n]));
-    }
+    auto ring_error = [&] {
+      double e = 0.0;
+      for (int k = 0; k < n; ++k) {
+        e = std::max(e, PredictedError(v, ring[k], ring[(k + 1) % n]));
+      }
+      return e;
+    };
+    const double before = ring_error();
     const Eigen::Vector3d old_direction = triangulation_.vertex(v);
     const Eigen::Vector3d old_position = positions_[v],
                           old_normal = normals_[v];
-    positions_[v] = positions.row(i).transpose();
-    normals_[v] = normals.row(i).transpose();
-    triangulation_.MoveVertex(v, candidates.row(i).transpose(), length);
-    double after = 0.0;
-    bool valid = true;
-    for (int k = 0; k < n && valid; ++k) {
-      valid = triangulation_.IsPositive(v, ring[k], ring[(k + 1) % n]);
-      after = std::max(after, PredictedError(v, ring[k], ring[(k + 1) % n]));
+    double best = std::min(0.98 * before, std::max(target, before));
+    int best_k = -1;
+    for (int k = 0; k < kCandidates; ++k) {
+      const Eigen::Index row = i * kCandidates + k;
+      positions_[v] = positions.row(row).transpose();
+      normals_[v] = normals.row(row).transpose();
+      triangulation_.MoveVertex(v, candidates.row(row).transpose(), length);
+      bool valid = true;
+      for (int j = 0; j < n && valid; ++j) {
+        valid = triangulation_.IsPositive(v, ring[j], ring[(j + 1) % n]);
+      }
+      if (!valid) continue;
+      const double after = ring_error();
+      if (after < best) {
+        best = after;
+        best_k = k;
+      }
     }
-    if (valid && after < 0.98 * before && after <= std::max(target, before)) {
+    if (best_k >= 0) {
+      const Eigen::Index row = i * kCandidates + best_k;
+      positions_[v] = positions.row(row).transpose();
+      normals_[v] = normals.row(row).transpose();
+      triangulation_.MoveVertex(v, candidates.row(row).transpose(), length);
       ++moved;
       continue;
     }
@@ -347,10 +772,32 @@ Status Tessellator::Run(Tessellation* out) {
   };
   SDCB_RETURN_IF_ERROR(Refine(alive_faces()));
   if (options_.optimize) {
+    // Two optimizations of the certified refinement; the one with fewer
+    // faces is kept. The predictions are not a certificate: both certify
+    // every face again and split those that fail.
+    const SphereTriangulation refined = triangulation_;
+    const std::vector<Eigen::Vector3d> refined_positions = positions_,
+                                       refined_normals = normals_;
+    // The remesher: near-optimal where the surface is smooth at the scale
+    // of the faces (the sphere, ellipsoids; the bunny at 0.1 %).
     Optimize();
-    // The predictions are not a certificate: certify every face again and
-    // split those that fail.
+    SDCB_RETURN_IF_ERROR(RefineBySplits(alive_faces()));
+    SphereTriangulation remeshed = std::move(triangulation_);
+    std::vector<Eigen::Vector3d> remeshed_positions = std::move(positions_),
+                                 remeshed_normals = std::move(normals_);
+    // Local collapses, flips and moves from the bisection pattern: better
+    // where the quadratic prediction fails on the remesher's long faces (the
+    // bunny at 0.01 %).
+    triangulation_ = refined;
+    positions_ = refined_positions;
+    normals_ = refined_normals;
+    OptimizeLocally();
     SDCB_RETURN_IF_ERROR(Refine(alive_faces()));
+    if (remeshed.num_faces() < triangulation_.num_faces()) {
+      triangulation_ = std::move(remeshed);
+      positions_ = std::move(remeshed_positions);
+      normals_ = std::move(remeshed_normals);
+    }
   }
   // Final certificate of every face (the numbers reported).
   const std::vector<FaceCheck> checks = Check(alive_faces());

@@ -12,9 +12,19 @@
 //     checked only on faces whose image is larger than the tolerance (on
 //     smaller faces a normal error is invisible, and at a fold of the
 //     surface, where the normal flips, no face would ever pass).
-// Then, if `optimize`, edges are collapsed and flipped while every face stays
-// certified (elongated faces along flat directions), which brings the count
-// toward the asymptotic optimum (optimal_triangle_count.h).
+// Then, if `optimize`, two optimizations of that refinement are run and the
+// one with fewer faces is kept, both judged by an error predicted from the
+// corners' points and normals (exact for a surface quadratic over the face):
+//   - a remesher: edges measured in the metric of the second fundamental
+//     form (Q_ab = (n_b - n_a) . (p_b - p_a) = d^T H d), split when long,
+//     collapsed when short, flipped and relaxed toward metric-equilateral
+//     faces (elongated along flat directions), then greedy collapses
+//     (cheapest first), flips and vertex moves within the certificate;
+//   - local collapses (shortest edges first), flips and vertex moves of the
+//     bisection pattern, aiming lower.
+// Each then certifies every face again and splits those that fail, so the
+// prediction never decides what is shipped. This brings the count toward
+// the asymptotic optimum (optimal_triangle_count.h).
 //
 // The result is closed, manifold, genus 0 and consistently oriented by
 // construction (no T-junctions): it is a triangulation of the sphere mapped
@@ -40,7 +50,7 @@ struct TessellationOptions {
   // Order m of the barycentric sample lattice per face, 2..16:
   // (m + 1)(m + 2) / 2 - 3 samples per face.
   int lattice = 6;
-  // Collapse and flip edges after refinement.
+  // Remesh / collapse, flip and move after refinement (see above).
   bool optimize = true;
   // Faces whose shortest domain edge is below this angle (radians) are not
   // split further; they count as uncertified if they still fail.

@@ -52,6 +52,13 @@ class SphereTriangulation {
   void Bisect(int f, const EdgeLength& length,
               const std::function<void(int)>& on_vertex);
 
+  // Splits edge (a, b) at its normalized midpoint, and both its faces with
+  // it (no T-junction; the four new faces stay positively oriented).
+  // `on_vertex(v)` is called for the new vertex before any length involving
+  // it is asked for. Bisect splits longest edges only; the remesher any.
+  void SplitEdge(int a, int b, const EdgeLength& length,
+                 const std::function<void(int)>& on_vertex);
+
   // The other face across edge (a, b), or -1.
   int Opposite(int f, int a, int b) const;
   bool HasEdge(int a, int b) const { return edges_.count(Key(a, b)) > 0; }
@@ -107,9 +114,6 @@ class SphereTriangulation {
   std::array<int, 2> LongestEdge(int f) const;
   int AddFace(const Face& face, const EdgeLength& length);
   void DetachFace(int f);
-  // Splits edge (a, b), which must be the longest edge of both its faces.
-  void SplitEdge(int a, int b, const EdgeLength& length,
-                 const std::function<void(int)>& on_vertex);
 
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<Face> faces_;

@@ -5,6 +5,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <Eigen/Geometry>
 #include <iostream>
@@ -110,7 +111,9 @@ TEST(AdaptiveTessellationTest, SphereIsClosedWithinToleranceNearOptimum) {
   std::cout << "sphere: " << t->faces.rows() << " faces, " << ratio
             << " x N_opt, measured " << worst << "\n";
   EXPECT_GE(ratio, 1.0);
-  EXPECT_LE(ratio, 2.5) << t->faces.rows() << " faces";
+  // Bisection alone gives 2.12 here (a uniform level sits between two
+  // levels); the remesher must do clearly better.
+  EXPECT_LE(ratio, 1.75) << t->faces.rows() << " faces";
   // Vertices on the sphere with the analytic (radial) normals.
   for (Eigen::Index v = 0; v < t->positions.rows(); ++v) {
     EXPECT_NEAR(t->positions.row(v).norm(), r, 1e-12);
@@ -187,6 +190,74 @@ TEST(AdaptiveTessellationTest, DeterministicAndOptionsChecked) {
   options.max_faces = 100;
   StatusOr<Tessellation> capped = TessellateAdaptively(ellipsoid, options);
   EXPECT_EQ(capped.status().code(), StatusCode::kInvalidInput);
+}
+
+// Every face positively oriented on the domain (no folded-over domain
+// triangle), Euler characteristic 2, spherical areas summing to 4 pi.
+void ExpectDomainIsASphere(const Tessellation& t) {
+  double area = 0.0;
+  for (Eigen::Index f = 0; f < t.faces.rows(); ++f) {
+    const Eigen::Vector3d a = t.directions.row(t.faces(f, 0)),
+                          b = t.directions.row(t.faces(f, 1)),
+                          c = t.directions.row(t.faces(f, 2));
+    ASSERT_GT(a.cross(b).dot(c), 0.0) << "domain face " << f << " inverted";
+    area += 2.0 *
+            std::atan2(a.dot(b.cross(c)), 1.0 + a.dot(b) + b.dot(c) + c.dot(a));
+  }
+  EXPECT_NEAR(area, 4.0 * M_PI, 1e-8);
+  std::map<std::pair<int, int>, int> edges;
+  for (Eigen::Index f = 0; f < t.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t.faces(f, k), b = t.faces(f, (k + 1) % 3);
+      ++edges[{std::min(a, b), std::max(a, b)}];
+    }
+  for (const auto& [e, n] : edges) EXPECT_EQ(n, 2);
+  EXPECT_EQ(t.positions.rows() - static_cast<Eigen::Index>(edges.size()) +
+                t.faces.rows(),
+            2);
+}
+
+TEST(AdaptiveTessellationTest, RemeshedEllipsoidNearOptimumWithinTolerance) {
+  // An anisotropic convex surface: N_opt by quadrature on the output; the
+  // measured distance (dense, both ways, exact point-ellipsoid distance)
+  // within eps; the count well below what bisection alone gives (2.18 x
+  // N_opt here before the remesher).
+  EllipsoidSampler ellipsoid(Eigen::Vector3d(1.0, 0.7, 0.4));
+  const double eps = 2e-4;
+  TessellationOptions options;
+  options.tolerance = eps;
+  StatusOr<Tessellation> t = TessellateAdaptively(ellipsoid, options);
+  ASSERT_TRUE(t.ok()) << t.status().message();
+  ExpectDomainIsASphere(*t);
+  StatusOr<MeshTopologyReport> topology = AnalyzeMeshTopology(ToMesh(*t));
+  ASSERT_TRUE(topology.ok());
+  EXPECT_TRUE(topology->ok) << DescribeTopologyProblem(*topology);
+  EXPECT_EQ(t->uncertified_faces, 0);
+  const double measured = MeasuredHausdorff(*t, ellipsoid, 8);
+  EXPECT_LE(measured, eps);
+  EXPECT_GE(measured, 0.7 * eps);  // the budget is used
+  StatusOr<CurvatureIntegrals> k =
+      IntegrateCurvature(ellipsoid, t->directions, t->faces, 1);
+  ASSERT_TRUE(k.ok());
+  const double ratio = t->faces.rows() / OptimalTriangleCount(*k, eps);
+  std::cout << "ellipsoid: " << t->faces.rows() << " faces, " << ratio
+            << " x N_opt, measured " << measured / eps << " eps\n";
+  EXPECT_GE(ratio, 1.0);
+  EXPECT_LE(ratio, 1.8);
+}
+
+TEST(AdaptiveTessellationTest, SameBytesForAnyThreadCount) {
+  EllipsoidSampler ellipsoid(Eigen::Vector3d(1.0, 0.6, 0.3));
+  TessellationOptions options;
+  options.tolerance = 1e-3;
+  StatusOr<Tessellation> many = TessellateAdaptively(ellipsoid, options);
+  tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+  StatusOr<Tessellation> one = TessellateAdaptively(ellipsoid, options);
+  ASSERT_TRUE(many.ok() && one.ok());
+  EXPECT_EQ(many->faces, one->faces);
+  EXPECT_EQ(many->directions, one->directions);
+  EXPECT_EQ(many->positions, one->positions);
+  EXPECT_EQ(many->normals, one->normals);
 }
 
 TEST(AdaptiveTessellationTest, UniformLevels) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <map>
 #include <random>
 #include <set>
@@ -85,6 +86,33 @@ TEST(SphereTriangulationTest, RandomBisectionsStayConforming) {
   ExpectSphereTriangulation(t);
   // Each split adds one vertex and two faces.
   EXPECT_EQ(t.num_faces(), 20 + 2 * created);
+}
+
+TEST(SphereTriangulationTest, RandomEdgeSplitsStayConforming) {
+  // Any edge (not only longest ones) split at its midpoint, mixed with
+  // collapses: still a sphere, two faces more per split.
+  std::mt19937 rng(5);
+  const auto length = [](int a, int b) { return 1.0; };
+  SphereTriangulation t = SphereTriangulation::Icosahedron(length);
+  int created = 0;
+  for (int step = 0; step < 1500; ++step) {
+    const std::vector<std::array<int, 2>> edges = t.Edges();
+    const auto [a, b] = edges[rng() % edges.size()];
+    const int before_faces = t.num_faces();
+    const int before = t.num_vertices();
+    int added = -1;
+    t.SplitEdge(a, b, length, [&](int v) {
+      added = v;
+      ++created;
+    });
+    ASSERT_EQ(added, before);
+    EXPECT_FALSE(t.HasEdge(a, b));
+    EXPECT_TRUE(t.HasEdge(a, added) && t.HasEdge(added, b));
+    EXPECT_NEAR(t.vertex(added).norm(), 1.0, 1e-15);
+    EXPECT_EQ(t.num_faces(), before_faces + 2);
+  }
+  EXPECT_EQ(t.num_vertices(), 12 + created);
+  ExpectSphereTriangulation(t);
 }
 
 }  // namespace
