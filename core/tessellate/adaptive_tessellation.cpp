@@ -116,6 +116,20 @@ class Tessellator {
   // unrelated and the paths would split far more than needed), until every
   // face is certified or too small to split.
   Status RefineBySplits(std::vector<int> pending);
+  // kInvalidInput once the faces exceed options_.max_faces.
+  Status CheckFaceBudget() const {
+    if (triangulation_.num_faces() <= options_.max_faces) return Status::Ok();
+    return InvalidInputError("the tolerance needs more than " +
+                             std::to_string(options_.max_faces) + " triangles");
+  }
+  // The live faces in slots first, first + 1, ... (those made since).
+  std::vector<int> AliveSince(int first) const {
+    std::vector<int> alive;
+    for (int f = first; f < triangulation_.num_face_slots(); ++f) {
+      if (triangulation_.alive(f)) alive.push_back(f);
+    }
+    return alive;
+  }
   double PredictedError(int a, int b, int c) const;
   double WorstPredicted(
       const std::vector<SphereTriangulation::Face>& faces) const;
@@ -235,16 +249,9 @@ Status Tessellator::Refine(std::vector<int> pending) {
       if (checks[i].pass || !triangulation_.alive(f)) continue;
       if (ShortestDomainEdge(f) < options_.min_edge_radians) continue;
       triangulation_.Bisect(f, length, on_vertex);
-      if (triangulation_.num_faces() > options_.max_faces) {
-        return InvalidInputError("the tolerance needs more than " +
-                                 std::to_string(options_.max_faces) +
-                                 " triangles");
-      }
+      SDCB_RETURN_IF_ERROR(CheckFaceBudget());
     }
-    pending.clear();
-    for (int f = first_new; f < triangulation_.num_face_slots(); ++f) {
-      if (triangulation_.alive(f)) pending.push_back(f);
-    }
+    pending = AliveSince(first_new);
   }
   return Status::Ok();
 }
@@ -265,15 +272,8 @@ Status Tessellator::RefineBySplits(std::vector<int> pending) {
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     SplitEdges(edges);
-    if (triangulation_.num_faces() > options_.max_faces) {
-      return InvalidInputError("the tolerance needs more than " +
-                               std::to_string(options_.max_faces) +
-                               " triangles");
-    }
-    pending.clear();
-    for (int f = first_new; f < triangulation_.num_face_slots(); ++f) {
-      if (triangulation_.alive(f)) pending.push_back(f);
-    }
+    SDCB_RETURN_IF_ERROR(CheckFaceBudget());
+    pending = AliveSince(first_new);
   }
   return Status::Ok();
 }
