@@ -41,6 +41,19 @@
 namespace sdcb {
 namespace {
 
+// The knot vector of one cubic Bezier span: knots 0 and 1, each of
+// multiplicity 4.
+struct BezierKnots {
+  TColStd_Array1OfReal knots{1, 2};
+  TColStd_Array1OfInteger multiplicities{1, 2};
+  BezierKnots() {
+    knots.SetValue(1, 0.0);
+    knots.SetValue(2, 1.0);
+    multiplicities.SetValue(1, 4);
+    multiplicities.SetValue(2, 4);
+  }
+};
+
 Handle(Geom_BSplineSurface) MakeSurface(const BicubicPatch& patch) {
   TColgp_Array2OfPnt poles(1, 4, 1, 4);
   for (int j = 0; j < 4; ++j) {
@@ -49,14 +62,10 @@ Handle(Geom_BSplineSurface) MakeSurface(const BicubicPatch& patch) {
       poles.SetValue(i + 1, j + 1, gp_Pnt(p.x(), p.y(), p.z()));
     }
   }
-  TColStd_Array1OfReal knots(1, 2);
-  knots.SetValue(1, 0.0);
-  knots.SetValue(2, 1.0);
-  TColStd_Array1OfInteger multiplicities(1, 2);
-  multiplicities.SetValue(1, 4);
-  multiplicities.SetValue(2, 4);
-  return new Geom_BSplineSurface(poles, knots, knots, multiplicities,
-                                 multiplicities, 3, 3);
+  const BezierKnots span;
+  return new Geom_BSplineSurface(poles, span.knots, span.knots,
+                                 span.multiplicities, span.multiplicities, 3,
+                                 3);
 }
 
 // Writes `shape` with OpenCASCADE's writer into `contents`, through a
@@ -157,14 +166,10 @@ StatusOr<CadSolidReport> WriteCadSolid(
                 patch.poles[kSlots[k][forward ? q : 3 - q]];
             poles.SetValue(q + 1, gp_Pnt(p.x(), p.y(), p.z()));
           }
-          TColStd_Array1OfReal knots(1, 2);
-          knots.SetValue(1, 0.0);
-          knots.SetValue(2, 1.0);
-          TColStd_Array1OfInteger multiplicities(1, 2);
-          multiplicities.SetValue(1, 4);
-          multiplicities.SetValue(2, 4);
+          const BezierKnots span;
           builder.MakeEdge(
-              edge, new Geom_BSplineCurve(poles, knots, multiplicities, 3),
+              edge,
+              new Geom_BSplineCurve(poles, span.knots, span.multiplicities, 3),
               tolerance);
           const int lo = std::min(a, b), hi = std::max(a, b);
           builder.Add(edge, vertex(lo, patch.poles[kSlots[k][forward ? 0 : 3]])
