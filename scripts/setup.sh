@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 PACKAGES=(build-essential cmake ninja-build pkg-config
   libeigen3-dev libcgal-dev libcgal-demo libopenmesh-dev libtinygltf-dev
   nlohmann-json3-dev libosd-dev libdraco-dev libgtest-dev libtbb-dev
-  libsuitesparse-dev zlib1g-dev libmeshoptimizer-dev
+  libsuitesparse-dev libopenblas0-serial zlib1g-dev libmeshoptimizer-dev
   clang libclang-rt-14-dev
   slurmctld slurmd slurm-client munge
   libocct-foundation-dev libocct-modeling-data-dev

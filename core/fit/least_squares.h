@@ -26,7 +26,8 @@ struct LeastSquaresOptions {
 };
 
 // Solves the problem above by the normal equations (A^T A + mu I) C =
-// A^T X + mu P with a sparse Cholesky (LDL^T, AMD ordering) factorization.
+// A^T X + mu P with a sparse Cholesky factorization (CHOLMOD supernodal LL^T;
+// Eigen's simplicial LDL^T if that fails).
 // `samples`: #A.rows() by 3; `prior`: #A.cols() by 3. Returns #A.cols() by
 // 3. kInvalidArgument on size mismatch; kInternal if the factorization
 // fails (not expected: the matrix is positive definite for mu > 0).
