@@ -119,6 +119,7 @@ json FitStatisticsToJson(const FitStatistics& s) {
                {{"degree", o.degree},
                 {"rmse_percent", o.rmse_percent},
                 {"knots_per_round", o.knots_per_round},
+                {"knots_growth", o.knots_growth},
                 {"initial_knots", o.initial_knots},
                 {"max_rounds", o.max_rounds},
                 {"max_control_points", o.max_control_points},
@@ -162,6 +163,8 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
   SDCB_RETURN_IF_ERROR(GetDouble(*o, "lambda", ow, &so.lambda));
   SDCB_RETURN_IF_ERROR(
       GetOptional(*o, "initial_knots", ow, &so.initial_knots, GetInt));
+  SDCB_RETURN_IF_ERROR(
+      GetOptional(*o, "knots_growth", ow, &so.knots_growth, GetDouble));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "max_control_points", ow,
                                    &so.max_control_points, GetInt));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "alpha", ow, &so.alpha, GetDouble));

@@ -1,5 +1,6 @@
 // sdcb fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
-//          [--max-rounds R] [--max-control-points M] [--lambda L]
+//          [--knots-growth G] [--max-rounds R] [--max-control-points M]
+//          [--lambda L]
 //          [--threads T] [--regularization R] [--store-parameters]
 //          [--quantize BITS] [--json FILE] [--plot FILE.svg] [--quiet]
 //          [--accept-folds] [--repair] [--max-file-mb N] [--max-memory-mb N]
@@ -22,9 +23,9 @@ namespace sdcb::cli {
 
 const CommandOptions& FitOptionNames() {
   static const CommandOptions names = {
-      Concat({"output", "degree", "rmse", "knots-per-round", "max-rounds",
-              "max-control-points", "lambda", "threads", "json", "plot",
-              "regularization", "quantize"},
+      Concat({"output", "degree", "rmse", "knots-per-round", "knots-growth",
+              "max-rounds", "max-control-points", "lambda", "threads", "json",
+              "plot", "regularization", "quantize"},
              kMeshValueOptions),
       Concat({"quiet", "store-parameters", "accept-folds"}, kMeshFlagOptions)};
   return names;
@@ -43,6 +44,8 @@ int RunFit(const std::vector<std::string>& argv) {
       args.GetDouble("rmse", options.rmse_percent, 1e-6, 100);
   options.knots_per_round =
       args.GetInt("knots-per-round", options.knots_per_round, 1, 100000);
+  options.knots_growth =
+      args.GetDouble("knots-growth", options.knots_growth, 0, 10);
   options.max_rounds = args.GetInt("max-rounds", options.max_rounds, 1, 1000);
   options.max_control_points = args.GetInt(
       "max-control-points", options.max_control_points, 10, 10000000);

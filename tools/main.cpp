@@ -30,11 +30,12 @@ commands:
                              lambda (default 1) trades angle for area
                              distortion; --colors angle|area needs .ply.
   fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
-      [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
+      [--knots-growth G] [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
       [--regularization R] [--store-parameters] [--quantize BITS]
       [--accept-folds] [--json FILE] [--plot FILE.svg] [--quiet] [--repair]
                              Fit one smooth spherical DCB-spline (defaults:
-                             degree 4, rmse 0.05 %, 100 knots per round, 30
+                             degree 4, rmse 0.05 %, 100 knots per round or
+                             a quarter of the knots so far if more, 30
                              rounds); --plot draws the error per round;
                              --store-parameters keeps each vertex's sphere
                              point; --quantize BITS (8..30) stores the control

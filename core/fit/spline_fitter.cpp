@@ -81,6 +81,9 @@ Status CheckOptions(const FitOptions& o) {
         "knots per round, rounds, control points and sample counts must be "
         "positive, threads >= 0");
   }
+  if (!(o.knots_growth >= 0 && o.knots_growth <= 10)) {
+    return InvalidArgumentError("the knot growth must be in [0, 10]");
+  }
   for (double v :
        {o.alpha, o.regularization, o.lambda, o.samples_per_spacing}) {
     if (!(v > 0) || !std::isfinite(v)) {
@@ -208,6 +211,7 @@ RecordedFitOptions RecordFitOptions(const FitOptions& o) {
   r.degree = o.degree;
   r.rmse_percent = o.rmse_percent;
   r.knots_per_round = o.knots_per_round;
+  r.knots_growth = o.knots_growth;
   r.initial_knots = o.initial_knots;
   r.max_rounds = o.max_rounds;
   r.max_control_points = o.max_control_points;
@@ -592,10 +596,12 @@ Status SplineFitter::State::RunRound() {
   // round's knots: the rounds so far are the result.
   Report(FitStage::kKnotPlacement, round, kRoundStageStart[0]);
   Stopwatch stage;
+  const int grown = static_cast<int>(std::min<double>(
+      o.knots_growth * static_cast<double>(model.knots.rows()), 1e7));
   const int new_knots = round == 0 && o.initial_knots > 0 ? o.initial_knots
                         : fold_round
                             ? std::max(kMinFoldKnots, o.knots_per_round / 4)
-                            : o.knots_per_round;
+                            : std::max(o.knots_per_round, grown);
   StatusOr<KnotPlacement> placed =
       PlaceKnots(density, model.knots, new_knots, CvtOptions());
   if (!placed.ok() && round > 0 &&

@@ -59,7 +59,12 @@ struct FitOptions {
   // (dense samples of both, core/fit/surface_deviation.h) is at most this,
   // with no folded area; percent of the largest bounding-box side.
   double rmse_percent = 0.05;
-  int knots_per_round = 100;       // K: new knots per round (paper: 100)
+  int knots_per_round = 100;  // K: new knots per round (paper: 100)
+  // New knots per round are max(K, knots_growth x the knots so far): past
+  // 4 K knots the rounds grow geometrically, so a fit that needs thousands
+  // of knots takes tens of rounds, not hundreds of knots at a time over
+  // dozens (docs/FITTING.md). 0 = K every round (the paper).
+  double knots_growth = 0.25;
   int initial_knots = 0;           // knots of round 0; 0 = knots_per_round
   int max_rounds = 30;             // rounds at most (round 0 included)
   int max_control_points = 50000;  // stop before exceeding this

@@ -73,6 +73,7 @@ struct RecordedFitOptions {
   int degree = 0;
   double rmse_percent = 0.0;  // Target RMSE, percent of the largest side.
   int knots_per_round = 0;
+  double knots_growth = 0.0;
   int initial_knots = 0;
   int max_rounds = 0;
   int max_control_points = 0;

@@ -145,17 +145,16 @@ TEST(AdaptiveFitTest, TheCoarseCowFollowsItsMeshEverywhere) {
     // round folds), and the message names it when it is not the last.
     const std::vector<RoundStatistics>& rounds = fit->model.statistics.rounds;
     const bool any_unfolded =
-        std::any_of(rounds.begin(), rounds.end(), [](const auto& x) {
-          return x.folded_area_percent == 0;
-        });
+        std::any_of(rounds.begin(), rounds.end(),
+                    [](const auto& x) { return x.folded_area_percent == 0; });
     for (const RoundStatistics& other : rounds) {
       if (any_unfolded && other.folded_area_percent > 0) continue;
       EXPECT_LE(r.rmse_percent, other.rmse_percent) << other.round;
     }
     EXPECT_EQ(r.rmse_percent, rounds[r.round].rmse_percent);
-    const bool named = fit->shortfall.find("returned round " +
-                                           std::to_string(r.round)) !=
-                       std::string::npos;
+    const bool named =
+        fit->shortfall.find("returned round " + std::to_string(r.round)) !=
+        std::string::npos;
     EXPECT_EQ(named, r.round != rounds.back().round) << fit->shortfall;
   }
   ExpectHonestVertexErrors(mesh, *fit);
@@ -177,6 +176,33 @@ TEST(AdaptiveFitTest, SameInputSameBytesForAnyThreadCount) {
     bytes[threads - 1] = *serialized;
   }
   EXPECT_EQ(bytes[0], bytes[1]);
+}
+
+// Each round adds max(K, knots_growth x the knots so far), truncated: with
+// K = 20 and a growth of a quarter, 20, 40, 60, 80, 100, then 125, 156, ...
+// The option is recorded in the model and survives the file.
+TEST(AdaptiveFitTest, RoundsGrowGeometricallyPastFourTimesK) {
+  FitOptions options;
+  options.knots_per_round = 20;
+  options.knots_growth = 0.25;
+  options.rmse_percent = 0.001;  // not reached: every round is run
+  options.max_rounds = 7;
+  auto fit = FitSphericalSpline(Load("blobby.off"), options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  const std::vector<RoundStatistics>& rounds = fit->model.statistics.rounds;
+  ASSERT_GE(rounds.size(), 6u);
+  const int expected[] = {20, 40, 60, 80, 100, 125, 156};
+  for (size_t i = 0; i < rounds.size(); ++i) {
+    EXPECT_EQ(rounds[i].knots, expected[i]) << "round " << i;
+  }
+  auto bytes = SerializeSdcb(fit->model);
+  ASSERT_TRUE(bytes.ok());
+  auto read = ParseSdcb(*bytes);
+  ASSERT_TRUE(read.ok()) << read.status().message();
+  EXPECT_EQ(read->statistics.options.knots_growth, 0.25);
+  options.knots_growth = -1;
+  EXPECT_EQ(FitSphericalSpline(Load("blobby.off"), options).status().code(),
+            StatusCode::kInvalidArgument);
 }
 
 TEST(AdaptiveFitTest, WriteReadEvaluateIsBitIdentical) {
@@ -220,6 +246,7 @@ TEST(AdaptiveFitTest, AVersionOneModelStillReadsAndKeepsItsWord) {
   ExpectHonestVertexErrors(mesh, as_fit);
   // Options version 1 did not record read as "not recorded".
   EXPECT_EQ(model->statistics.options.regularization, 0.0);
+  EXPECT_EQ(model->statistics.options.knots_growth, 0.0);
   EXPECT_EQ(model->statistics.options.degree, 4);
 }
 
