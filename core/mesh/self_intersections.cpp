@@ -1,61 +1,95 @@
 #include "sdcb/core/mesh/self_intersections.h"
 
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/box_intersection_d.h>
+#include <CGAL/intersections.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 
 #include <string>
+#include <utility>
 #include <vector>
-
-#include "sdcb/core/mesh/cgal_mesh.h"
 
 namespace sdcb {
 namespace {
 
-namespace PMP = CGAL::Polygon_mesh_processing;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Box = CGAL::Box_intersection_d::Box_with_info_d<
+    double, 3, int, CGAL::Box_intersection_d::ID_FROM_BOX_ADDRESS>;
 
-// Thrown by the counting callback once the budget of box pairs is spent.
+// Thrown by the box callback once the budget of box pairs is spent.
 struct TooManyPairs {};
 
-// Counts pairs of overlapping triangle bounding boxes, up to `budget`.
-bool BoxPairsWithin(const TriangleMesh& mesh, int64_t budget) {
-  using Box = CGAL::Box_intersection_d::Box_with_handle_d<
-      double, 3, const int*, CGAL::Box_intersection_d::ID_EXPLICIT>;
-  std::vector<Box> boxes;
-  std::vector<int> ids(mesh.num_faces());
-  boxes.reserve(mesh.num_faces());
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    ids[f] = f;
-    CGAL::Bbox_3 box;
-    for (int k = 0; k < 3; ++k) {
-      const auto p = mesh.vertices.row(mesh.faces(f, k));
-      box += CGAL::Bbox_3(p.x(), p.y(), p.z(), p.x(), p.y(), p.z());
+// Box pairs are tested in parallel in batches of this many.
+constexpr size_t kBatch = size_t{1} << 18;
+
+// Whether faces f and g meet other than in the corners they share (exact
+// predicates). Sharing an edge ab, with third corners p and q: they
+// overlap iff the four points are coplanar and p, q lie on the same side of
+// ab. Sharing a corner v: their intersection is a convex set through v, so
+// it reaches beyond v iff the edge of one opposite v meets the other.
+bool FacesIntersect(const std::vector<Point>& points, const TriangleMesh& mesh,
+                    int f, int g) {
+  int fv[3], gv[3];
+  for (int k = 0; k < 3; ++k) {
+    fv[k] = mesh.faces(f, k);
+    gv[k] = mesh.faces(g, k);
+  }
+  int shared = 0, f_corner = -1, g_corner = -1;
+  bool f_shared[3] = {false, false, false};
+  bool g_shared[3] = {false, false, false};
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      if (fv[a] != gv[b]) continue;
+      ++shared;
+      f_shared[a] = g_shared[b] = true;
+      f_corner = a;
+      g_corner = b;
     }
-    boxes.emplace_back(box, &ids[f]);
   }
-  int64_t pairs = 0;
-  try {
-    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(),
-                                  [&](const Box&, const Box&) {
-                                    if (++pairs > budget) throw TooManyPairs();
-                                  });
-  } catch (const TooManyPairs&) {
-    return false;
+  auto at = [&](int v) -> const Point& { return points[v]; };
+  if (shared >= 3) return true;  // the same triangle twice
+  if (shared == 2) {
+    int p = -1, q = -1, a = -1, b = -1;
+    for (int k = 0; k < 3; ++k) {
+      if (!f_shared[k]) p = fv[k];
+      if (!g_shared[k]) q = gv[k];
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (f_shared[k]) (a < 0 ? a : b) = fv[k];
+    }
+    return CGAL::coplanar(at(a), at(b), at(p), at(q)) &&
+           CGAL::coplanar_orientation(at(a), at(b), at(p), at(q)) ==
+               CGAL::POSITIVE;
   }
-  return true;
+  const Kernel::Triangle_3 tf(at(fv[0]), at(fv[1]), at(fv[2]));
+  const Kernel::Triangle_3 tg(at(gv[0]), at(gv[1]), at(gv[2]));
+  if (shared == 1) {
+    const Kernel::Segment_3 sf(at(fv[(f_corner + 1) % 3]),
+                               at(fv[(f_corner + 2) % 3]));
+    const Kernel::Segment_3 sg(at(gv[(g_corner + 1) % 3]),
+                               at(gv[(g_corner + 2) % 3]));
+    return CGAL::do_intersect(tf, sg) || CGAL::do_intersect(tg, sf);
+  }
+  return CGAL::do_intersect(tf, tg);
 }
 
-// Counts what it is given instead of storing it.
-struct CountingOutput {
-  int64_t* count;
-  CountingOutput& operator*() { return *this; }
-  CountingOutput& operator++() { return *this; }
-  CountingOutput operator++(int) { return *this; }
-  template <typename Pair>
-  CountingOutput& operator=(const Pair& pair) {
-    if (pair.first != pair.second) ++*count;  // (f, f): f is degenerate
-    return *this;
-  }
-};
+// Intersecting pairs among `pairs`, tested in parallel.
+int64_t CountIntersecting(const std::vector<Point>& points,
+                          const TriangleMesh& mesh,
+                          const std::vector<std::pair<int, int>>& pairs) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, pairs.size(), 1024), int64_t{0},
+      [&](const tbb::blocked_range<size_t>& range, int64_t count) {
+        for (size_t i = range.begin(); i < range.end(); ++i) {
+          count +=
+              FacesIntersect(points, mesh, pairs[i].first, pairs[i].second);
+        }
+        return count;
+      },
+      [](int64_t a, int64_t b) { return a + b; });
+}
 
 }  // namespace
 
@@ -63,22 +97,55 @@ StatusOr<SelfIntersectionReport> FindSelfIntersections(
     const TriangleMesh& mesh, const SelfIntersectionOptions& options) {
   SDCB_RETURN_IF_ERROR(CheckFaceIndices(mesh));
   SelfIntersectionReport report;
-  CgalMesh surface;
-  if (!ToCgalMesh(mesh, &surface)) {
-    report.skipped_because =
-        "the mesh is not an oriented manifold (see the topology report)";
-    return report;
+  std::vector<Point> points;
+  points.reserve(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    points.emplace_back(mesh.vertices(v, 0), mesh.vertices(v, 1),
+                        mesh.vertices(v, 2));
   }
+  // Boxes of the non-degenerate triangles (the degenerate ones are the
+  // topology report's).
+  std::vector<Box> boxes;
+  boxes.reserve(mesh.num_faces());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const Point& a = points[mesh.faces(f, 0)];
+    const Point& b = points[mesh.faces(f, 1)];
+    const Point& c = points[mesh.faces(f, 2)];
+    if (CGAL::collinear(a, b, c)) continue;
+    boxes.emplace_back(a.bbox() + b.bbox() + c.bbox(), f);
+  }
+  // Pointers: the box algorithm reorders what it is given, and a box's id
+  // is its address.
+  std::vector<const Box*> pointers;
+  pointers.reserve(boxes.size());
+  for (const Box& box : boxes) pointers.push_back(&box);
+
   const int64_t budget =
       options.max_pairs_per_face * mesh.num_faces() + options.max_extra_pairs;
-  if (!BoxPairsWithin(mesh, budget)) {
+  int64_t box_pairs = 0;
+  std::vector<std::pair<int, int>> batch;
+  batch.reserve(kBatch);
+  try {
+    CGAL::box_self_intersection_d(
+        pointers.begin(), pointers.end(),
+        [&](const Box* a, const Box* b) {
+          if (++box_pairs > budget) throw TooManyPairs();
+          batch.emplace_back(a->info(), b->info());
+          if (batch.size() == kBatch) {
+            report.intersecting_pairs += CountIntersecting(points, mesh, batch);
+            batch.clear();
+          }
+        },
+        std::ptrdiff_t{2000});
+  } catch (const TooManyPairs&) {
+    report.intersecting_pairs = 0;
     report.skipped_because =
         "more than " + std::to_string(budget) +
         " pairs of triangles overlap in their bounding boxes (a fan of very "
         "many triangles around one vertex?)";
     return report;
   }
-  PMP::self_intersections(surface, CountingOutput{&report.intersecting_pairs});
+  report.intersecting_pairs += CountIntersecting(points, mesh, batch);
   report.checked = true;
   return report;
 }

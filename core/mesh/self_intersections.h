@@ -1,5 +1,8 @@
-// Self-intersections of a triangle mesh (CGAL Polygon_mesh_processing): pairs
-// of triangles that meet other than in the edge or vertex they share. A
+// Self-intersections of a triangle mesh: pairs of triangles that meet other
+// than in the edge or vertex they share (the rule of CGAL's
+// Polygon_mesh_processing::self_intersections, which the tests compare
+// against; here on any triangle soup, with the box pairs tested in
+// parallel and counted against a budget in the same pass). A
 // closed genus-0 mesh can still pass through itself (a flattened
 // tetrahedron, a crumpled sphere); its spherical parameterization then
 // exists, but the spline surface copies the overlap.
@@ -24,10 +27,9 @@ struct SelfIntersectionOptions {
 };
 
 struct SelfIntersectionReport {
-  // False when the test was not run: the mesh is not an oriented 2-manifold
-  // (possibly with boundary) or had too many overlapping boxes.
+  // False when the test was not run: too many overlapping boxes.
   bool checked = false;
-  // Why checked is false, as a phrase ("the mesh is not manifold").
+  // Why checked is false, as a phrase.
   std::string skipped_because;
   // Pairs of non-degenerate triangles that intersect beyond their shared
   // edge or vertex (degenerate triangles are counted by the topology
