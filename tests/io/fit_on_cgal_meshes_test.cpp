@@ -205,6 +205,40 @@ TEST(AdaptiveFitTest, RoundsGrowGeometricallyPastFourTimesK) {
             StatusCode::kInvalidArgument);
 }
 
+// The cow at 0.3 % meets the rms in round 1 but folds over 0.55 % of its
+// area; the rounds that place knots at the folds stop after two when the
+// folded area has not halved (it was 0.45 % then), instead of running all
+// five.
+TEST(AdaptiveFitTest, FoldRoundsStopWhenTheFoldsDoNotShrink) {
+  FitOptions options;
+  options.rmse_percent = 0.3;
+  auto fit = FitSphericalSpline(Load("cow.off"), options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  const std::vector<RoundStatistics>& rounds = fit->model.statistics.rounds;
+  // The first round within the target that folds starts the fold rounds.
+  size_t began = 0;
+  while (began < rounds.size() && !(rounds[began].rmse_percent <= 0.3 &&
+                                    rounds[began].folded_area_percent > 0)) {
+    ++began;
+  }
+  ASSERT_LT(began, rounds.size());
+  const double start = rounds[began].folded_area_percent;
+  // Each later round is a fold round; the fit ends at the first one from
+  // the second on whose folds exceed half of `start` (or after five).
+  size_t expected_end = began + 5;
+  for (size_t r = began + 2; r < rounds.size(); ++r) {
+    if (rounds[r].rmse_percent <= 0.3 &&
+        rounds[r].folded_area_percent > 0.5 * start) {
+      expected_end = r;
+      break;
+    }
+  }
+  EXPECT_EQ(rounds.size() - 1, expected_end);
+  EXPECT_LT(rounds.size() - 1, began + 5);  // the rule, not the cap, ended it
+  EXPECT_FALSE(fit->reached_target());
+  EXPECT_NE(fit->shortfall.find("folds"), std::string::npos);
+}
+
 TEST(AdaptiveFitTest, WriteReadEvaluateIsBitIdentical) {
   const TriangleMesh mesh = Load("blobby.off");
   FitOptions options;
