@@ -4,6 +4,8 @@
 //          [--threads T] [--regularization R] [--store-parameters]
 //          [--quantize BITS] [--json FILE] [--plot FILE.svg] [--quiet]
 //          [--accept-folds] [--repair] [--max-file-mb N] [--max-memory-mb N]
+#include <tbb/task_arena.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -66,7 +68,11 @@ int RunFit(const std::vector<std::string>& argv) {
   const Status outputs =
       PrepareOutputs({output, args.Get("json"), args.Get("plot")});
   if (!outputs.ok()) return ReportError(outputs);
-  StatusOr<TriangleMesh> mesh = ReadFittableMesh(args, path);
+  // The checks run on --threads threads too.
+  tbb::task_arena arena(options.threads > 0 ? options.threads
+                                            : int{tbb::task_arena::automatic});
+  StatusOr<TriangleMesh> mesh =
+      arena.execute([&] { return ReadFittableMesh(args, path); });
   if (!mesh.ok()) return ReportError(mesh.status());
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));

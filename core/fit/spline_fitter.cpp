@@ -355,7 +355,6 @@ struct SplineFitter::State {
 StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
                                             FitOptions options) {
   SDCB_RETURN_IF_ERROR(CheckOptions(options));
-  SDCB_RETURN_IF_ERROR(RequireClosedGenusZero(mesh));
   auto state = std::make_unique<State>();
   State& s = *state;
   s.options = std::move(options);
@@ -365,6 +364,8 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   const int automatic = tbb::task_arena::automatic;
   s.arena =
       std::make_unique<tbb::task_arena>(o.threads > 0 ? o.threads : automatic);
+  SDCB_RETURN_IF_ERROR(
+      s.arena->execute([&] { return RequireClosedGenusZero(mesh); }));
 
   SplineModel& model = s.result.model;
   model.degree = o.degree;

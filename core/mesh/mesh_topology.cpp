@@ -1,6 +1,7 @@
 #include "sdcb/core/mesh/mesh_topology.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -76,7 +77,7 @@ StatusOr<MeshTopologyReport> AnalyzeMeshTopology(const TriangleMesh& mesh) {
       return std::array<double, 3>{mesh.vertices(v, 0), mesh.vertices(v, 1),
                                    mesh.vertices(v, 2)};
     };
-    std::sort(order.begin(), order.end(), [&](int a, int b) {
+    tbb::parallel_sort(order.begin(), order.end(), [&](int a, int b) {
       return key(a) != key(b) ? key(a) < key(b) : a < b;
     });
     for (int i = 1; i < nv; ++i) {
@@ -95,12 +96,14 @@ StatusOr<MeshTopologyReport> AnalyzeMeshTopology(const TriangleMesh& mesh) {
           {std::min(from, to), std::max(from, to), from, to, f, 3 * f + k});
     }
   }
-  std::sort(half_edges.begin(), half_edges.end(),
-            [](const HalfEdge& a, const HalfEdge& b) {
-              if (a.lo != b.lo) return a.lo < b.lo;
-              if (a.hi != b.hi) return a.hi < b.hi;
-              return a.face < b.face;
-            });
+  // (A strict total order: the parallel sort's result is then unique.)
+  tbb::parallel_sort(half_edges.begin(), half_edges.end(),
+                     [](const HalfEdge& a, const HalfEdge& b) {
+                       if (a.lo != b.lo) return a.lo < b.lo;
+                       if (a.hi != b.hi) return a.hi < b.hi;
+                       if (a.face != b.face) return a.face < b.face;
+                       return a.from_corner < b.from_corner;
+                     });
 
   UnionFind vertex_sets(nv);
   for (int f = 0; f < nf; ++f) {
