@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <ctime>
 
+#include "sdcb/core/fit/least_squares.h"
 #include "sdcb/core/spline/dcb_basis.h"
 #include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/core/spline/design_matrix.h"
@@ -72,6 +73,17 @@ int main(int argc, char** argv) {
     }
     std::printf("threads %d: assembly CPU time %.3f s (best of 3)\n", threads,
                 best_cpu);
+    {
+      double normal_cpu = 1e9;
+      for (int rep = 0; rep < 3; ++rep) {
+        const std::clock_t c0 = std::clock();
+        const auto normal = sdcb::NormalMatrixLower(a);
+        normal_cpu =
+            std::min(normal_cpu, double(std::clock() - c0) / CLOCKS_PER_SEC);
+      }
+      std::printf("threads %d: normal matrix CPU time %.3f s (best of 3)\n",
+                  threads, normal_cpu);
+    }
     std::vector<int> candidates;
     long total_candidates = 0;
     for (int r = 0; r < num_points; ++r) {

@@ -12,7 +12,43 @@
 
 namespace sdcb {
 
-Eigen::SparseMatrix<double> NormalMatrixLower(const DesignMatrix& design) {
+namespace {
+
+// `design` with its rows in the order of their first column (counting sort,
+// ties by row): the rows that meet one column then lie close together in
+// memory, which the column-by-column product below reads them by.
+DesignMatrix RowsByFirstColumn(const DesignMatrix& design) {
+  const Eigen::Index n = design.rows();
+  const int m = static_cast<int>(design.cols());
+  std::vector<Eigen::Index> start(m + 2, 0);
+  auto first = [&](Eigen::Index r) {
+    const auto b = design.outerIndexPtr()[r], e = design.outerIndexPtr()[r + 1];
+    return b < e ? design.innerIndexPtr()[b] : m;
+  };
+  for (Eigen::Index r = 0; r < n; ++r) ++start[first(r) + 1];
+  for (int c = 0; c <= m; ++c) start[c + 1] += start[c];
+  std::vector<Eigen::Index> order(n);
+  for (Eigen::Index r = 0; r < n; ++r) order[start[first(r)]++] = r;
+  DesignMatrix sorted(n, design.cols());
+  sorted.resizeNonZeros(design.nonZeros());
+  Eigen::Index at = 0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Index r = order[k];
+    sorted.outerIndexPtr()[k] = static_cast<int>(at);
+    for (auto i = design.outerIndexPtr()[r]; i < design.outerIndexPtr()[r + 1];
+         ++i, ++at) {
+      sorted.innerIndexPtr()[at] = design.innerIndexPtr()[i];
+      sorted.valuePtr()[at] = design.valuePtr()[i];
+    }
+  }
+  sorted.outerIndexPtr()[n] = static_cast<int>(at);
+  return sorted;
+}
+
+}  // namespace
+
+Eigen::SparseMatrix<double> NormalMatrixLower(const DesignMatrix& unsorted) {
+  const DesignMatrix design = RowsByFirstColumn(unsorted);
   const int m = static_cast<int>(design.cols());
   // Column-major copy: the rows where each column is nonzero.
   const Eigen::SparseMatrix<double> by_column = design;
