@@ -308,21 +308,18 @@ struct SplineFitter::State {
   }
 
   // Ends the fit: the last round when it met the target, else the best.
-  void Finish(bool reached, std::string shortfall) {
+  // Ends the fit. A fit that missed its target returns its best round (see
+  // IsBetterFallback), measured again as a reached one is: densely, with the
+  // closest points (the rounds' own measurements are coarser and see about a
+  // third of the small folds).
+  Status Finish(bool reached, std::string shortfall) {
     finished = true;
     result.model.statistics.reached_target = reached;
-    if (reached) return;
+    if (reached) return Status::Ok();
     result.shortfall = std::move(shortfall);
-    if (best && Better(best->statistics.final_result,
-                       result.model.statistics.final_result)) {
-      const RoundStatistics& kept = best->statistics.final_result;
-      result.shortfall +=
-          "; returned round " + std::to_string(kept.round) + " instead, " +
-          (kept.folded_area_percent == 0 && !options.fallback_accepts_folds
-               ? "the most accurate without folds"
-               : "the most accurate") +
-          " (rms " + ShortPercent(kept.rmse_percent) + " %, max " +
-          ShortPercent(kept.max_error_percent) + " %)";
+    const bool earlier = best && Better(best->statistics.final_result,
+                                        result.model.statistics.final_result);
+    if (earlier) {
       FitStatistics stats = std::move(result.model.statistics);
       result.model = std::move(*best);
       stats.final_result = result.model.statistics.final_result;
@@ -330,6 +327,34 @@ struct SplineFitter::State {
       result.model.statistics = std::move(stats);
       result.vertex_errors_percent = best_vertex_errors;
     }
+    RoundStatistics& kept = result.model.statistics.final_result;
+    const bool kept_unfolded = kept.folded_area_percent == 0;
+    const Stopwatch clock;
+    SDCB_ASSIGN_OR_RETURN(const SphericalSpline surface,
+                          SurfaceFromModel(result.model));
+    SDCB_ASSIGN_OR_RETURN(const SurfaceDeviation dense,
+                          Measure(surface, nullptr, true));
+    result.timings.measure += clock.Seconds();
+    kept.rmse_percent = dense.rms_percent;
+    kept.max_error_percent = dense.hausdorff_percent;
+    kept.folded_area_percent = dense.folded_area_percent;
+    if (earlier) {
+      result.shortfall +=
+          "; returned round " + std::to_string(kept.round) + " instead, " +
+          (kept_unfolded && !options.fallback_accepts_folds
+               ? "the most accurate without folds in its round's measurement"
+               : "the most accurate");
+    }
+    result.shortfall +=
+        " (returned surface, measured densely: rms " +
+        ShortPercent(kept.rmse_percent) + " %, max " +
+        ShortPercent(kept.max_error_percent) + " %" +
+        (kept.folded_area_percent > 0
+             ? ", folded " + ShortPercent(kept.folded_area_percent) +
+                   " % of its area"
+             : std::string()) +
+        ")";
+    return Status::Ok();
   }
 
   Status RunRound();
@@ -341,8 +366,9 @@ struct SplineFitter::State {
                                  const DelaunayConfigurations& knot_triangles,
                                  RoundDetails* details) const;
   StatusOr<Eigen::MatrixX3d> Solve(const Problem& problem) const;
+  // `vertex_points`: F(u_i) per vertex, or null (final measurement only).
   StatusOr<SurfaceDeviation> Measure(const SphericalSpline& surface,
-                                     const Eigen::MatrixX3d& vertex_points,
+                                     const Eigen::MatrixX3d* vertex_points,
                                      bool final_measurement) const;
   void NextDensity(const Problem& problem, const Eigen::MatrixX3d& fitted,
                    const Eigen::VectorXd& vertex_errors,
@@ -516,7 +542,7 @@ StatusOr<Eigen::MatrixX3d> SplineFitter::State::Solve(const Problem& p) const {
 }
 
 StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
-    const SphericalSpline& surface, const Eigen::MatrixX3d& vertex_points,
+    const SphericalSpline& surface, const Eigen::MatrixX3d* vertex_points,
     bool final_measurement) const {
   // Rounds: a lattice with round_samples_per_knot samples per knot, mesh ->
   // surface bounded by |F(u_i) - x_i|. The final one: at least
@@ -529,7 +555,7 @@ StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
                         : per_knot;
   measure.closest_points = final_measurement;
   measure.search_all_vertices = false;
-  return MeasureSurfaceDeviation(surface, mesh, measure, &vertex_points,
+  return MeasureSurfaceDeviation(surface, mesh, measure, vertex_points,
                                  &*mesh_distance);
 }
 
@@ -614,8 +640,8 @@ Status SplineFitter::State::RunRound() {
       PlaceKnots(density, model.knots, new_knots, CvtOptions());
   if (!placed.ok() && round > 0 &&
       placed.status().code() == StatusCode::kUnsupported) {
-    Finish(false, "no room for more knots (" + placed.status().message() + ")");
-    return Status::Ok();
+    return Finish(false,
+                  "no room for more knots (" + placed.status().message() + ")");
   }
   SDCB_RETURN_IF_ERROR(placed.status());
   KnotPlacement placement = std::move(placed).value();
@@ -637,9 +663,9 @@ Status SplineFitter::State::RunRound() {
   details.timings.configurations = stage.Seconds();
   if (round > 0 &&
       static_cast<int>(configurations.sets.size()) > o.max_control_points) {
-    Finish(false, "the next round would exceed " +
-                      std::to_string(o.max_control_points) + " control points");
-    return Status::Ok();
+    return Finish(false, "the next round would exceed " +
+                             std::to_string(o.max_control_points) +
+                             " control points");
   }
 
   // 3. Basis, samples, design matrix; 4. least squares.
@@ -665,13 +691,13 @@ Status SplineFitter::State::RunRound() {
   const Eigen::Index nv = mesh.vertices.rows();
   const Eigen::MatrixX3d vertex_points = fitted.topRows(nv);
   SDCB_ASSIGN_OR_RETURN(SurfaceDeviation deviation,
-                        Measure(surface, vertex_points, false));
+                        Measure(surface, &vertex_points, false));
   auto meets_target = [&] {
     return deviation.rms_percent <= o.rmse_percent &&
            deviation.folded_area_percent == 0;
   };
   if (meets_target()) {
-    SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, vertex_points, true));
+    SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, &vertex_points, true));
     details.closest_points = true;
   }
   const bool reached = meets_target();
@@ -713,15 +739,13 @@ Status SplineFitter::State::RunRound() {
   // 6. Stop, or go on. Met the target but folded: the next rounds put fewer
   // knots, only where the surface folds, a few times at most.
   if (reached) {
-    Finish(true, "");
-    return Status::Ok();
+    return Finish(true, "");
   }
   const bool only_folds =
       rs.rmse_percent <= o.rmse_percent && rs.folded_area_percent > 0;
   const std::string folds_left =
-      "the surface still folds over " + ShortPercent(rs.folded_area_percent) +
-      " % of its area (narrow creases or thin parts the spline cannot follow "
-      "yet)";
+      "the surface still folds (narrow creases or thin parts the spline "
+      "cannot follow yet)";
   if (only_folds && fold_rounds == 0) {
     folds_when_fold_rounds_began = rs.folded_area_percent;
   }
@@ -729,14 +753,13 @@ Status SplineFitter::State::RunRound() {
       (fold_rounds >= o.max_fold_rounds ||
        (fold_rounds >= kFoldRoundsToShrink &&
         rs.folded_area_percent > kFoldShrink * folds_when_fold_rounds_began))) {
-    Finish(false, folds_left);
-    return Status::Ok();
+    return Finish(false, folds_left);
   }
   if (round + 1 == o.max_rounds) {
-    Finish(false, only_folds ? folds_left
+    return Finish(false, only_folds
+                             ? folds_left
                              : "the target was not reached within " +
                                    std::to_string(o.max_rounds) + " rounds");
-    return Status::Ok();
   }
   fold_round = only_folds;
   if (only_folds) ++fold_rounds;
@@ -746,13 +769,13 @@ Status SplineFitter::State::RunRound() {
   const int left = o.max_rounds - round - 1;
   if (!only_folds && round >= kMinRoundsBeforeRateStop &&
       (needed < 0 || needed > left)) {
-    Finish(false, needed < 0
+    return Finish(false,
+                  needed < 0
                       ? "the error stopped falling"
                       : "at its current rate the error needs about " +
                             std::to_string(needed) +
                             " more rounds, more than --max-rounds leaves (" +
                             std::to_string(left) + ")");
-    return Status::Ok();
   }
   NextDensity(problem, fitted, vertex_errors, deviation);
   return Status::Ok();

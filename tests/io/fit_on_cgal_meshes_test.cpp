@@ -147,11 +147,15 @@ TEST(AdaptiveFitTest, TheCoarseCowFollowsItsMeshEverywhere) {
     const bool any_unfolded =
         std::any_of(rounds.begin(), rounds.end(),
                     [](const auto& x) { return x.folded_area_percent == 0; });
+    // (By the rounds' own measurements; the returned model's are measured
+    // again densely, as a reached one's: what ExpectHonestSurfaceErrors
+    // checks.)
+    const RoundStatistics& kept = rounds[r.round];
     for (const RoundStatistics& other : rounds) {
       if (any_unfolded && other.folded_area_percent > 0) continue;
-      EXPECT_LE(r.rmse_percent, other.rmse_percent) << other.round;
+      EXPECT_LE(kept.rmse_percent, other.rmse_percent) << other.round;
     }
-    EXPECT_EQ(r.rmse_percent, rounds[r.round].rmse_percent);
+    EXPECT_NE(fit->shortfall.find("measured densely"), std::string::npos);
     const bool named =
         fit->shortfall.find("returned round " + std::to_string(r.round)) !=
         std::string::npos;
