@@ -13,9 +13,10 @@
 //       corresponding one; (b1) its normal opposes n (the far side of a
 //       part), (b2) it does not;
 //   (u) no spherical triangle contains u (numerically);
-// for (b) |F(u) - x(u)|, the closest distance and the thickness at x(u)
+// for (b1) |F(u) - x(u)|, the closest distance and the thickness at x(u)
 // (first hit of the ray from x(u) along -n), in percent of the largest
-// bounding-box side; and, over ALL samples, the area where the spline's
+// bounding-box side (for (a) the thickness too, against that of every 8th
+// sample); and, over ALL samples, the area where the spline's
 // normal opposes the corresponding triangle's (a correspondence-based fold
 // measure, for comparison with the closest-point one).
 #include <CGAL/AABB_traits.h>
@@ -244,10 +245,27 @@ int main(int argc, char** argv) {
   double real_same_side = 0, real_smooth = 0;
   std::vector<std::pair<double, double>> real_dist, real_angle;
   double corr_all = 0;  // correspondence-based fold area over all samples
-  double corr_inverted = 0;
+  double corr_inverted = 0, corr_only = 0;
   double deeper_than_half = 0, closer_than_corr = 0, thick_known = 0;
+  // Area-weighted (value, weight) lists for the medians.
   std::vector<std::pair<double, double>> corr_dist, closest_dist, thickness,
-      ratio;
+      ratio, real_thickness, all_thickness;
+  // Thickness at x on face `face` of normal n, percent: the nearest face hit
+  // by the ray x - t n, t > 0, other than `face` (a segment of length 2
+  // spans the unit frame); NaN if none.
+  auto thickness_at = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& n,
+                          int face) {
+    double t_min = std::numeric_limits<double>::infinity();
+    for (int f : mesh_tree.Crossed(x, x - 2.0 * n)) {
+      if (f == face) continue;
+      const double t = LinePlane(x, -n, mesh.vertices.row(faces(f, 0)),
+                                 mesh.vertices.row(faces(f, 1)),
+                                 mesh.vertices.row(faces(f, 2)));
+      if (t > 1e-7) t_min = std::min(t_min, t);
+    }
+    return std::isfinite(t_min) ? 100.0 * t_min
+                                : std::numeric_limits<double>::quiet_NaN();
+  };
   for (Eigen::Index i = 0; i < ns; ++i) {
     const Eigen::Vector3d u = d.surface_sample_points.row(i);
     const double w = d.surface_sample_weight[i];
@@ -271,10 +289,8 @@ int main(int argc, char** argv) {
     if (opposes) {
       corr_all += w;
       if (inverted_here) corr_inverted += w;
+      if (!is_folded) corr_only += w;
     }
-    if (!is_folded) continue;
-    folded += w;
-    const int closest_face = d.surface_sample_mesh_face[i];
     Eigen::Vector3d x = Eigen::Vector3d::Zero(),
                     smooth = Eigen::Vector3d::Zero();
     for (int k = 0; k < 3; ++k) {
@@ -282,7 +298,16 @@ int main(int argc, char** argv) {
       smooth += at.bary[k] *
                 vertex_normal.row(faces(at.face, k)).normalized().transpose();
     }
+    // The thickness over all samples: every 8th (8 times its weight).
+    if (i % 8 == 0) {
+      const double th = thickness_at(x, n, at.face);
+      if (!std::isnan(th)) all_thickness.emplace_back(th, w);
+    }
+    if (!is_folded) continue;
+    folded += w;
+    const int closest_face = d.surface_sample_mesh_face[i];
     const double to_x = 100.0 * (s.position - x).norm();
+    const double th = thickness_at(x, n, at.face);
     if (opposes) {
       real += w;
       if (inverted_here) real_inverted += w;
@@ -291,27 +316,18 @@ int main(int argc, char** argv) {
       real_dist.emplace_back(to_x, w);
       real_angle.emplace_back(
           std::acos(std::clamp(s.normal.dot(n), -1.0, 1.0)) * 180 / M_PI, w);
+      if (!std::isnan(th)) real_thickness.emplace_back(th, w);
       continue;
     }
     other += w;
-    if (face_normal.row(closest_face).dot(n) < 0) far_side += w;
+    if (!(face_normal.row(closest_face).dot(n) < 0)) continue;
+    // (b1): the hypothesis's class.
+    far_side += w;
     const double closest = d.surface_sample_distance_percent[i];
     corr_dist.emplace_back(to_x, w);
     closest_dist.emplace_back(closest, w);
     if (closest < to_x) closer_than_corr += w;
-    // Thickness: the nearest face hit by the ray x - t n, t > 0, other than
-    // the corresponding face (a segment of length 2 spans the unit frame).
-    double t_min = std::numeric_limits<double>::infinity();
-    const Eigen::Vector3d far = x - 2.0 * n;
-    for (int f : mesh_tree.Crossed(x, far)) {
-      if (f == at.face) continue;
-      const double t = LinePlane(x, -n, mesh.vertices.row(faces(f, 0)),
-                                 mesh.vertices.row(faces(f, 1)),
-                                 mesh.vertices.row(faces(f, 2)));
-      if (t > 1e-7) t_min = std::min(t_min, t);
-    }
-    if (std::isfinite(t_min)) {
-      const double th = 100.0 * t_min;
+    if (!std::isnan(th)) {
       thick_known += w;
       thickness.emplace_back(th, w);
       ratio.emplace_back(to_x / th, w);
@@ -357,26 +373,30 @@ int main(int argc, char** argv) {
   if (real > 0) {
     std::printf(
         "(a), median (area-weighted): |F(u)-x(u)| %.4f%%, angle between "
-        "the normals %.1f deg\n",
-        WeightedMedian(real_dist), WeightedMedian(real_angle));
+        "the normals %.1f deg, thickness at x(u) %.4f%% (all samples: "
+        "%.4f%%)\n",
+        WeightedMedian(real_dist), WeightedMedian(real_angle),
+        WeightedMedian(real_thickness), WeightedMedian(all_thickness));
   }
-  if (other > 0) {
+  if (far_side > 0) {
     std::printf(
-        "(b), median (area-weighted): |F(u)-x(u)| %.4f%%, closest distance "
-        "%.4f%%, thickness at x(u) %.4f%% (known for %.1f%% of (b)), "
+        "(b1), median (area-weighted): |F(u)-x(u)| %.4f%%, closest distance "
+        "%.4f%%, thickness at x(u) %.4f%% (known for %.1f%% of (b1)), "
         "|F-x|/thickness %.3f\n",
         WeightedMedian(corr_dist), WeightedMedian(closest_dist),
-        WeightedMedian(thickness), 100.0 * thick_known / other,
+        WeightedMedian(thickness), 100.0 * thick_known / far_side,
         WeightedMedian(ratio));
     std::printf(
-        "(b): closest distance < |F(u)-x(u)| on %.1f%%, |F(u)-x(u)| > half "
-        "the thickness on %.1f%% (of (b)'s area)\n",
-        100.0 * closer_than_corr / other, 100.0 * deeper_than_half / other);
+        "(b1): closest distance < |F(u)-x(u)| on %.1f%%, |F(u)-x(u)| > half "
+        "the thickness on %.1f%% (of (b1)'s area)\n",
+        100.0 * closer_than_corr / far_side,
+        100.0 * deeper_than_half / far_side);
   }
   std::printf(
       "correspondence folds over all samples (spline normal opposes "
       "the triangle containing u): %.4f%% of the spline's area, "
-      "%.4f%% in inverted spherical triangles\n",
-      pct(corr_all), pct(corr_inverted));
+      "%.4f%% in inverted spherical triangles, %.4f%% not folded by the "
+      "closest-point test\n",
+      pct(corr_all), pct(corr_inverted), pct(corr_only));
   return 0;
 }
