@@ -181,12 +181,20 @@ class LevelOptimizer {
 
   // Sweeps until the relative decrease of E per sweep is below `tolerance`
   // or `max_sweeps` were run. Returns the final energy.
-  double Optimize(Points* sphere, int max_sweeps, double tolerance) {
+  double Optimize(Points* sphere, int max_sweeps, double tolerance,
+                  double active_fraction) {
     double energy = Energy(*sphere);
-    // Active set: a vertex is visited again only if it or a neighbor moved
-    // in the previous sweep (else its one-ring energy is unchanged and the
-    // line search already failed there).
+    // Active set: a vertex is visited again only if it or a neighbor
+    // lowered E by more than `active_fraction` times its share of the
+    // stopping threshold (tolerance * E / vertices) in the previous sweep.
+    // Else its one-ring energy is unchanged, or changed so little that all
+    // such vertices together could lower E by at most active_fraction
+    // times the threshold per sweep. Most moves of a sweep are such: on the
+    // bunny, 99 % of a fine level's decrease comes from 3-20 % of its
+    // vertices.
     std::vector<char> active(decrease_.size(), 1);
+    size_t vertices = 0;
+    for (const std::vector<int>& cls : color_classes_) vertices += cls.size();
     for (int sweep = 0; sweep < max_sweeps; ++sweep) {
       std::fill(decrease_.begin(), decrease_.end(), 0.0);
       for (const std::vector<int>& cls : color_classes_) {
@@ -200,14 +208,16 @@ class LevelOptimizer {
       double decrease = 0.0;
       for (double d : decrease_) decrease += d;  // fixed order
       energy -= decrease;
-      if (decrease < tolerance * energy) break;
+      if (decrease < tolerance * energy || sweep + 1 == max_sweeps) break;
+      const double threshold =
+          active_fraction * tolerance * energy / static_cast<double>(vertices);
       tbb::parallel_for(tbb::blocked_range<size_t>(0, active.size(), 1024),
                         [&](const tbb::blocked_range<size_t>& r) {
                           for (size_t v = r.begin(); v != r.end(); ++v) {
-                            bool moved = decrease_[v] > 0.0;
+                            bool moved = decrease_[v] > threshold;
                             for (int k = offset_[v];
                                  k < offset_[v + 1] && !moved; ++k) {
-                              moved = decrease_[incidences_[k].a] > 0.0;
+                              moved = decrease_[incidences_[k].a] > threshold;
                             }
                             active[v] = moved;
                           }
@@ -700,7 +710,8 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
       for (double lambda = from;;
            lambda = std::min(options.lambda_growth * lambda, to)) {
         optimizer.set_lambda(lambda);
-        result.energy = optimizer.Optimize(&sphere, sweeps, tolerance);
+        result.energy = optimizer.Optimize(&sphere, sweeps, tolerance,
+                                           options.active_fraction);
         if (lambda >= to) break;
       }
     };
