@@ -14,9 +14,9 @@ namespace {
 class Collapser {
  public:
   Collapser(const TriangleMesh& mesh, const MeshHierarchyOptions& options)
-      : positions_(mesh.vertices),
-        faces_(mesh.faces),
-        face_alive_(mesh.num_faces(), true),
+      : positions_(mesh.num_vertices()),
+        faces_(mesh.num_faces()),
+        face_alive_(mesh.num_faces(), 1),
         vertex_alive_(mesh.num_vertices(), true),
         vertex_faces_(mesh.num_vertices()),
         dead_incidences_(mesh.num_vertices(), 0),
@@ -24,8 +24,14 @@ class Collapser {
         cos_max_turn_(std::cos(options.max_normal_turn_degrees * M_PI / 180.0)),
         min_quality_(options.min_triangle_quality),
         max_removed_valence_(options.max_removed_valence) {
-    for (int f = 0; f < faces_.rows(); ++f) {
-      for (int i = 0; i < 3; ++i) vertex_faces_[faces_(f, i)].push_back(f);
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      positions_[v] = mesh.vertices.row(v).transpose();
+    }
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      for (int i = 0; i < 3; ++i) {
+        faces_[f][i] = mesh.faces(f, i);
+        vertex_faces_[faces_[f][i]].push_back(f);
+      }
     }
   }
 
@@ -43,7 +49,7 @@ class Collapser {
     for (int f : vertex_faces_[x]) {
       if (!face_alive_[f]) continue;
       for (int i = 0; i < 3; ++i) {
-        if (faces_(f, i) != x) n.push_back(faces_(f, i));
+        if (faces_[f][i] != x) n.push_back(faces_[f][i]);
       }
     }
     std::sort(n.begin(), n.end());
@@ -86,15 +92,15 @@ class Collapser {
     // Apply. Dead faces stay in the other corners' lists until those are
     // compacted (erasing from a hub's long list each time is quadratic).
     for (int f : edge_faces) {
-      face_alive_[f] = false;
+      face_alive_[f] = 0;
       for (int i = 0; i < 3; ++i) {
-        const int w = faces_(f, i);
+        const int w = faces_[f][i];
         if (w != v) DropDeadIncidence(w);
       }
     }
     for (int f : vertex_faces_[v]) {
       if (!face_alive_[f]) continue;
-      faces_(f, Corner(f, v)) = u;
+      faces_[f][Corner(f, v)] = u;
       vertex_faces_[u].push_back(f);
       record->repointed_faces.push_back(f);
     }
@@ -107,13 +113,16 @@ class Collapser {
 
   bool vertex_alive(int x) const { return vertex_alive_[x]; }
   double Length(int a, int b) const {
-    return (positions_.row(a) - positions_.row(b)).norm();
+    return (positions_[a] - positions_[b]).norm();
   }
 
   MeshHierarchy Release(std::vector<HalfEdgeCollapse> collapses) {
     MeshHierarchy h;
-    h.faces = std::move(faces_);
-    h.face_alive = std::move(face_alive_);
+    h.faces.resize(faces_.size(), 3);
+    for (size_t f = 0; f < faces_.size(); ++f) {
+      for (int i = 0; i < 3; ++i) h.faces(f, i) = faces_[f][i];
+    }
+    h.face_alive.assign(face_alive_.begin(), face_alive_.end());
     h.vertex_alive = std::move(vertex_alive_);
     h.collapses = std::move(collapses);
     return h;
@@ -144,7 +153,7 @@ class Collapser {
 
   int Corner(int f, int x) const {
     for (int i = 0; i < 3; ++i) {
-      if (faces_(f, i) == x) return i;
+      if (faces_[f][i] == x) return i;
     }
     return -1;
   }
@@ -153,8 +162,8 @@ class Collapser {
   Eigen::Vector3d Normal(int f, int from, int to) const {
     Eigen::Vector3d p[3];
     for (int i = 0; i < 3; ++i) {
-      const int x = faces_(f, i) == from ? to : faces_(f, i);
-      p[i] = positions_.row(x).transpose();
+      const int x = faces_[f][i] == from ? to : faces_[f][i];
+      p[i] = positions_[x];
     }
     return (p[1] - p[0]).cross(p[2] - p[0]);
   }
@@ -164,8 +173,8 @@ class Collapser {
   double Quality(int f, int from, int to) const {
     Eigen::Vector3d p[3];
     for (int i = 0; i < 3; ++i) {
-      const int x = faces_(f, i) == from ? to : faces_(f, i);
-      p[i] = positions_.row(x).transpose();
+      const int x = faces_[f][i] == from ? to : faces_[f][i];
+      p[i] = positions_[x];
     }
     const double squares = (p[1] - p[0]).squaredNorm() +
                            (p[2] - p[1]).squaredNorm() +
@@ -181,7 +190,7 @@ class Collapser {
     for (int f : vertex_faces_[v]) {
       if (!face_alive_[f]) continue;
       const int c = Corner(f, v);
-      next.emplace_back(faces_(f, (c + 1) % 3), faces_(f, (c + 2) % 3));
+      next.emplace_back(faces_[f][(c + 1) % 3], faces_[f][(c + 2) % 3]);
     }
     std::sort(next.begin(), next.end());
     std::vector<int> link = {first};
@@ -193,9 +202,11 @@ class Collapser {
     return link;
   }
 
-  Eigen::MatrixX3d positions_;
-  Eigen::MatrixX3i faces_;
-  std::vector<bool> face_alive_;
+  // Contiguous per vertex / face (rows of column-major Eigen matrices
+  // would cost three cache misses each).
+  std::vector<Eigen::Vector3d> positions_;
+  std::vector<std::array<int, 3>> faces_;
+  std::vector<char> face_alive_;
   std::vector<bool> vertex_alive_;
   // Faces around each vertex; may hold dead faces (dead_incidences_ counts
   // them).
