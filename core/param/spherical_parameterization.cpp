@@ -102,16 +102,22 @@ class LevelOptimizer {
   // Rebuilds the one-rings, shapes, colors and step sizes for `level`.
   void Prepare(const LevelState& level, const Points& sphere) {
     const int nv = static_cast<int>(mesh_positions_.rows());
-    double total_area = 0.0;
     std::vector<int> alive_faces;
     for (int f = 0; f < level.faces.rows(); ++f) {
-      if (!level.face_alive[f]) continue;
-      alive_faces.push_back(f);
-      total_area +=
-          ComputeMeshTriangleShape(Corner(level, f, 0), Corner(level, f, 1),
-                                   Corner(level, f, 2), 1.0)
-              .area;
+      if (level.face_alive[f]) alive_faces.push_back(f);
     }
+    std::vector<MeshTriangleShape> shapes(alive_faces.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, alive_faces.size(), 1024),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t i = r.begin(); i != r.end(); ++i) {
+                          const int f = alive_faces[i];
+                          shapes[i] = ComputeMeshTriangleShape(
+                              Corner(level, f, 0), Corner(level, f, 1),
+                              Corner(level, f, 2), 1.0);
+                        }
+                      });
+    double total_area = 0.0;
+    for (const MeshTriangleShape& shape : shapes) total_area += shape.area;
     const double scale = 4.0 * M_PI / total_area;
     // Incidences in CSR order: vertex v owns [offset_[v], offset_[v + 1]).
     offset_.assign(nv + 1, 0);
@@ -121,9 +127,10 @@ class LevelOptimizer {
     for (int v = 0; v < nv; ++v) offset_[v + 1] += offset_[v];
     incidences_.assign(offset_[nv], Incidence());
     std::vector<int> fill(offset_.begin(), offset_.end() - 1);
-    for (int f : alive_faces) {
-      const MeshTriangleShape shape = ComputeMeshTriangleShape(
-          Corner(level, f, 0), Corner(level, f, 1), Corner(level, f, 2), scale);
+    for (size_t j = 0; j < alive_faces.size(); ++j) {
+      const int f = alive_faces[j];
+      MeshTriangleShape shape = shapes[j];
+      shape.area *= scale;
       for (int i = 0; i < 3; ++i) {
         Incidence& inc = incidences_[fill[level.faces(f, i)]++];
         inc.a = level.faces(f, (i + 1) % 3);
@@ -134,13 +141,14 @@ class LevelOptimizer {
     // Greedy coloring in vertex order: same colors on every run.
     std::vector<int> color(nv, -1);
     color_classes_.clear();
+    std::vector<char> used;
     for (int v = 0; v < nv; ++v) {
       if (!level.vertex_alive[v]) continue;
-      std::vector<bool> used(offset_[v + 1] - offset_[v] + 1, false);
+      used.assign(offset_[v + 1] - offset_[v] + 1, 0);
       for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
         for (int w : {incidences_[k].a, incidences_[k].b}) {
           if (color[w] >= 0 && color[w] < static_cast<int>(used.size())) {
-            used[color[w]] = true;
+            used[color[w]] = 1;
           }
         }
       }
@@ -153,14 +161,18 @@ class LevelOptimizer {
     }
     // Initial step: a quarter of the mean one-ring edge length on S^2.
     step_.assign(nv, 0.0);
-    for (int v = 0; v < nv; ++v) {
-      double sum = 0.0;
-      for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
-        sum += (sphere[incidences_[k].a] - sphere[v]).norm();
-      }
-      const int n = offset_[v + 1] - offset_[v];
-      if (n > 0) step_[v] = 0.25 * sum / n;
-    }
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 1024),
+                      [&](const tbb::blocked_range<int>& r) {
+                        for (int v = r.begin(); v != r.end(); ++v) {
+                          double sum = 0.0;
+                          for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
+                            sum +=
+                                (sphere[incidences_[k].a] - sphere[v]).norm();
+                          }
+                          const int n = offset_[v + 1] - offset_[v];
+                          if (n > 0) step_[v] = 0.25 * sum / n;
+                        }
+                      });
     decrease_.assign(nv, 0.0);
   }
 
@@ -634,6 +646,50 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
   return Status::Ok();
 }
 
+// Step 4 for the collapses [first, last) of the hierarchy, undone from the
+// back: the same positions as PlaceSplitVertex on each, from last - 1 down to
+// first, computed in parallel. A split reads only the positions of its link
+// and writes that of its removed vertex, and its link vertices were removed
+// (if at all) by later collapses; so the splits are grouped in waves, a
+// split's wave one after the latest wave that placed one of its link
+// vertices, and the splits of one wave are independent.
+Status PlaceSplitVertices(const std::vector<HalfEdgeCollapse>& collapses,
+                          size_t first, size_t last,
+                          const Eigen::MatrixX3d& mesh_positions,
+                          double area_scale, double lambda, Points* sphere) {
+  std::vector<int> wave_of_vertex(sphere->size(), -1);
+  std::vector<std::vector<size_t>> waves;
+  for (size_t j = last; j-- > first;) {
+    int wave = 0;
+    for (int w : collapses[j].link) {
+      wave = std::max(wave, wave_of_vertex[w] + 1);
+    }
+    wave_of_vertex[collapses[j].removed] = wave;
+    if (wave >= static_cast<int>(waves.size())) waves.resize(wave + 1);
+    waves[wave].push_back(j);
+  }
+  std::vector<char> failed(last - first, 0);
+  for (const std::vector<size_t>& wave : waves) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, wave.size(), 16),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t i = r.begin(); i != r.end(); ++i) {
+                          const size_t j = wave[i];
+                          failed[j - first] =
+                              !PlaceSplitVertex(collapses[j], mesh_positions,
+                                                area_scale, lambda, sphere)
+                                   .ok();
+                        }
+                      });
+  }
+  for (char f : failed) {
+    if (f) {
+      return InternalError(
+          "a vertex split found no valid position on the sphere");
+    }
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 Status CheckSphericalBijection(const TriangleMesh& mesh,
@@ -727,15 +783,16 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
       report("optimize", static_cast<double>(alive) / mesh.num_vertices());
       const int target =
           std::max(alive + 1, static_cast<int>(alive * options.level_growth));
+      const size_t last = next;
       while (next > 0 && alive < target) {
-        const HalfEdgeCollapse& collapse = hierarchy.collapses[--next];
-        UndoCollapse(collapse, &level.faces, &level.face_alive,
-                     &level.vertex_alive);
-        status = PlaceSplitVertex(collapse, mesh.vertices, area_scale,
-                                  optimizer.lambda(), &sphere);
-        if (!status.ok()) return;
+        UndoCollapse(hierarchy.collapses[--next], &level.faces,
+                     &level.face_alive, &level.vertex_alive);
         ++alive;
       }
+      status =
+          PlaceSplitVertices(hierarchy.collapses, next, last, mesh.vertices,
+                             area_scale, optimizer.lambda(), &sphere);
+      if (!status.ok()) return;
       optimizer.Prepare(level, sphere);
       // Levels within `rising_levels` of the finest raise lambda to its
       // final value.
