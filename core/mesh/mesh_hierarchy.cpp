@@ -66,11 +66,14 @@ class Collapser {
     int common = 0;
     Neighbors(v, &neighbors_);
     for (int w : neighbors_) common += w != u && Adjacent(w, u);
-    std::vector<int> edge_faces;
+    int edge_faces[2] = {-1, -1};
+    int edge_face_count = 0;
     for (int f : vertex_faces_[v]) {
-      if (face_alive_[f] && Corner(f, u) >= 0) edge_faces.push_back(f);
+      if (face_alive_[f] && Corner(f, u) >= 0 && edge_face_count++ < 2) {
+        edge_faces[edge_face_count - 1] = f;
+      }
     }
-    if (edge_faces.size() != 2 || common != 2) return false;
+    if (edge_face_count != 2 || common != 2) return false;
     // Normals of the re-pointed faces must not turn too far.
     for (int f : vertex_faces_[v]) {
       if (!face_alive_[f] || Corner(f, u) >= 0) continue;
@@ -86,7 +89,7 @@ class Collapser {
     }
     record->removed = v;
     record->kept = u;
-    record->link = OrderedLink(v, u);
+    OrderedLink(v, u, &record->link);
     record->deleted_faces = {edge_faces[0], edge_faces[1]};
     record->repointed_faces.clear();
     // Apply. Dead faces stay in the other corners' lists until those are
@@ -113,7 +116,11 @@ class Collapser {
 
   bool vertex_alive(int x) const { return vertex_alive_[x]; }
   double Length(int a, int b) const {
-    return (positions_[a] - positions_[b]).norm();
+    // Summed as x^2 + (y^2 + z^2), as Eigen's norm of a matrix row does (a
+    // vectorized norm may sum in another order, and the last bit decides
+    // ties between edges, so the hierarchy would change).
+    const Eigen::Vector3d d = positions_[a] - positions_[b];
+    return std::sqrt(d.x() * d.x() + (d.y() * d.y() + d.z() * d.z()));
   }
 
   MeshHierarchy Release(std::vector<HalfEdgeCollapse> collapses) {
@@ -185,21 +192,22 @@ class Collapser {
   }
 
   // v's neighbors counter-clockwise, starting at `first`.
-  std::vector<int> OrderedLink(int v, int first) const {
-    std::vector<std::pair<int, int>> next;  // (a, b) for face (v, a, b)
+  void OrderedLink(int v, int first, std::vector<int>* out) {
+    std::vector<std::pair<int, int>>& next = link_pairs_;  // face (v, a, b)
+    next.clear();
     for (int f : vertex_faces_[v]) {
       if (!face_alive_[f]) continue;
       const int c = Corner(f, v);
       next.emplace_back(faces_[f][(c + 1) % 3], faces_[f][(c + 2) % 3]);
     }
     std::sort(next.begin(), next.end());
-    std::vector<int> link = {first};
+    std::vector<int>& link = *out;
+    link.assign(1, first);
     while (link.size() < next.size()) {
       auto it = std::lower_bound(next.begin(), next.end(),
                                  std::make_pair(link.back(), -1));
       link.push_back(it->second);
     }
-    return link;
   }
 
   // Contiguous per vertex / face (rows of column-major Eigen matrices
@@ -212,7 +220,8 @@ class Collapser {
   // them).
   std::vector<std::vector<int>> vertex_faces_;
   std::vector<int> dead_incidences_;
-  std::vector<int> neighbors_;  // buffer of TryCollapse
+  std::vector<int> neighbors_;                   // buffer of TryCollapse
+  std::vector<std::pair<int, int>> link_pairs_;  // buffer of OrderedLink
   int alive_vertices_;
   double cos_max_turn_;
   double min_quality_;
@@ -269,6 +278,7 @@ StatusOr<MeshHierarchy> BuildMeshHierarchy(
                record.link.end();
   };
   std::vector<HalfEdgeCollapse> collapses;
+  collapses.reserve(std::max(0, mesh.num_vertices() - options.base_vertices));
   HalfEdgeCollapse record;
   std::vector<int> changed;
   while (!queue.empty() && collapser.alive_vertices() > options.base_vertices) {
