@@ -199,11 +199,11 @@ class LevelOptimizer {
     // Active set: a vertex is visited again only if it or a neighbor
     // lowered E by more than `active_fraction` times its share of the
     // stopping threshold (tolerance * E / vertices) in the previous sweep.
-    // Else its one-ring energy is unchanged, or changed so little that all
-    // such vertices together could lower E by at most active_fraction
-    // times the threshold per sweep. Most moves of a sweep are such: on the
-    // bunny, 99 % of a fine level's decrease comes from 3-20 % of its
-    // vertices.
+    // Else its one-ring energy is unchanged (active_fraction = 0, the
+    // default: the line search already failed there), or changed so little
+    // that all such vertices together could lower E by at most
+    // active_fraction times the threshold per sweep (on the bunny, 99 % of
+    // a fine level's decrease comes from 3-20 % of its vertices).
     std::vector<char> active(decrease_.size(), 1);
     size_t vertices = 0;
     for (const std::vector<int>& cls : color_classes_) vertices += cls.size();
