@@ -4,7 +4,8 @@
 //   [--threads T] [--level-sweeps N] [--finest-sweeps N] [--tolerance R]
 //   [--finest-tolerance R]
 //   [--lambda-growth G] [--coarse-lambda L] [--rising-levels N]
-//   [--level-growth G] [--base-vertices N] [--base-sweeps N] [--verbose]
+//   [--level-growth G] [--base-vertices N] [--base-sweeps N]
+//   [--active-fraction F] [--verbose]
 // Default: bunny00.off at lambda = 0.2, 1 and 10 (the paper's Bunny).
 #include <chrono>
 #include <cstdio>
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   int base_vertices = defaults.base_vertices;
   int base_sweeps = defaults.base_sweeps;
   int global_iterations = defaults.global_iterations;
+  double active_fraction = defaults.active_fraction;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--lambda" && i + 1 < argc) {
@@ -59,6 +61,8 @@ int main(int argc, char** argv) {
       coarse_lambda = std::atof(argv[++i]);
     } else if (a == "--lambda-growth" && i + 1 < argc) {
       lambda_growth = std::atof(argv[++i]);
+    } else if (a == "--active-fraction" && i + 1 < argc) {
+      active_fraction = std::atof(argv[++i]);
     } else if (a == "--verbose") {
       verbose = true;
     } else if (a == "--threads" && i + 1 < argc) {
@@ -96,6 +100,7 @@ int main(int argc, char** argv) {
       options.base_vertices = base_vertices;
       options.base_sweeps = base_sweeps;
       options.global_iterations = global_iterations;
+      options.active_fraction = active_fraction;
       const auto start = std::chrono::steady_clock::now();
       if (verbose) {
         options.progress = [start](const std::string& stage, double fraction) {

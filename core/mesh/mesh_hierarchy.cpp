@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <queue>
 #include <tuple>
-#include <unordered_set>
 
 namespace sdcb {
 namespace {
@@ -15,21 +14,23 @@ namespace {
 class Collapser {
  public:
   Collapser(const TriangleMesh& mesh, const MeshHierarchyOptions& options)
-      : positions_(mesh.vertices),
-        faces_(mesh.faces),
-        face_alive_(mesh.num_faces(), true),
+      : positions_(mesh.num_vertices()),
+        faces_(mesh.num_faces()),
+        face_alive_(mesh.num_faces(), 1),
         vertex_alive_(mesh.num_vertices(), true),
         vertex_faces_(mesh.num_vertices()),
         dead_incidences_(mesh.num_vertices(), 0),
-        stamp_(mesh.num_vertices(), 0),
         alive_vertices_(mesh.num_vertices()),
         cos_max_turn_(std::cos(options.max_normal_turn_degrees * M_PI / 180.0)),
         min_quality_(options.min_triangle_quality),
         max_removed_valence_(options.max_removed_valence) {
-    for (int f = 0; f < faces_.rows(); ++f) {
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      positions_[v] = mesh.vertices.row(v).transpose();
+    }
+    for (int f = 0; f < mesh.num_faces(); ++f) {
       for (int i = 0; i < 3; ++i) {
-        vertex_faces_[faces_(f, i)].push_back(f);
-        edges_.insert(EdgeKey(faces_(f, i), faces_(f, (i + 1) % 3)));
+        faces_[f][i] = mesh.faces(f, i);
+        vertex_faces_[faces_[f][i]].push_back(f);
       }
     }
   }
@@ -41,18 +42,18 @@ class Collapser {
     return static_cast<int>(vertex_faces_[x].size()) - dead_incidences_[x];
   }
 
-  // Sorted neighbors of x.
-  std::vector<int> Neighbors(int x) const {
-    std::vector<int> n;
+  // Sorted neighbors of x, into *n (a buffer reused by the caller).
+  void Neighbors(int x, std::vector<int>* out) const {
+    std::vector<int>& n = *out;
+    n.clear();
     for (int f : vertex_faces_[x]) {
       if (!face_alive_[f]) continue;
       for (int i = 0; i < 3; ++i) {
-        if (faces_(f, i) != x) n.push_back(faces_(f, i));
+        if (faces_[f][i] != x) n.push_back(faces_[f][i]);
       }
     }
     std::sort(n.begin(), n.end());
     n.erase(std::unique(n.begin(), n.end()), n.end());
-    return n;
   }
 
   // Collapses v -> u when allowed; returns whether it did. Costs O(valence
@@ -63,12 +64,16 @@ class Collapser {
     // Link condition: the only common neighbors are the two opposite
     // vertices of the faces on edge (v, u).
     int common = 0;
-    for (int w : Neighbors(v)) common += w != u && Adjacent(w, u);
-    std::vector<int> edge_faces;
+    Neighbors(v, &neighbors_);
+    for (int w : neighbors_) common += w != u && Adjacent(w, u);
+    int edge_faces[2] = {-1, -1};
+    int edge_face_count = 0;
     for (int f : vertex_faces_[v]) {
-      if (face_alive_[f] && Corner(f, u) >= 0) edge_faces.push_back(f);
+      if (face_alive_[f] && Corner(f, u) >= 0 && edge_face_count++ < 2) {
+        edge_faces[edge_face_count - 1] = f;
+      }
     }
-    if (edge_faces.size() != 2 || common != 2) return false;
+    if (edge_face_count != 2 || common != 2) return false;
     // Normals of the re-pointed faces must not turn too far.
     for (int f : vertex_faces_[v]) {
       if (!face_alive_[f] || Corner(f, u) >= 0) continue;
@@ -84,25 +89,21 @@ class Collapser {
     }
     record->removed = v;
     record->kept = u;
-    record->link = OrderedLink(v, u);
+    OrderedLink(v, u, &record->link);
     record->deleted_faces = {edge_faces[0], edge_faces[1]};
     record->repointed_faces.clear();
     // Apply. Dead faces stay in the other corners' lists until those are
     // compacted (erasing from a hub's long list each time is quadratic).
     for (int f : edge_faces) {
-      face_alive_[f] = false;
+      face_alive_[f] = 0;
       for (int i = 0; i < 3; ++i) {
-        const int w = faces_(f, i);
+        const int w = faces_[f][i];
         if (w != v) DropDeadIncidence(w);
       }
     }
-    for (int w : record->link) {  // all of v's neighbors, u first
-      edges_.erase(EdgeKey(v, w));
-      if (w != u) edges_.insert(EdgeKey(u, w));
-    }
     for (int f : vertex_faces_[v]) {
       if (!face_alive_[f]) continue;
-      faces_(f, Corner(f, v)) = u;
+      faces_[f][Corner(f, v)] = u;
       vertex_faces_[u].push_back(f);
       record->repointed_faces.push_back(f);
     }
@@ -113,28 +114,38 @@ class Collapser {
     return true;
   }
 
-  int stamp(int x) const { return stamp_[x]; }
-  void Touch(int x) { ++stamp_[x]; }
   bool vertex_alive(int x) const { return vertex_alive_[x]; }
   double Length(int a, int b) const {
-    return (positions_.row(a) - positions_.row(b)).norm();
+    // Summed as x^2 + (y^2 + z^2), as Eigen's norm of a matrix row does (a
+    // vectorized norm may sum in another order, and the last bit decides
+    // ties between edges, so the hierarchy would change).
+    const Eigen::Vector3d d = positions_[a] - positions_[b];
+    return std::sqrt(d.x() * d.x() + (d.y() * d.y() + d.z() * d.z()));
   }
 
   MeshHierarchy Release(std::vector<HalfEdgeCollapse> collapses) {
     MeshHierarchy h;
-    h.faces = std::move(faces_);
-    h.face_alive = std::move(face_alive_);
+    h.faces.resize(faces_.size(), 3);
+    for (size_t f = 0; f < faces_.size(); ++f) {
+      for (int i = 0; i < 3; ++i) h.faces(f, i) = faces_[f][i];
+    }
+    h.face_alive.assign(face_alive_.begin(), face_alive_.end());
     h.vertex_alive = std::move(vertex_alive_);
     h.collapses = std::move(collapses);
     return h;
   }
 
  private:
-  static uint64_t EdgeKey(int a, int b) {
-    return (static_cast<uint64_t>(std::min(a, b)) << 32) |
-           static_cast<uint32_t>(std::max(a, b));
+  // Whether edge (a, b) exists: an alive face around the end with the
+  // shorter face list holds the other (O(min valence), so a hub's long
+  // list is not scanned for its small neighbors).
+  bool Adjacent(int a, int b) const {
+    if (vertex_faces_[a].size() > vertex_faces_[b].size()) std::swap(a, b);
+    for (int f : vertex_faces_[a]) {
+      if (face_alive_[f] && Corner(f, b) >= 0) return true;
+    }
+    return false;
   }
-  bool Adjacent(int a, int b) const { return edges_.count(EdgeKey(a, b)) > 0; }
 
   // Notes that one face of x died; compacts x's list once half of it is
   // dead (amortized O(1) per face).
@@ -149,7 +160,7 @@ class Collapser {
 
   int Corner(int f, int x) const {
     for (int i = 0; i < 3; ++i) {
-      if (faces_(f, i) == x) return i;
+      if (faces_[f][i] == x) return i;
     }
     return -1;
   }
@@ -158,8 +169,8 @@ class Collapser {
   Eigen::Vector3d Normal(int f, int from, int to) const {
     Eigen::Vector3d p[3];
     for (int i = 0; i < 3; ++i) {
-      const int x = faces_(f, i) == from ? to : faces_(f, i);
-      p[i] = positions_.row(x).transpose();
+      const int x = faces_[f][i] == from ? to : faces_[f][i];
+      p[i] = positions_[x];
     }
     return (p[1] - p[0]).cross(p[2] - p[0]);
   }
@@ -169,8 +180,8 @@ class Collapser {
   double Quality(int f, int from, int to) const {
     Eigen::Vector3d p[3];
     for (int i = 0; i < 3; ++i) {
-      const int x = faces_(f, i) == from ? to : faces_(f, i);
-      p[i] = positions_.row(x).transpose();
+      const int x = faces_[f][i] == from ? to : faces_[f][i];
+      p[i] = positions_[x];
     }
     const double squares = (p[1] - p[0]).squaredNorm() +
                            (p[2] - p[1]).squaredNorm() +
@@ -181,42 +192,45 @@ class Collapser {
   }
 
   // v's neighbors counter-clockwise, starting at `first`.
-  std::vector<int> OrderedLink(int v, int first) const {
-    std::vector<std::pair<int, int>> next;  // (a, b) for face (v, a, b)
+  void OrderedLink(int v, int first, std::vector<int>* out) {
+    std::vector<std::pair<int, int>>& next = link_pairs_;  // face (v, a, b)
+    next.clear();
     for (int f : vertex_faces_[v]) {
       if (!face_alive_[f]) continue;
       const int c = Corner(f, v);
-      next.emplace_back(faces_(f, (c + 1) % 3), faces_(f, (c + 2) % 3));
+      next.emplace_back(faces_[f][(c + 1) % 3], faces_[f][(c + 2) % 3]);
     }
     std::sort(next.begin(), next.end());
-    std::vector<int> link = {first};
+    std::vector<int>& link = *out;
+    link.assign(1, first);
     while (link.size() < next.size()) {
       auto it = std::lower_bound(next.begin(), next.end(),
                                  std::make_pair(link.back(), -1));
       link.push_back(it->second);
     }
-    return link;
   }
 
-  Eigen::MatrixX3d positions_;
-  Eigen::MatrixX3i faces_;
-  std::vector<bool> face_alive_;
+  // Contiguous per vertex / face (rows of column-major Eigen matrices
+  // would cost three cache misses each).
+  std::vector<Eigen::Vector3d> positions_;
+  std::vector<std::array<int, 3>> faces_;
+  std::vector<char> face_alive_;
   std::vector<bool> vertex_alive_;
   // Faces around each vertex; may hold dead faces (dead_incidences_ counts
   // them).
   std::vector<std::vector<int>> vertex_faces_;
   std::vector<int> dead_incidences_;
-  std::unordered_set<uint64_t> edges_;  // EdgeKey of every alive edge
-  std::vector<int> stamp_;
+  std::vector<int> neighbors_;                   // buffer of TryCollapse
+  std::vector<std::pair<int, int>> link_pairs_;  // buffer of OrderedLink
   int alive_vertices_;
   double cos_max_turn_;
   double min_quality_;
   int max_removed_valence_;
 };
 
-// A candidate edge: its length, its end points (a < b) and their stamps
-// when it was queued (stale entries are skipped).
-using QueueEntry = std::tuple<double, int, int, int, int>;
+// A candidate edge: its length and its end points (a < b), ordered by
+// length, ties by the end points.
+using QueueEntry = std::tuple<double, int, int>;
 
 }  // namespace
 
@@ -226,51 +240,82 @@ StatusOr<MeshHierarchy> BuildMeshHierarchy(
     return InvalidArgumentError("base_vertices must be at least 4");
   }
   Collapser collapser(mesh, options);
-  std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>>
-      queue;
-  // Queues the edges of `a`, except those to vertices in `skip` with a
-  // smaller index (they are queued from the other end).
-  auto push_edges = [&](int a, const std::vector<int>& skip) {
-    for (int b : collapser.Neighbors(a)) {
-      if (b < a && std::find(skip.begin(), skip.end(), b) != skip.end())
-        continue;
-      const int lo = std::min(a, b), hi = std::max(a, b);
-      queue.emplace(collapser.Length(lo, hi), lo, hi, collapser.stamp(lo),
-                    collapser.stamp(hi));
-    }
-  };
+  // Shortest allowed collapse first. Edge lengths never change (a collapse
+  // keeps u where it is), only whether an edge may collapse, and only when
+  // a collapse changes the neighborhood of one of its ends. So the queue
+  // holds every edge not yet tried, by key (length, then end points); an
+  // edge that was tried (popped) and failed is queued again when a collapse
+  // changes one of its ends, and a collapse queues the edges it creates.
+  // `tried` is the largest key popped so far: edges with larger keys were
+  // never popped and are still queued. The collapses are those of the
+  // earlier form of this loop, which re-queued every edge of every changed
+  // vertex (and skipped the outdated entries), with a fraction of its
+  // queue traffic; the one difference: an edge the collapse creates between
+  // two vertices of valence above max_removed_valence is queued here (the
+  // earlier form queued it only once one of them changed).
+  std::vector<QueueEntry> initial;
+  initial.reserve(3 * static_cast<size_t>(mesh.num_vertices()));
+  std::vector<int> neighbors;
   for (int a = 0; a < mesh.num_vertices(); ++a) {
-    for (int b : collapser.Neighbors(a)) {
-      if (a < b) queue.emplace(collapser.Length(a, b), a, b, 0, 0);
+    collapser.Neighbors(a, &neighbors);
+    for (int b : neighbors) {
+      if (a < b) initial.emplace_back(collapser.Length(a, b), a, b);
     }
   }
-
+  std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>>
+      queue(std::greater<>(), std::move(initial));
+  QueueEntry tried(-1.0, -1, -1);
+  auto entry = [&](int a, int b) {
+    const int lo = std::min(a, b), hi = std::max(a, b);
+    return QueueEntry(collapser.Length(lo, hi), lo, hi);
+  };
+  // Whether `record` created edge (a, b): kept to a vertex of the removed
+  // one's link other than the two it shared a face with.
+  auto created = [](const HalfEdgeCollapse& record, int a, int b) {
+    const int x = a == record.kept ? b : b == record.kept ? a : -1;
+    return x >= 0 && x != record.link[1] && x != record.link.back() &&
+           std::find(record.link.begin(), record.link.end(), x) !=
+               record.link.end();
+  };
   std::vector<HalfEdgeCollapse> collapses;
+  collapses.reserve(std::max(0, mesh.num_vertices() - options.base_vertices));
   HalfEdgeCollapse record;
+  std::vector<int> changed;
   while (!queue.empty() && collapser.alive_vertices() > options.base_vertices) {
-    const auto [length, a, b, stamp_a, stamp_b] = queue.top();
+    const QueueEntry top = queue.top();
     queue.pop();
-    if (!collapser.vertex_alive(a) || !collapser.vertex_alive(b) ||
-        stamp_a != collapser.stamp(a) || stamp_b != collapser.stamp(b)) {
-      continue;
-    }
+    const auto [length, a, b] = top;
+    if (!collapser.vertex_alive(a) || !collapser.vertex_alive(b)) continue;
+    tried = std::max(tried, top);
     if (!collapser.TryCollapse(a, b, &record) &&
         !collapser.TryCollapse(b, a, &record)) {
       continue;
     }
-    // Every vertex whose neighborhood changed gets a new stamp and its edges
-    // are queued again; except vertices of high valence, which are never
-    // removed: their edges to unchanged vertices can only have become less
-    // collapsible (more common neighbors), so their queue entries stay, and
-    // their edges to changed vertices are queued from the other end. This
-    // keeps the work per collapse bounded by max_removed_valence.
-    std::vector<int> changed;
+    // Every vertex whose neighborhood changed gets its tried edges queued
+    // again; except vertices of high valence, which are never removed: their
+    // edges to unchanged vertices can only have become less collapsible
+    // (more common neighbors), so they are not tried again, and their edges
+    // to changed vertices are queued from the other end. This keeps the
+    // work per collapse bounded by max_removed_valence.
+    for (size_t i = 2; i + 1 < record.link.size(); ++i) {
+      queue.push(entry(record.kept, record.link[i]));
+    }
+    changed.clear();
     for (int w : record.link) {
       if (collapser.Valence(w) <= options.max_removed_valence)
         changed.push_back(w);
     }
-    for (int w : changed) collapser.Touch(w);
-    for (int w : changed) push_edges(w, changed);
+    for (int w : changed) {
+      collapser.Neighbors(w, &neighbors);
+      for (int x : neighbors) {
+        if (x < w &&
+            std::find(changed.begin(), changed.end(), x) != changed.end()) {
+          continue;  // queued from x
+        }
+        const QueueEntry e = entry(w, x);
+        if (!(tried < e) && !created(record, w, x)) queue.push(e);
+      }
+    }
     collapses.push_back(record);
   }
   return collapser.Release(std::move(collapses));

@@ -53,13 +53,6 @@ MeshTriangleShape RotateShape(const MeshTriangleShape& shape, int first) {
   return rotated;
 }
 
-double SmallTriangleDet3(const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
-                         const Eigen::Vector3d& s2) {
-  // det[s0 s1 s2] = det[s0, s1 - s0, s2 - s0]; the differences of nearby
-  // points are (almost) exact, s1 x s2 would cancel.
-  return s0.dot((s1 - s0).cross(s2 - s0));
-}
-
 double SphericalTriangleArea(const Eigen::Vector3d& s0,
                              const Eigen::Vector3d& s1,
                              const Eigen::Vector3d& s2) {
@@ -79,37 +72,6 @@ double AngleDistortion(const MeshTriangleShape& shape,
 double AreaDistortion(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
                       const Eigen::Vector3d& s1, const Eigen::Vector3d& s2) {
   return AreaDistortionFormula(shape.area, SphericalTriangleArea(s0, s1, s2));
-}
-
-double TriangleEnergy(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
-                      const Eigen::Vector3d& s1, const Eigen::Vector3d& s2,
-                      double lambda, Eigen::Vector3d* grad_s0) {
-  const double det = SmallTriangleDet3(s0, s1, s2);
-  const double denominator = 1.0 + s0.dot(s1) + s1.dot(s2) + s2.dot(s0);
-  const double a = 2.0 * std::atan2(det, denominator);  // SphericalTriangleArea
-  const double am = shape.area;
-  const double n = CotWeightedEdges(shape, s0, s1, s2);
-  const double e_angle = AngleDistortionFormula(n, a);
-  const double e_area = AreaDistortionFormula(am, a);
-  if (!std::isfinite(e_angle) || !std::isfinite(e_area)) {
-    if (grad_s0 != nullptr) grad_s0->setZero();
-    return kInf;
-  }
-  const double area_pow = lambda == 1.0 ? e_area : std::pow(e_area, lambda);
-  const double energy = am * e_angle * area_pow;  // eq. (12), one term
-  if (grad_s0 != nullptr) {
-    // d area / d s0 = 2 (D grad(det) - det grad(D)) / (det^2 + D^2).
-    const Eigen::Vector3d d_a = 2.0 *
-                                (denominator * s1.cross(s2) - det * (s1 + s2)) /
-                                (det * det + denominator * denominator);
-    const Eigen::Vector3d d_n =
-        2.0 * shape.cot[1] * (s0 - s2) + 2.0 * shape.cot[2] * (s0 - s1);
-    const Eigen::Vector3d d_angle = d_n / (2.0 * a) - n / (2.0 * a * a) * d_a;
-    const Eigen::Vector3d d_area = (1.0 / am - am / (a * a)) * d_a;
-    *grad_s0 = am * (area_pow * d_angle +
-                     e_angle * lambda * (area_pow / e_area) * d_area);
-  }
-  return energy;
 }
 
 StatusOr<double> AreaScaleToUnitSphere(const TriangleMesh& mesh) {

@@ -21,11 +21,14 @@
 #define SDCB_CORE_PARAM_PARAMETERIZATION_DISTORTION_H_
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
 #include <limits>
 #include <vector>
 
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/core/sphere/sphere_geometry.h"
 
 namespace sdcb {
 
@@ -52,9 +55,67 @@ MeshTriangleShape RotateShape(const MeshTriangleShape& shape, int first);
 // det[s0 s1 s2] as s0 . ((s1 - s0) x (s2 - s0)): the same value, but with a
 // rounding error relative to the triangle's size instead of about 1e-16
 // absolute, so it keeps its sign and digits for triangles with edges of
-// 1e-9 (Det3 does not). A value, not a decision: decisions use Det3Sign.
-double SmallTriangleDet3(const Eigen::Vector3d& s0, const Eigen::Vector3d& s1,
-                         const Eigen::Vector3d& s2);
+// 1e-9 (Det3 does not). A value, not a decision: decisions use Det3Sign or
+// SmallTriangleDet3Sign. (Inline: the optimizer's inner loop calls it.)
+inline double SmallTriangleDet3(const Eigen::Vector3d& s0,
+                                const Eigen::Vector3d& s1,
+                                const Eigen::Vector3d& s2) {
+  // det[s0 s1 s2] = det[s0, s1 - s0, s2 - s0]; the differences of nearby
+  // points are (almost) exact, s1 x s2 would cancel.
+  return s0.dot((s1 - s0).cross(s2 - s0));
+}
+
+// The exact sign of det[s0 s1 s2] (as Det3Sign), and SmallTriangleDet3 in
+// *det. A filter: the floating-point value decides when it exceeds a bound
+// of its rounding error, else the exact predicate runs. The bound: with
+// d = s1 - s0 and e = s2 - s0 rounded (relative error eps = 2^-53 per
+// coordinate) and the products and sums of s0 . (d x e) rounded (at most 5
+// roundings per term), the computed value is within (7 eps + O(eps^2)) P
+// of the exact det, P = sum_i |s0_i| (|d_j e_k| + |d_k e_j|); the filter
+// uses 1e-15 P (> 9 eps P). Nearly all calls of the optimizer decide in
+// the filter (a triangle with edges of 1e-3 has det ~ 1e-6, the bound is
+// ~ 1e-21), so the cost is that of the floating-point determinant.
+inline int SmallTriangleDet3Sign(const Eigen::Vector3d& s0,
+                                 const Eigen::Vector3d& s1,
+                                 const Eigen::Vector3d& s2, double* det) {
+  const Eigen::Vector3d d = s1 - s0, e = s2 - s0;
+  const double c0 = d.y() * e.z() - d.z() * e.y();
+  const double c1 = d.z() * e.x() - d.x() * e.z();
+  const double c2 = d.x() * e.y() - d.y() * e.x();
+  *det = s0.x() * c0 + s0.y() * c1 + s0.z() * c2;
+  const double permanent =
+      std::abs(s0.x()) * (std::abs(d.y() * e.z()) + std::abs(d.z() * e.y())) +
+      std::abs(s0.y()) * (std::abs(d.z() * e.x()) + std::abs(d.x() * e.z())) +
+      std::abs(s0.z()) * (std::abs(d.x() * e.y()) + std::abs(d.y() * e.x()));
+  const double bound = 1e-15 * permanent;
+  if (*det > bound) return 1;
+  if (*det < -bound) return -1;
+  return Det3Sign(s0, s1, s2);
+}
+
+// 2 atan2(det, denominator), the spherical triangle's area from the two
+// parts of Van Oosterom and Strackee's formula (see SphericalTriangleArea).
+// For |det| <= denominator / 8 (every triangle below ~0.25 steradians) by
+// the odd series of atan(x), x = det / denominator, up to x^17 (the first
+// omitted term is below 3e-18 of the sum): several times cheaper than
+// atan2, and as accurate.
+inline double SphericalAreaFromParts(double det, double denominator) {
+  if (denominator > 0.0 && 8.0 * std::abs(det) <= denominator) {
+    const double x = det / denominator;
+    const double y = x * x;
+    const double series =
+        1.0 -
+        y * (1.0 / 3 -
+             y * (1.0 / 5 -
+                  y * (1.0 / 7 -
+                       y * (1.0 / 9 -
+                            y * (1.0 / 11 -
+                                 y * (1.0 / 13 -
+                                      y * (1.0 / 15 - y * (1.0 / 17))))))));
+    return 2.0 * x * series;
+  }
+  return 2.0 * std::atan2(det, denominator);
+}
 
 // Signed area of the spherical triangle (s0, s1, s2) (unit vectors): its
 // solid angle, in (-2*pi, 2*pi), positive when det[s0 s1 s2] > 0.
@@ -90,12 +151,61 @@ double AreaDistortion(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
                       const Eigen::Vector3d& s1, const Eigen::Vector3d& s2);
 
 // One term of eq. (12): area(T_M) * E_angle * E_area^lambda (infinite for
-// a triangle that is not positively oriented). When `grad_s0`
-// is not null it receives the gradient in R^3 with respect to s0 (the
-// caller projects it onto the sphere's tangent plane).
-double TriangleEnergy(const MeshTriangleShape& shape, const Eigen::Vector3d& s0,
-                      const Eigen::Vector3d& s1, const Eigen::Vector3d& s2,
-                      double lambda, Eigen::Vector3d* grad_s0 = nullptr);
+// a triangle that is not positively oriented), for `det` =
+// SmallTriangleDet3(s0, s1, s2) computed by the caller. When `grad_s0` is
+// not null it receives the gradient in R^3 with respect to s0 (the caller
+// projects it onto the sphere's tangent plane). Inline: the optimizer's
+// inner loop calls it.
+inline double TriangleEnergyWithDet(const MeshTriangleShape& shape,
+                                    const Eigen::Vector3d& s0,
+                                    const Eigen::Vector3d& s1,
+                                    const Eigen::Vector3d& s2, double det,
+                                    double lambda,
+                                    Eigen::Vector3d* grad_s0 = nullptr) {
+  const double denominator = 1.0 + s0.dot(s1) + s1.dot(s2) + s2.dot(s0);
+  const double a = SphericalAreaFromParts(det, denominator);
+  const double am = shape.area;
+  const Eigen::Vector3d d01 = s1 - s0, d02 = s2 - s0;
+  // sum_i cot_i |e_i|^2, the numerator of eq. (10).
+  const double n = shape.cot[0] * (s2 - s1).squaredNorm() +
+                   shape.cot[1] * d02.squaredNorm() +
+                   shape.cot[2] * d01.squaredNorm();
+  if (!(a > 0.0) || !(am > 0.0) || !std::isfinite(n)) {
+    if (grad_s0 != nullptr) grad_s0->setZero();
+    return std::numeric_limits<double>::infinity();
+  }
+  // am E_angle E_area^lambda with E_angle = n / (2a) and E_area = r + 1/r,
+  // r = a / am; for lambda = 1 it is n / 2 (1 + (am / a)^2).
+  const double inv_a = 1.0 / a;
+  const double e_angle = 0.5 * n * inv_a;
+  const double e_area = a / am + am * inv_a;
+  const double area_pow = lambda == 1.0 ? e_area : std::pow(e_area, lambda);
+  const double energy = am * e_angle * area_pow;
+  if (grad_s0 != nullptr) {
+    // d area / d s0 = 2 (D grad(det) - det grad(D)) / (det^2 + D^2).
+    const Eigen::Vector3d d_a =
+        (2.0 / (det * det + denominator * denominator)) *
+        (denominator * s1.cross(s2) - det * (s1 + s2));
+    const Eigen::Vector3d d_n =
+        -2.0 * (shape.cot[1] * d02 + shape.cot[2] * d01);
+    const Eigen::Vector3d d_angle = 0.5 * inv_a * (d_n - n * inv_a * d_a);
+    const Eigen::Vector3d d_area = (1.0 / am - am * inv_a * inv_a) * d_a;
+    *grad_s0 = am * (area_pow * d_angle +
+                     e_angle * lambda * (area_pow / e_area) * d_area);
+  }
+  return energy;
+}
+
+// One term of eq. (12), TriangleEnergyWithDet with the determinant computed
+// here.
+inline double TriangleEnergy(const MeshTriangleShape& shape,
+                             const Eigen::Vector3d& s0,
+                             const Eigen::Vector3d& s1,
+                             const Eigen::Vector3d& s2, double lambda,
+                             Eigen::Vector3d* grad_s0 = nullptr) {
+  return TriangleEnergyWithDet(shape, s0, s1, s2, SmallTriangleDet3(s0, s1, s2),
+                               lambda, grad_s0);
+}
 
 // Area factor that scales `mesh` to total area 4*pi (multiply areas by it).
 // kInvalidInput for a mesh of zero or non-finite total area.

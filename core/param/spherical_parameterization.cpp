@@ -23,6 +23,23 @@ Eigen::Vector3d Row(const Eigen::MatrixX3d& m, int i) {
   return m.row(i).transpose();
 }
 
+// Points on S^2, one per vertex, stored contiguously (a row of a
+// column-major Eigen matrix is spread over three arrays: three cache misses
+// per neighbor instead of one in the optimizer's inner loop).
+using Points = std::vector<Eigen::Vector3d>;
+
+Points ToPoints(const Eigen::MatrixX3d& m) {
+  Points p(m.rows());
+  for (Eigen::Index i = 0; i < m.rows(); ++i) p[i] = Row(m, i);
+  return p;
+}
+
+Eigen::MatrixX3d ToMatrix(const Points& p) {
+  Eigen::MatrixX3d m(p.size(), 3);
+  for (size_t i = 0; i < p.size(); ++i) m.row(i) = p[i].transpose();
+  return m;
+}
+
 // One triangle as seen from one of its corners v: the other two corners in
 // counter-clockwise order and the mesh shape rotated so that v is corner 0.
 struct Incidence {
@@ -33,11 +50,13 @@ struct Incidence {
 
 // One greedy step of a vertex at *p along the great circle of steepest
 // descent of `energy`, with backtracking from *step (radians); only
-// positions where `valid` holds and the energy drops (Armijo) are taken.
+// positions where the energy drops (Armijo) are taken. `trial(q, limit)` is
+// the energy at q if q is a valid position and that energy is at most
+// `limit`, else anything above `limit` (it may stop summing early).
 // Adapts *step and returns the energy decrease (0 if no move).
-template <typename EnergyFn, typename ValidFn>
+template <typename EnergyFn, typename TrialFn>
 double GreatCircleStep(Eigen::Vector3d* p, double* step, const EnergyFn& energy,
-                       const ValidFn& valid) {
+                       const TrialFn& trial) {
   constexpr int kMaxHalvings = 12;
   constexpr double kArmijo = 1e-4;
   constexpr double kMaxStep = 0.5;
@@ -52,9 +71,9 @@ double GreatCircleStep(Eigen::Vector3d* p, double* step, const EnergyFn& energy,
   for (int k = 0; k < kMaxHalvings; ++k, t *= 0.5) {
     const Eigen::Vector3d q =
         (std::cos(t) * *p + std::sin(t) * direction).normalized();
-    if (!valid(q)) continue;
-    const double e1 = energy(q, nullptr);
-    if (e1 <= e0 - kArmijo * t * slope) {
+    const double limit = e0 - kArmijo * t * slope;
+    const double e1 = trial(q, limit);
+    if (e1 <= limit) {
       *p = q;
       *step = std::min(2.0 * t, kMaxStep);
       return e0 - e1;
@@ -81,18 +100,24 @@ class LevelOptimizer {
   double lambda() const { return lambda_; }
 
   // Rebuilds the one-rings, shapes, colors and step sizes for `level`.
-  void Prepare(const LevelState& level, const Eigen::MatrixX3d& sphere) {
+  void Prepare(const LevelState& level, const Points& sphere) {
     const int nv = static_cast<int>(mesh_positions_.rows());
-    double total_area = 0.0;
     std::vector<int> alive_faces;
     for (int f = 0; f < level.faces.rows(); ++f) {
-      if (!level.face_alive[f]) continue;
-      alive_faces.push_back(f);
-      total_area +=
-          ComputeMeshTriangleShape(Corner(level, f, 0), Corner(level, f, 1),
-                                   Corner(level, f, 2), 1.0)
-              .area;
+      if (level.face_alive[f]) alive_faces.push_back(f);
     }
+    std::vector<MeshTriangleShape> shapes(alive_faces.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, alive_faces.size(), 1024),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t i = r.begin(); i != r.end(); ++i) {
+                          const int f = alive_faces[i];
+                          shapes[i] = ComputeMeshTriangleShape(
+                              Corner(level, f, 0), Corner(level, f, 1),
+                              Corner(level, f, 2), 1.0);
+                        }
+                      });
+    double total_area = 0.0;
+    for (const MeshTriangleShape& shape : shapes) total_area += shape.area;
     const double scale = 4.0 * M_PI / total_area;
     // Incidences in CSR order: vertex v owns [offset_[v], offset_[v + 1]).
     offset_.assign(nv + 1, 0);
@@ -102,9 +127,10 @@ class LevelOptimizer {
     for (int v = 0; v < nv; ++v) offset_[v + 1] += offset_[v];
     incidences_.assign(offset_[nv], Incidence());
     std::vector<int> fill(offset_.begin(), offset_.end() - 1);
-    for (int f : alive_faces) {
-      const MeshTriangleShape shape = ComputeMeshTriangleShape(
-          Corner(level, f, 0), Corner(level, f, 1), Corner(level, f, 2), scale);
+    for (size_t j = 0; j < alive_faces.size(); ++j) {
+      const int f = alive_faces[j];
+      MeshTriangleShape shape = shapes[j];
+      shape.area *= scale;
       for (int i = 0; i < 3; ++i) {
         Incidence& inc = incidences_[fill[level.faces(f, i)]++];
         inc.a = level.faces(f, (i + 1) % 3);
@@ -115,13 +141,14 @@ class LevelOptimizer {
     // Greedy coloring in vertex order: same colors on every run.
     std::vector<int> color(nv, -1);
     color_classes_.clear();
+    std::vector<char> used;
     for (int v = 0; v < nv; ++v) {
       if (!level.vertex_alive[v]) continue;
-      std::vector<bool> used(offset_[v + 1] - offset_[v] + 1, false);
+      used.assign(offset_[v + 1] - offset_[v] + 1, 0);
       for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
         for (int w : {incidences_[k].a, incidences_[k].b}) {
           if (color[w] >= 0 && color[w] < static_cast<int>(used.size())) {
-            used[color[w]] = true;
+            used[color[w]] = 1;
           }
         }
       }
@@ -134,26 +161,29 @@ class LevelOptimizer {
     }
     // Initial step: a quarter of the mean one-ring edge length on S^2.
     step_.assign(nv, 0.0);
-    for (int v = 0; v < nv; ++v) {
-      double sum = 0.0;
-      for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
-        sum += (Row(sphere, incidences_[k].a) - Row(sphere, v)).norm();
-      }
-      const int n = offset_[v + 1] - offset_[v];
-      if (n > 0) step_[v] = 0.25 * sum / n;
-    }
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 1024),
+                      [&](const tbb::blocked_range<int>& r) {
+                        for (int v = r.begin(); v != r.end(); ++v) {
+                          double sum = 0.0;
+                          for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
+                            sum +=
+                                (sphere[incidences_[k].a] - sphere[v]).norm();
+                          }
+                          const int n = offset_[v + 1] - offset_[v];
+                          if (n > 0) step_[v] = 0.25 * sum / n;
+                        }
+                      });
     decrease_.assign(nv, 0.0);
   }
 
   // Eq. (12) over the level's faces (each face once, summed in order).
-  double Energy(const Eigen::MatrixX3d& sphere) const {
+  double Energy(const Points& sphere) const {
     const int nv = static_cast<int>(offset_.size()) - 1;
     std::vector<double> local(nv, 0.0);
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256),
                       [&](const tbb::blocked_range<int>& r) {
                         for (int v = r.begin(); v != r.end(); ++v) {
-                          local[v] =
-                              LocalEnergy(v, Row(sphere, v), sphere, nullptr);
+                          local[v] = LocalEnergy(v, sphere[v], sphere, nullptr);
                         }
                       });
     double e = 0.0;
@@ -163,12 +193,20 @@ class LevelOptimizer {
 
   // Sweeps until the relative decrease of E per sweep is below `tolerance`
   // or `max_sweeps` were run. Returns the final energy.
-  double Optimize(Eigen::MatrixX3d* sphere, int max_sweeps, double tolerance) {
+  double Optimize(Points* sphere, int max_sweeps, double tolerance,
+                  double active_fraction) {
     double energy = Energy(*sphere);
-    // Active set: a vertex is visited again only if it or a neighbor moved
-    // in the previous sweep (else its one-ring energy is unchanged and the
-    // line search already failed there).
+    // Active set: a vertex is visited again only if it or a neighbor
+    // lowered E by more than `active_fraction` times its share of the
+    // stopping threshold (tolerance * E / vertices) in the previous sweep.
+    // Else its one-ring energy is unchanged (active_fraction = 0, the
+    // default: the line search already failed there), or changed so little
+    // that all such vertices together could lower E by at most
+    // active_fraction times the threshold per sweep (on the bunny, 99 % of
+    // a fine level's decrease comes from 3-20 % of its vertices).
     std::vector<char> active(decrease_.size(), 1);
+    size_t vertices = 0;
+    for (const std::vector<int>& cls : color_classes_) vertices += cls.size();
     for (int sweep = 0; sweep < max_sweeps; ++sweep) {
       std::fill(decrease_.begin(), decrease_.end(), 0.0);
       for (const std::vector<int>& cls : color_classes_) {
@@ -182,14 +220,16 @@ class LevelOptimizer {
       double decrease = 0.0;
       for (double d : decrease_) decrease += d;  // fixed order
       energy -= decrease;
-      if (decrease < tolerance * energy) break;
+      if (decrease < tolerance * energy || sweep + 1 == max_sweeps) break;
+      const double threshold =
+          active_fraction * tolerance * energy / static_cast<double>(vertices);
       tbb::parallel_for(tbb::blocked_range<size_t>(0, active.size(), 1024),
                         [&](const tbb::blocked_range<size_t>& r) {
                           for (size_t v = r.begin(); v != r.end(); ++v) {
-                            bool moved = decrease_[v] > 0.0;
+                            bool moved = decrease_[v] > threshold;
                             for (int k = offset_[v];
                                  k < offset_[v + 1] && !moved; ++k) {
-                              moved = decrease_[incidences_[k].a] > 0.0;
+                              moved = decrease_[incidences_[k].a] > threshold;
                             }
                             active[v] = moved;
                           }
@@ -211,7 +251,7 @@ class LevelOptimizer {
                         double tolerance, int memory = 8) {
     const int nv = static_cast<int>(decrease_.size());
     Eigen::MatrixX3d gradient(nv, 3);
-    double energy = EnergyAndGradient(*sphere, &gradient);
+    double energy = EnergyAndGradient(ToPoints(*sphere), &gradient);
     std::vector<Eigen::MatrixX3d> s_hist, y_hist;
     std::vector<double> rho_hist;
     double first_step = 0.0;  // radians of the largest move, first iteration
@@ -259,14 +299,15 @@ class LevelOptimizer {
         for (int v = 0; v < nv; ++v) {
           trial.row(v) = (sphere->row(v) + t * direction.row(v)).normalized();
         }
-        if (!AllValid(trial)) continue;
-        trial_energy = Energy(trial);
+        const Points trial_points = ToPoints(trial);
+        if (!AllValid(trial_points)) continue;
+        trial_energy = Energy(trial_points);
         accepted = trial_energy <= energy + kArmijo * t * slope;
         if (accepted) break;
       }
       if (!accepted) break;
       Eigen::MatrixX3d new_gradient(nv, 3);
-      trial_energy = EnergyAndGradient(trial, &new_gradient);
+      trial_energy = EnergyAndGradient(ToPoints(trial), &new_gradient);
       const double decrease = energy - trial_energy;
       Eigen::MatrixX3d s = trial - *sphere;
       Eigen::MatrixX3d y = new_gradient - gradient;
@@ -307,15 +348,15 @@ class LevelOptimizer {
 
   // E (eq. 12) and its gradient, projected onto each vertex's tangent plane
   // (zero rows for vertices not on the level).
-  double EnergyAndGradient(const Eigen::MatrixX3d& sphere,
+  double EnergyAndGradient(const Points& sphere,
                            Eigen::MatrixX3d* gradient) const {
-    const int nv = static_cast<int>(sphere.rows());
+    const int nv = static_cast<int>(sphere.size());
     std::vector<double> local(nv, 0.0);
     tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256),
                       [&](const tbb::blocked_range<int>& r) {
                         for (int v = r.begin(); v != r.end(); ++v) {
                           Eigen::Vector3d g = Eigen::Vector3d::Zero();
-                          const Eigen::Vector3d p = Row(sphere, v);
+                          const Eigen::Vector3d& p = sphere[v];
                           local[v] = LocalEnergy(v, p, sphere, &g);
                           gradient->row(v) = (g - g.dot(p) * p).transpose();
                         }
@@ -326,13 +367,13 @@ class LevelOptimizer {
   }
 
   // True if every triangle of the level is positively oriented (exact).
-  bool AllValid(const Eigen::MatrixX3d& sphere) const {
-    const int nv = static_cast<int>(sphere.rows());
+  bool AllValid(const Points& sphere) const {
+    const int nv = static_cast<int>(sphere.size());
     return tbb::parallel_reduce(
         tbb::blocked_range<int>(0, nv, 256), true,
         [&](const tbb::blocked_range<int>& r, bool ok) {
           for (int v = r.begin(); v != r.end() && ok; ++v) {
-            ok = OneRingValid(v, Row(sphere, v), sphere);
+            ok = OneRingValid(v, sphere[v], sphere);
           }
           return ok;
         },
@@ -344,27 +385,48 @@ class LevelOptimizer {
   }
 
   // Energy of v's one-ring with v at p (p on S^2), and its gradient in R^3.
-  double LocalEnergy(int v, const Eigen::Vector3d& p,
-                     const Eigen::MatrixX3d& sphere,
+  double LocalEnergy(int v, const Eigen::Vector3d& p, const Points& sphere,
                      Eigen::Vector3d* gradient) const {
     double e = 0.0;
     if (gradient != nullptr) gradient->setZero();
     Eigen::Vector3d g;
     for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
       const Incidence& inc = incidences_[k];
-      e += TriangleEnergy(inc.shape, p, Row(sphere, inc.a), Row(sphere, inc.b),
-                          lambda_, gradient != nullptr ? &g : nullptr);
+      e += TriangleEnergy(inc.shape, p, sphere[inc.a], sphere[inc.b], lambda_,
+                          gradient != nullptr ? &g : nullptr);
       if (gradient != nullptr) *gradient += g;
+    }
+    return e;
+  }
+
+  // LocalEnergy without gradient if every triangle of v's one-ring is
+  // positively oriented with v at p (exact sign) and the energy is at most
+  // `limit`; else infinity (summing stops once the terms, all positive,
+  // exceed `limit`).
+  double TrialEnergy(int v, const Eigen::Vector3d& p, const Points& sphere,
+                     double limit) const {
+    double e = 0.0;
+    for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
+      const Incidence& inc = incidences_[k];
+      const Eigen::Vector3d& a = sphere[inc.a];
+      const Eigen::Vector3d& b = sphere[inc.b];
+      double det;
+      if (SmallTriangleDet3Sign(p, a, b, &det) <= 0) {
+        return std::numeric_limits<double>::infinity();
+      }
+      e += TriangleEnergyWithDet(inc.shape, p, a, b, det, lambda_);
+      if (!(e <= limit)) return std::numeric_limits<double>::infinity();
     }
     return e;
   }
 
   // True if every triangle of v's one-ring is positively oriented with v at p.
   bool OneRingValid(int v, const Eigen::Vector3d& p,
-                    const Eigen::MatrixX3d& sphere) const {
+                    const Points& sphere) const {
     for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
-      if (Det3Sign(p, Row(sphere, incidences_[k].a),
-                   Row(sphere, incidences_[k].b)) <= 0) {
+      double det;
+      if (SmallTriangleDet3Sign(p, sphere[incidences_[k].a],
+                                sphere[incidences_[k].b], &det) <= 0) {
         return false;
       }
     }
@@ -372,15 +434,17 @@ class LevelOptimizer {
   }
 
   // One greedy step of v (Sec. 4.3's line search on great circles).
-  void MoveVertex(int v, Eigen::MatrixX3d* sphere) {
-    Eigen::Vector3d p = Row(*sphere, v);
+  void MoveVertex(int v, Points* sphere) {
+    Eigen::Vector3d p = (*sphere)[v];
     decrease_[v] = GreatCircleStep(
         &p, &step_[v],
         [&](const Eigen::Vector3d& q, Eigen::Vector3d* g) {
           return LocalEnergy(v, q, *sphere, g);
         },
-        [&](const Eigen::Vector3d& q) { return OneRingValid(v, q, *sphere); });
-    sphere->row(v) = p.transpose();
+        [&](const Eigen::Vector3d& q, double limit) {
+          return TrialEnergy(v, q, *sphere, limit);
+        });
+    (*sphere)[v] = p;
   }
 
   const Eigen::MatrixX3d& mesh_positions_;
@@ -395,7 +459,7 @@ class LevelOptimizer {
 // Step 2 of the method: Tutte embedding of the base mesh minus its vertex of
 // highest degree, centrally projected onto the northern hemisphere, plus
 // that vertex at the south pole.
-Status EmbedBaseMesh(const LevelState& level, Eigen::MatrixX3d* sphere) {
+Status EmbedBaseMesh(const LevelState& level, Points* sphere) {
   const int nv = static_cast<int>(level.vertex_alive.size());
   std::vector<std::vector<std::pair<int, int>>> ring(nv);  // (a, b) per face
   for (int f = 0; f < level.faces.rows(); ++f) {
@@ -460,19 +524,17 @@ Status EmbedBaseMesh(const LevelState& level, Eigen::MatrixX3d* sphere) {
       if (index[v] >= 0) plane[v] = x.row(index[v]).transpose();
     }
   }
-  sphere->setZero(nv, 3);
+  sphere->assign(nv, Eigen::Vector3d::Zero());
   for (int v = 0; v < nv; ++v) {
     if (!level.vertex_alive[v]) continue;
-    sphere->row(v) = Eigen::Vector3d(plane[v].x(), plane[v].y(), 1.0)
-                         .normalized()
-                         .transpose();
+    (*sphere)[v] =
+        Eigen::Vector3d(plane[v].x(), plane[v].y(), 1.0).normalized();
   }
-  sphere->row(pole) = Eigen::RowVector3d(0.0, 0.0, -1.0);
+  (*sphere)[pole] = Eigen::Vector3d(0.0, 0.0, -1.0);
   for (int f = 0; f < level.faces.rows(); ++f) {
     if (!level.face_alive[f]) continue;
-    if (Det3Sign(Row(*sphere, level.faces(f, 0)),
-                 Row(*sphere, level.faces(f, 1)),
-                 Row(*sphere, level.faces(f, 2))) <= 0) {
+    if (Det3Sign((*sphere)[level.faces(f, 0)], (*sphere)[level.faces(f, 1)],
+                 (*sphere)[level.faces(f, 2)]) <= 0) {
       return InternalError(
           "the base mesh's Tutte embedding has a folded triangle");
     }
@@ -485,8 +547,7 @@ Status EmbedBaseMesh(const LevelState& level, Eigen::MatrixX3d* sphere) {
 // exactly), at the candidate whose worst one-ring triangle is fattest.
 Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
                         const Eigen::MatrixX3d& mesh_positions,
-                        double area_scale, double lambda,
-                        Eigen::MatrixX3d* sphere) {
+                        double area_scale, double lambda, Points* sphere) {
   const std::vector<int>& link = collapse.link;
   const size_t k = link.size();
   // Smallest det(q,a,b) / (|q-a| |q-b| |a-b|) over the one-ring (a sine
@@ -494,22 +555,23 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
   // positively oriented. Validity is the exact sign; the fatness is a
   // floating-point value that only ranks valid candidates, clamped at 0
   // (on tiny triangles its rounding error exceeds it).
+  const Points& s = *sphere;
   auto score = [&](const Eigen::Vector3d& q) {
     double worst = std::numeric_limits<double>::infinity();
     for (size_t i = 0; i < k; ++i) {
-      const Eigen::Vector3d a = Row(*sphere, link[i]);
-      const Eigen::Vector3d b = Row(*sphere, link[(i + 1) % k]);
-      if (Det3Sign(q, a, b) <= 0) return -1.0;
-      worst = std::min(worst,
-                       SmallTriangleDet3(q, a, b) /
-                           ((q - a).norm() * (q - b).norm() * (a - b).norm()));
+      const Eigen::Vector3d& a = s[link[i]];
+      const Eigen::Vector3d& b = s[link[(i + 1) % k]];
+      double det;
+      if (SmallTriangleDet3Sign(q, a, b, &det) <= 0) return -1.0;
+      worst = std::min(
+          worst, det / ((q - a).norm() * (q - b).norm() * (a - b).norm()));
     }
     return std::max(worst, 0.0);
   };
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (int w : link) centroid += Row(*sphere, w);
+  for (int w : link) centroid += s[w];
   centroid.normalize();
-  const Eigen::Vector3d u = Row(*sphere, collapse.kept);
+  const Eigen::Vector3d u = s[collapse.kept];
   std::vector<Eigen::Vector3d> candidates = {centroid};
   for (double t : {0.25, 0.5, 0.75}) {
     candidates.push_back((u + t * (centroid - u)).normalized());
@@ -529,7 +591,7 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
     // first and last link vertices: valid for a small enough offset,
     // because the fan around u was valid.
     auto tangent = [&](int w) {
-      const Eigen::Vector3d d = Row(*sphere, w) - u;
+      const Eigen::Vector3d d = s[w] - u;
       return Eigen::Vector3d(d - d.dot(u) * u);
     };
     const Eigen::Vector3d t1 = tangent(link[1]), t2 = tangent(link[k - 1]);
@@ -564,21 +626,67 @@ Status PlaceSplitVertex(const HalfEdgeCollapse& collapse,
     Eigen::Vector3d g;
     if (gradient != nullptr) gradient->setZero();
     for (size_t i = 0; i < k; ++i) {
-      e += TriangleEnergy(shapes[i], q, Row(*sphere, link[i]),
-                          Row(*sphere, link[(i + 1) % k]), lambda,
-                          gradient != nullptr ? &g : nullptr);
+      e += TriangleEnergy(shapes[i], q, s[link[i]], s[link[(i + 1) % k]],
+                          lambda, gradient != nullptr ? &g : nullptr);
       if (gradient != nullptr) *gradient += g;
     }
     return e;
   };
   double step = 0.0;
-  for (size_t i = 0; i < k; ++i) step += (Row(*sphere, link[i]) - best).norm();
+  for (size_t i = 0; i < k; ++i) step += (s[link[i]] - best).norm();
   step *= 0.25 / k;
   for (int i = 0; i < kRelaxSteps; ++i) {
-    GreatCircleStep(&best, &step, energy,
-                    [&](const Eigen::Vector3d& q) { return score(q) >= 0.0; });
+    GreatCircleStep(
+        &best, &step, energy, [&](const Eigen::Vector3d& q, double) {
+          return score(q) >= 0.0 ? energy(q, nullptr)
+                                 : std::numeric_limits<double>::infinity();
+        });
   }
-  sphere->row(collapse.removed) = best.transpose();
+  (*sphere)[collapse.removed] = best;
+  return Status::Ok();
+}
+
+// Step 4 for the collapses [first, last) of the hierarchy, undone from the
+// back: the same positions as PlaceSplitVertex on each, from last - 1 down to
+// first, computed in parallel. A split reads only the positions of its link
+// and writes that of its removed vertex, and its link vertices were removed
+// (if at all) by later collapses; so the splits are grouped in waves, a
+// split's wave one after the latest wave that placed one of its link
+// vertices, and the splits of one wave are independent.
+Status PlaceSplitVertices(const std::vector<HalfEdgeCollapse>& collapses,
+                          size_t first, size_t last,
+                          const Eigen::MatrixX3d& mesh_positions,
+                          double area_scale, double lambda, Points* sphere) {
+  std::vector<int> wave_of_vertex(sphere->size(), -1);
+  std::vector<std::vector<size_t>> waves;
+  for (size_t j = last; j-- > first;) {
+    int wave = 0;
+    for (int w : collapses[j].link) {
+      wave = std::max(wave, wave_of_vertex[w] + 1);
+    }
+    wave_of_vertex[collapses[j].removed] = wave;
+    if (wave >= static_cast<int>(waves.size())) waves.resize(wave + 1);
+    waves[wave].push_back(j);
+  }
+  std::vector<char> failed(last - first, 0);
+  for (const std::vector<size_t>& wave : waves) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, wave.size(), 16),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t i = r.begin(); i != r.end(); ++i) {
+                          const size_t j = wave[i];
+                          failed[j - first] =
+                              !PlaceSplitVertex(collapses[j], mesh_positions,
+                                                area_scale, lambda, sphere)
+                                   .ok();
+                        }
+                      });
+  }
+  for (char f : failed) {
+    if (f) {
+      return InternalError(
+          "a vertex split found no valid position on the sphere");
+    }
+  }
   return Status::Ok();
 }
 
@@ -596,17 +704,35 @@ Status CheckSphericalBijection(const TriangleMesh& mesh,
                            " is off the unit sphere");
     }
   }
-  double total = 0.0;
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    const Eigen::Vector3d a = Row(sphere, mesh.faces(f, 0));
-    const Eigen::Vector3d b = Row(sphere, mesh.faces(f, 1));
-    const Eigen::Vector3d c = Row(sphere, mesh.faces(f, 2));
-    if (Det3Sign(a, b, c) <= 0) {
-      return InternalError("sphere triangle " + std::to_string(f) +
-                           " is folded or degenerate");
-    }
-    total += SphericalTriangleArea(a, b, c);
+  // Per face in parallel (the sign exact, by the filtered predicate), the
+  // first bad face and the area sum in face order: the same answer for any
+  // number of threads.
+  const int nf = mesh.num_faces();
+  std::vector<double> area(nf);
+  const int first_bad = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, nf, 1024), nf,
+      [&](const tbb::blocked_range<int>& r, int bad) {
+        for (int f = r.begin(); f != r.end(); ++f) {
+          const Eigen::Vector3d a = Row(sphere, mesh.faces(f, 0));
+          const Eigen::Vector3d b = Row(sphere, mesh.faces(f, 1));
+          const Eigen::Vector3d c = Row(sphere, mesh.faces(f, 2));
+          double det;
+          if (SmallTriangleDet3Sign(a, b, c, &det) <= 0) {
+            bad = std::min(bad, f);
+            area[f] = 0.0;
+          } else {
+            area[f] = SphericalTriangleArea(a, b, c);
+          }
+        }
+        return bad;
+      },
+      [](int x, int y) { return std::min(x, y); });
+  if (first_bad < nf) {
+    return InternalError("sphere triangle " + std::to_string(first_bad) +
+                         " is folded or degenerate");
   }
+  double total = 0.0;
+  for (double x : area) total += x;
   if (std::abs(total - 4.0 * M_PI) > 1e-6) {
     return InternalError("sphere triangles cover S^2 " +
                          std::to_string(total / (4.0 * M_PI)) +
@@ -644,7 +770,7 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
                                             : tbb::task_arena::automatic);
   Status status = Status::Ok();
   arena.execute([&] {
-    Eigen::MatrixX3d sphere;
+    Points sphere;
     report("base", 0.0);
     status = EmbedBaseMesh(level, &sphere);
     if (!status.ok()) return;
@@ -658,7 +784,8 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
       for (double lambda = from;;
            lambda = std::min(options.lambda_growth * lambda, to)) {
         optimizer.set_lambda(lambda);
-        result.energy = optimizer.Optimize(&sphere, sweeps, tolerance);
+        result.energy = optimizer.Optimize(&sphere, sweeps, tolerance,
+                                           options.active_fraction);
         if (lambda >= to) break;
       }
     };
@@ -674,15 +801,16 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
       report("optimize", static_cast<double>(alive) / mesh.num_vertices());
       const int target =
           std::max(alive + 1, static_cast<int>(alive * options.level_growth));
+      const size_t last = next;
       while (next > 0 && alive < target) {
-        const HalfEdgeCollapse& collapse = hierarchy.collapses[--next];
-        UndoCollapse(collapse, &level.faces, &level.face_alive,
-                     &level.vertex_alive);
-        status = PlaceSplitVertex(collapse, mesh.vertices, area_scale,
-                                  optimizer.lambda(), &sphere);
-        if (!status.ok()) return;
+        UndoCollapse(hierarchy.collapses[--next], &level.faces,
+                     &level.face_alive, &level.vertex_alive);
         ++alive;
       }
+      status =
+          PlaceSplitVertices(hierarchy.collapses, next, last, mesh.vertices,
+                             area_scale, optimizer.lambda(), &sphere);
+      if (!status.ok()) return;
       optimizer.Prepare(level, sphere);
       // Levels within `rising_levels` of the finest raise lambda to its
       // final value.
@@ -701,17 +829,20 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
         optimize_rising(from, to, options.finest_sweeps,
                         options.finest_tolerance);
         if (options.global_iterations > 0) {
+          Eigen::MatrixX3d matrix = ToMatrix(sphere);
           result.energy = optimizer.OptimizeGlobal(
-              &sphere, options.global_iterations, options.global_tolerance);
+              &matrix, options.global_iterations, options.global_tolerance);
+          sphere = ToPoints(matrix);
         }
       }
       ++result.levels;
     }
-    result.sphere = std::move(sphere);
+    result.sphere = ToMatrix(sphere);
   });
   SDCB_RETURN_IF_ERROR(status);
   report("optimize", 1.0);
-  SDCB_RETURN_IF_ERROR(CheckSphericalBijection(mesh, result.sphere));
+  arena.execute([&] { status = CheckSphericalBijection(mesh, result.sphere); });
+  SDCB_RETURN_IF_ERROR(status);
   return result;
 }
 

@@ -2,11 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <set>
 #include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "testing/fan_mesh.h"
@@ -118,6 +122,133 @@ TEST(MeshHierarchy, FanHubsStayAndRemovedVerticesHaveBoundedValence) {
     UndoCollapse(h->collapses[j], &faces, &face_alive, &vertex_alive);
   }
   EXPECT_EQ(faces, mesh.faces);
+}
+
+// Brute force: before every collapse, all edges of the current mesh sorted
+// by (length, lower index, higher index), and the first one whose collapse
+// the rules allow (lower -> higher first) is taken; each rule recomputed
+// from the current face list. On a mesh whose valences stay below
+// max_removed_valence this is what the queue-based hierarchy must do.
+std::vector<std::pair<int, int>> BruteForceCollapses(
+    const TriangleMesh& mesh, const MeshHierarchyOptions& options) {
+  std::vector<Triangle> faces;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    faces.push_back({mesh.faces(f, 0), mesh.faces(f, 1), mesh.faces(f, 2)});
+  }
+  std::vector<bool> alive(faces.size(), true);
+  auto p = [&](int v) -> Eigen::Vector3d {
+    return mesh.vertices.row(v).transpose();
+  };
+  // Neighbor sets of the current mesh, recomputed from the faces before
+  // every collapse.
+  std::vector<std::set<int>> adjacent;
+  auto recompute_neighbors = [&] {
+    adjacent.assign(mesh.num_vertices(), {});
+    for (size_t f = 0; f < faces.size(); ++f) {
+      if (!alive[f]) continue;
+      for (int i = 0; i < 3; ++i) {
+        adjacent[faces[f][i]].insert(faces[f][(i + 1) % 3]);
+        adjacent[faces[f][(i + 1) % 3]].insert(faces[f][i]);
+      }
+    }
+  };
+  auto neighbors = [&](int v) { return adjacent[v]; };
+  auto contains = [](const Triangle& t, int v) {
+    return t[0] == v || t[1] == v || t[2] == v;
+  };
+  auto replaced = [&](Triangle t, int from, int to) {
+    for (int& x : t) x = x == from ? to : x;
+    return t;
+  };
+  auto normal = [&](const Triangle& t) {
+    return Eigen::Vector3d((p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])));
+  };
+  auto quality = [&](const Triangle& t) {
+    const double squares = (p(t[1]) - p(t[0])).squaredNorm() +
+                           (p(t[2]) - p(t[1])).squaredNorm() +
+                           (p(t[0]) - p(t[2])).squaredNorm();
+    return squares == 0.0 ? 0.0
+                          : 2.0 * std::sqrt(3.0) * normal(t).norm() / squares;
+  };
+  const double cos_turn =
+      std::cos(options.max_normal_turn_degrees * M_PI / 180.0);
+  auto allowed = [&](int v, int u) {
+    const std::set<int> nv = neighbors(v), nu = neighbors(u);
+    if (static_cast<int>(nv.size()) > options.max_removed_valence) return false;
+    int common = 0, edge_faces = 0;
+    for (int w : nv) common += nu.count(w) > 0;
+    for (size_t f = 0; f < faces.size(); ++f) {
+      if (!alive[f] || !contains(faces[f], v)) continue;
+      if (contains(faces[f], u)) {
+        ++edge_faces;
+        continue;
+      }
+      const Eigen::Vector3d before = normal(faces[f]);
+      const Eigen::Vector3d after = normal(replaced(faces[f], v, u));
+      const double nb = before.norm(), na = after.norm();
+      if (!(na > 1e-14 * nb) || before.dot(after) < cos_turn * nb * na) {
+        return false;
+      }
+      if (quality(replaced(faces[f], v, u)) <
+          std::min(options.min_triangle_quality, quality(faces[f]))) {
+        return false;
+      }
+    }
+    return common == 2 && edge_faces == 2;
+  };
+  std::vector<std::pair<int, int>> result;
+  int alive_vertices = mesh.num_vertices();
+  while (alive_vertices > options.base_vertices) {
+    recompute_neighbors();
+    std::vector<std::tuple<double, int, int>> edges;
+    for (int a = 0; a < mesh.num_vertices(); ++a) {
+      for (int b : neighbors(a)) {
+        if (a >= b) continue;
+        const Eigen::Vector3d d = p(a) - p(b);
+        edges.emplace_back(
+            std::sqrt(d.x() * d.x() + (d.y() * d.y() + d.z() * d.z())), a, b);
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    bool done = false;
+    for (const auto& [length, a, b] : edges) {
+      for (const auto& [v, u] : {std::pair(a, b), std::pair(b, a)}) {
+        if (!allowed(v, u)) continue;
+        for (size_t f = 0; f < faces.size(); ++f) {
+          if (!alive[f] || !contains(faces[f], v)) continue;
+          if (contains(faces[f], u)) {
+            alive[f] = false;
+          } else {
+            faces[f] = replaced(faces[f], v, u);
+          }
+        }
+        result.emplace_back(v, u);
+        --alive_vertices;
+        done = true;
+        break;
+      }
+      if (done) break;
+    }
+    if (!done) break;
+  }
+  return result;
+}
+
+TEST(MeshHierarchy, ShortestAllowedCollapseFirstAsBruteForce) {
+  for (const char* name : {"sphere966.off", "cube-meshed.off", "oblong.off"}) {
+    const TriangleMesh mesh = testing::LoadOffTestMesh(name);
+    MeshHierarchyOptions options;
+    options.base_vertices = 40;
+    auto h = BuildMeshHierarchy(mesh, options);
+    ASSERT_TRUE(h.ok());
+    const std::vector<std::pair<int, int>> expected =
+        BruteForceCollapses(mesh, options);
+    ASSERT_EQ(h->collapses.size(), expected.size()) << name;
+    for (size_t i = 0; i < expected.size(); ++i) {
+      ASSERT_EQ(h->collapses[i].removed, expected[i].first) << name << " " << i;
+      ASSERT_EQ(h->collapses[i].kept, expected[i].second) << name << " " << i;
+    }
+  }
 }
 
 TEST(MeshHierarchy, RejectsTooSmallBase) {

@@ -180,5 +180,89 @@ TEST(ParameterizationDistortion, EnergyGradientMatchesFiniteDifferences) {
   }
 }
 
+// The filtered sign against CGAL's exact predicate (Det3Sign): random
+// triangles of every size down to edges of 1e-12, and triples exactly or
+// almost on one great circle, where the filter must hand over.
+TEST(ParameterizationDistortion, FilteredDet3SignIsExact) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int decided_by_filter = 0, total = 0;
+  for (double size : {1.0, 1e-2, 1e-4, 1e-6, 1e-9, 1e-12}) {
+    for (int trial = 0; trial < 2000; ++trial) {
+      const Vector3d c = RandomUnit(rng);
+      const Vector3d s1 =
+          (c + size * Vector3d(unit(rng), unit(rng), unit(rng))).normalized();
+      const Vector3d s2 =
+          (c + size * Vector3d(unit(rng), unit(rng), unit(rng))).normalized();
+      double det = 0.0;
+      EXPECT_EQ(SmallTriangleDet3Sign(c, s1, s2, &det), Det3Sign(c, s1, s2));
+      EXPECT_EQ(det, SmallTriangleDet3(c, s1, s2));
+      ++total;
+      decided_by_filter += std::abs(det) > 1e-14 * size * size;
+    }
+  }
+  EXPECT_GT(decided_by_filter, total / 2);
+  // On one great circle: exactly (coordinate planes, zero determinant) and
+  // after rounding (a rotated great circle: tiny determinants of either
+  // sign).
+  const Vector3d x(1, 0, 0), y(0, 1, 0), xy = Vector3d(1, 1, 0).normalized();
+  double det = 0.0;
+  EXPECT_EQ(SmallTriangleDet3Sign(x, y, xy, &det), 0);
+  EXPECT_EQ(SmallTriangleDet3Sign(x, xy, y, &det), 0);
+  const Vector3d axis = RandomUnit(rng);
+  const Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
+  int nonzero = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double t[3] = {unit(rng), unit(rng) * 1e-3, unit(rng) * 1e-8};
+    Vector3d s[3];
+    for (int i = 0; i < 3; ++i) s[i] = std::cos(t[i]) * u + std::sin(t[i]) * w;
+    const int exact = Det3Sign(s[0], s[1], s[2]);
+    nonzero += exact != 0;
+    EXPECT_EQ(SmallTriangleDet3Sign(s[0], s[1], s[2], &det), exact);
+  }
+  EXPECT_GT(nonzero, 0);
+}
+
+// The series branch of SphericalAreaFromParts against std::atan2 (the
+// formula it replaces), across the switch-over at |det| = denominator / 8,
+// and the area of small spherical triangles against Girard's theorem
+// (angle excess), an independent closed form.
+TEST(ParameterizationDistortion, SeriesAreaMatchesAtan2AndGirard) {
+  for (double x = 1e-12; x < 2.0; x *= 1.07) {
+    for (double sign : {1.0, -1.0}) {
+      const double det = sign * x * 0.75, denominator = 0.75;
+      const double expected = 2.0 * std::atan2(det, denominator);
+      EXPECT_NEAR(SphericalAreaFromParts(det, denominator), expected,
+                  4e-16 * std::abs(expected))
+          << x;
+    }
+  }
+  EXPECT_DOUBLE_EQ(SphericalAreaFromParts(1.0, -0.5),
+                   2.0 * std::atan2(1.0, -0.5));
+  std::mt19937 rng(5);
+  for (double size : {0.3, 0.05, 1e-3}) {
+    for (int trial = 0; trial < 50; ++trial) {
+      const Vector3d c = RandomUnit(rng);
+      Vector3d s[3];
+      for (auto& p : s) p = (c + size * RandomUnit(rng)).normalized();
+      if (Det3(s[0], s[1], s[2]) < 0) std::swap(s[1], s[2]);
+      // Girard: the angle of the spherical triangle at corner i is the
+      // angle between the tangents of the great circles to the others.
+      double excess = -M_PI;
+      for (int i = 0; i < 3; ++i) {
+        const Vector3d& p = s[i];
+        const Vector3d da = s[(i + 1) % 3] - p, db = s[(i + 2) % 3] - p;
+        const Vector3d a = da - da.dot(p) * p, b = db - db.dot(p) * p;
+        excess += std::atan2(a.cross(b).norm(), a.dot(b));
+      }
+      const double det = SmallTriangleDet3(s[0], s[1], s[2]);
+      const double denominator =
+          1.0 + s[0].dot(s[1]) + s[1].dot(s[2]) + s[2].dot(s[0]);
+      // Girard's form cancels pi: its own error is ~1e-15 absolute.
+      EXPECT_NEAR(SphericalAreaFromParts(det, denominator), excess, 1e-14);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sdcb
