@@ -386,10 +386,11 @@ std::vector<FaceCheck> Tessellator::Check(const std::vector<int>& faces) {
       const double stretch = LatticeStretch(faces[i], positions, i * s);
       if (sheared || stretch > kMaxLatticeStretch ||
           check.distance > kRecheckFraction * accept_) {
-        finer[i] = std::min(
-            kMaxLattice,
-            static_cast<int>(std::ceil(options_.lattice *
-                                       std::max(stretch, kShearedRefinement))));
+        // Clamped before the conversion (the stretch is infinite where a
+        // flat lattice edge has no length).
+        finer[i] = static_cast<int>(std::min<double>(
+            kMaxLattice, std::ceil(options_.lattice *
+                                   std::max(stretch, kShearedRefinement))));
       }
     }
     const double diameter =
