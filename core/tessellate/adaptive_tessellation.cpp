@@ -33,6 +33,30 @@ constexpr int kPasses = 6;
 // The local optimizer (the alternative to the remesher) aims lower: its
 // failures are bisected along LEPP paths.
 constexpr double kLocalAim = 0.85;
+// The certificate accepts a sampled distance up to (1 - kLatticeMargin /
+// m^2) times the tolerance, m the lattice order: for a surface quadratic
+// over an affinely mapped face the lattice misses at most 4 / (3 m^2) of
+// the maximum.
+constexpr double kLatticeMargin = 4.0 / 3.0;
+// Where the surface is not quadratic over a face (its curvature changes
+// within it) the order-6 lattice missed up to 16 % of the maximum on the
+// bunny: faces sampled above kRecheckFraction of the threshold are sampled
+// again at kShearedRefinement times the order.
+constexpr double kRecheckFraction = 0.7;
+// Faces whose lattice image has cells longer than kMaxLatticeStretch times
+// the regular lattice's are sampled again on a finer lattice (order at most
+// kMaxLattice).
+constexpr double kMaxLatticeStretch = 1.2;
+constexpr int kMaxLattice = 24;
+// Faces whose lattice points only passed through a neighbour's triangle
+// are sampled again at kShearedRefinement times the order.
+constexpr double kShearedRefinement = 3.0;
+// A lattice point may be measured against a neighbour's triangle only if it
+// is within kShearFraction of the face's smallest height from its own
+// triangle: then splitting the face's edges cannot turn a face over.
+constexpr double kShearFraction = 0.25;
+// Rounds of edge flips that unfold faces turned over by re-certification.
+constexpr int kUnfoldRounds = 4;
 
 // Result of certifying one face.
 struct FaceCheck {
@@ -51,6 +75,36 @@ std::vector<Eigen::Vector3d> LatticeWeights(int m) {
       w.emplace_back(i, j, k);
     }
   return w;
+}
+
+// The pairs of adjacent points of the lattice of order m, as indices into
+// LatticeWeights(m) (corner weights (m,0,0), (0,m,0), (0,0,m) as -1, -2, -3).
+std::vector<std::pair<int, int>> LatticeEdges(int m) {
+  auto index = [m](int i, int j) {
+    const int k = m - i - j;
+    if (i == m) return -1;
+    if (j == m) return -2;
+    if (k == m) return -3;
+    int n = 0;
+    for (int x = 0; x <= m; ++x)
+      for (int y = 0; x + y <= m; ++y) {
+        const int z = m - x - y;
+        if (x == m || y == m || z == m) continue;
+        if (x == i && y == j) return n;
+        ++n;
+      }
+    return n;
+  };
+  std::vector<std::pair<int, int>> edges;
+  for (int i = 0; i <= m; ++i)
+    for (int j = 0; i + j <= m; ++j) {
+      if (i + j < m) {
+        edges.push_back({index(i, j), index(i + 1, j)});
+        edges.push_back({index(i, j), index(i, j + 1)});
+        edges.push_back({index(i + 1, j), index(i, j + 1)});
+      }
+    }
+  return edges;
 }
 
 // The edge (a, b), a < b, of face t with the largest measure(a, b); the
@@ -79,8 +133,9 @@ class Tessellator {
       : surface_(surface),
         options_(options),
         weights_(LatticeWeights(options.lattice)),
+        lattice_edges_(LatticeEdges(options.lattice)),
         accept_(options.tolerance *
-                (1.0 - 4.0 / (3.0 * options.lattice * options.lattice))),
+                (1.0 - kLatticeMargin / (options.lattice * options.lattice))),
         cos_angle_(std::cos(options.angle_degrees * kPi / 180.0)),
         test_angle_(options.angle_degrees < 180.0) {}
 
@@ -130,6 +185,21 @@ class Tessellator {
     }
     return alive;
   }
+  // `faces` and the faces across their edges (sorted, unique): a face's
+  // certificate depends on its edge neighbours' triangles.
+  std::vector<int> WithNeighbours(std::vector<int> faces) const {
+    const size_t n = faces.size();
+    for (size_t i = 0; i < n; ++i) {
+      const auto& t = triangulation_.face(faces[i]);
+      for (int e = 0; e < 3; ++e) {
+        const int g = triangulation_.Opposite(faces[i], t[e], t[(e + 1) % 3]);
+        if (g >= 0) faces.push_back(g);
+      }
+    }
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    return faces;
+  }
   double PredictedError(int a, int b, int c) const;
   double WorstPredicted(
       const std::vector<SphereTriangulation::Face>& faces) const;
@@ -161,6 +231,29 @@ class Tessellator {
   // Splits the metric-longest edge of every face predicted above `target`
   // until none is (or `rounds` rounds).
   void SplitOverTarget(double target, int rounds);
+  double NearMeshDistance(int f, const Eigen::MatrixX3d& samples,
+                          Eigen::Index first, Eigen::Index count,
+                          bool* used_neighbours = nullptr) const;
+  double LatticeStretch(int f, const Eigen::MatrixX3d& samples,
+                        Eigen::Index first) const;
+  // Whether face f's image faces the way the surface normals at its corners
+  // do.
+  bool Oriented(int f) const {
+    const auto& t = triangulation_.face(f);
+    return Oriented(t[0], t[1], t[2]);
+  }
+  bool Oriented(int a, int b, int c) const {
+    const Eigen::Vector3d cross =
+        (positions_[b] - positions_[a]).cross(positions_[c] - positions_[a]);
+    return cross.dot(normals_[a]) > 0.0 && cross.dot(normals_[b]) > 0.0 &&
+           cross.dot(normals_[c]) > 0.0;
+  }
+  // Flips an edge of each face turned over against the surface (a split of
+  // a thin, sheared face can put the new vertex beyond the opposite corner)
+  // where both new faces are oriented; returns the number of flips.
+  int UnfoldByFlips();
+  // UnfoldByFlips, then certification of the faces it made, a few rounds.
+  Status Unfold();
   // Certifies `faces` (alive face slots) in one batch.
   std::vector<FaceCheck> Check(const std::vector<int>& faces);
   double ShortestDomainEdge(int f) const {
@@ -177,6 +270,8 @@ class Tessellator {
   const SurfaceSampler& surface_;
   const TessellationOptions options_;
   const std::vector<Eigen::Vector3d> weights_;
+  // Adjacent lattice points as indices into weights_ (corner k as -k - 1).
+  const std::vector<std::pair<int, int>> lattice_edges_;
   const double accept_;
   const double cos_angle_;
   const bool test_angle_;
@@ -186,6 +281,79 @@ class Tessellator {
   double max_distance_ = 0.0, max_angle_ = 0.0;
   int uncertified_ = 0;
 };
+
+// The largest distance from the surface points `samples` (rows first,
+// first + 1, ..., of face f's lattice) to the mesh near face f: its own flat
+// triangle, or, for a point farther than the threshold from it, the closest
+// of the triangles across its three edges. Where the parameterization
+// shears the patch sideways, a point beyond the face's edge lies over the
+// neighbour's triangle, and the distance to the mesh is measured there.
+double Tessellator::NearMeshDistance(int f, const Eigen::MatrixX3d& samples,
+                                     Eigen::Index first, Eigen::Index count,
+                                     bool* used_neighbours) const {
+  const auto& t = triangulation_.face(f);
+  const Eigen::Vector3d& pa = positions_[t[0]];
+  const Eigen::Vector3d& pb = positions_[t[1]];
+  const Eigen::Vector3d& pc = positions_[t[2]];
+  int neighbours[3] = {-2, -2, -2};
+  const double height =
+      (pb - pa).cross(pc - pa).norm() /
+      std::max({(pa - pb).norm(), (pb - pc).norm(), (pc - pa).norm()});
+  double worst = 0.0;
+  for (Eigen::Index k = first; k < first + count; ++k) {
+    const Eigen::Vector3d q = samples.row(k).transpose();
+    double d = PointTriangleDistance(q, pa, pb, pc);
+    if (d <= accept_ || d > kShearFraction * height) {
+      worst = std::max(worst, d);
+      continue;
+    }
+    if (used_neighbours) *used_neighbours = true;
+    for (int e = 0; e < 3 && d > accept_; ++e) {
+      if (neighbours[e] == -2) {
+        neighbours[e] = triangulation_.Opposite(f, t[e], t[(e + 1) % 3]);
+      }
+      if (neighbours[e] < 0) continue;
+      const auto& u = triangulation_.face(neighbours[e]);
+      d = std::min(d,
+                   PointTriangleDistance(q, positions_[u[0]], positions_[u[1]],
+                                         positions_[u[2]]));
+    }
+    worst = std::max(worst, d);
+  }
+  return worst;
+}
+
+// How far from affine the parameterization is over face f: the largest
+// ratio of a lattice cell edge's image (between the surface samples) to the
+// same edge of the flat triangle's lattice (1 for an affine map). Where a
+// thin face is sheared, the image of its lattice leaves gaps that the
+// lattice does not sample.
+double Tessellator::LatticeStretch(int f, const Eigen::MatrixX3d& samples,
+                                   Eigen::Index first) const {
+  const auto& t = triangulation_.face(f);
+  const double m = options_.lattice;
+  auto image = [&](int index) -> Eigen::Vector3d {
+    return index < 0 ? positions_[t[-index - 1]]
+                     : Eigen::Vector3d(samples.row(first + index).transpose());
+  };
+  auto flat = [&](int index) -> Eigen::Vector3d {
+    if (index < 0) return positions_[t[-index - 1]];
+    const Eigen::Vector3d& w = weights_[index];
+    return (w[0] * positions_[t[0]] + w[1] * positions_[t[1]] +
+            w[2] * positions_[t[2]]) /
+           m;
+  };
+  double stretch2 = 1.0;
+  for (const auto& [x, y] : lattice_edges_) {
+    const double along = (flat(x) - flat(y)).squaredNorm();
+    const double imaged = (image(x) - image(y)).squaredNorm();
+    if (imaged > stretch2 * along) {
+      stretch2 = along > 0.0 ? imaged / along
+                             : std::numeric_limits<double>::infinity();
+    }
+  }
+  return std::sqrt(stretch2);
+}
 
 std::vector<FaceCheck> Tessellator::Check(const std::vector<int>& faces) {
   const size_t s = weights_.size();
@@ -204,18 +372,27 @@ std::vector<FaceCheck> Tessellator::Check(const std::vector<int>& faces) {
   surface_.Sample(directions, &positions, test_angle_ ? &normals : nullptr);
   evaluations_ += directions.rows();
   std::vector<FaceCheck> checks(faces.size());
+  std::vector<int> finer(faces.size(), 0);
   tbb::parallel_for(size_t{0}, faces.size(), [&](size_t i) {
     const auto& t = triangulation_.face(faces[i]);
     const Eigen::Vector3d& pa = positions_[t[0]];
     const Eigen::Vector3d& pb = positions_[t[1]];
     const Eigen::Vector3d& pc = positions_[t[2]];
     FaceCheck& check = checks[i];
-    for (size_t k = 0; k < s; ++k) {
-      const Eigen::Vector3d q = positions.row(i * s + k).transpose();
-      check.distance =
-          std::max(check.distance, PointTriangleDistance(q, pa, pb, pc));
-    }
+    bool sheared = false;
+    check.distance = NearMeshDistance(faces[i], positions, i * s, s, &sheared);
     check.pass = check.distance <= accept_;
+    if (check.pass) {
+      const double stretch = LatticeStretch(faces[i], positions, i * s);
+      if (sheared || stretch > kMaxLatticeStretch ||
+          check.distance > kRecheckFraction * accept_) {
+        // Clamped before the conversion (the stretch is infinite where a
+        // flat lattice edge has no length).
+        finer[i] = static_cast<int>(std::min<double>(
+            kMaxLattice, std::ceil(options_.lattice *
+                                   std::max(stretch, kShearedRefinement))));
+      }
+    }
     const double diameter =
         std::max({(pa - pb).norm(), (pb - pc).norm(), (pc - pa).norm()});
     if (!test_angle_ || diameter <= options_.tolerance) return;
@@ -235,6 +412,45 @@ std::vector<FaceCheck> Tessellator::Check(const std::vector<int>& faces) {
     check.angle = std::acos(std::clamp(min_cos, -1.0, 1.0));
     if (min_cos < cos_angle_) check.pass = false;
   });
+  // Faces whose lattice image is stretched (the parameterization is far
+  // from affine over them) are sampled again on a lattice fine enough that
+  // its image is as dense as the regular lattice of the flat triangle.
+  std::vector<size_t> again;
+  std::vector<Eigen::Index> offsets = {0};
+  for (size_t i = 0; i < faces.size(); ++i) {
+    if (!checks[i].pass || finer[i] == 0) continue;
+    again.push_back(i);
+    const Eigen::Index m = finer[i];
+    offsets.push_back(offsets.back() + (m + 1) * (m + 2) / 2 - 3);
+  }
+  if (again.empty()) return checks;
+  Eigen::MatrixX3d fine_directions(offsets.back(), 3);
+  tbb::parallel_for(size_t{0}, again.size(), [&](size_t j) {
+    const auto& t = triangulation_.face(faces[again[j]]);
+    const int m = finer[again[j]];
+    Eigen::Index row = offsets[j];
+    for (int x = 0; x <= m; ++x)
+      for (int y = 0; x + y <= m; ++y) {
+        const int z = m - x - y;
+        if (x == m || y == m || z == m) continue;
+        fine_directions.row(row++) =
+            (x * triangulation_.vertex(t[0]) + y * triangulation_.vertex(t[1]) +
+             z * triangulation_.vertex(t[2]))
+                .normalized()
+                .transpose();
+      }
+  });
+  Eigen::MatrixX3d fine_positions;
+  surface_.Sample(fine_directions, &fine_positions, nullptr);
+  evaluations_ += fine_directions.rows();
+  tbb::parallel_for(size_t{0}, again.size(), [&](size_t j) {
+    FaceCheck& check = checks[again[j]];
+    check.distance =
+        std::max(check.distance,
+                 NearMeshDistance(faces[again[j]], fine_positions, offsets[j],
+                                  offsets[j + 1] - offsets[j]));
+    check.pass = check.pass && check.distance <= accept_;
+  });
   return checks;
 }
 
@@ -251,7 +467,7 @@ Status Tessellator::Refine(std::vector<int> pending) {
       triangulation_.Bisect(f, length, on_vertex);
       SDCB_RETURN_IF_ERROR(CheckFaceBudget());
     }
-    pending = AliveSince(first_new);
+    pending = WithNeighbours(AliveSince(first_new));
   }
   return Status::Ok();
 }
@@ -273,7 +489,39 @@ Status Tessellator::RefineBySplits(std::vector<int> pending) {
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     SplitEdges(edges);
     SDCB_RETURN_IF_ERROR(CheckFaceBudget());
-    pending = AliveSince(first_new);
+    pending = WithNeighbours(AliveSince(first_new));
+  }
+  return Status::Ok();
+}
+
+int Tessellator::UnfoldByFlips() {
+  const auto length = [this](int a, int b) { return EdgeLength(a, b); };
+  std::vector<SphereTriangulation::Face> faces;
+  int flipped = 0;
+  const int slots = triangulation_.num_face_slots();
+  for (int f = 0; f < slots; ++f) {
+    if (!triangulation_.alive(f) || Oriented(f)) continue;
+    const auto t = triangulation_.face(f);
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      if (!triangulation_.PreviewFlip(a, b, &faces)) continue;
+      if (!Oriented(faces[0][0], faces[0][1], faces[0][2]) ||
+          !Oriented(faces[1][0], faces[1][1], faces[1][2])) {
+        continue;
+      }
+      triangulation_.Flip(a, b, length);
+      ++flipped;
+      break;
+    }
+  }
+  return flipped;
+}
+
+Status Tessellator::Unfold() {
+  for (int round = 0; round < kUnfoldRounds; ++round) {
+    const int first_new = triangulation_.num_face_slots();
+    if (UnfoldByFlips() == 0) break;
+    SDCB_RETURN_IF_ERROR(RefineBySplits(WithNeighbours(AliveSince(first_new))));
   }
   return Status::Ok();
 }
@@ -782,6 +1030,7 @@ Status Tessellator::Run(Tessellation* out) {
     // of the faces (the sphere, ellipsoids; the bunny at 0.1 %).
     Optimize();
     SDCB_RETURN_IF_ERROR(RefineBySplits(alive_faces()));
+    SDCB_RETURN_IF_ERROR(Unfold());
     SphereTriangulation remeshed = std::move(triangulation_);
     std::vector<Eigen::Vector3d> remeshed_positions = std::move(positions_),
                                  remeshed_normals = std::move(normals_);
@@ -793,6 +1042,7 @@ Status Tessellator::Run(Tessellation* out) {
     normals_ = refined_normals;
     OptimizeLocally();
     SDCB_RETURN_IF_ERROR(Refine(alive_faces()));
+    SDCB_RETURN_IF_ERROR(Unfold());
     if (remeshed.num_faces() < triangulation_.num_faces()) {
       triangulation_ = std::move(remeshed);
       positions_ = std::move(remeshed_positions);
@@ -802,7 +1052,7 @@ Status Tessellator::Run(Tessellation* out) {
   // Final certificate of every face (the numbers reported).
   const std::vector<FaceCheck> checks = Check(alive_faces());
   const double scale =
-      1.0 / (1.0 - 4.0 / (3.0 * options_.lattice * options_.lattice));
+      1.0 / (1.0 - kLatticeMargin / (options_.lattice * options_.lattice));
   for (const FaceCheck& c : checks) {
     max_distance_ = std::max(max_distance_, c.distance * scale);
     max_angle_ = std::max(max_angle_, c.angle);

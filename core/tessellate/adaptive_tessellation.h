@@ -2,11 +2,17 @@
 // SurfaceSampler): the domain triangulation (sphere_triangulation.h) is
 // refined by longest-edge bisection until every face is certified:
 //   - chordal: the largest distance from the surface patch over the face to
-//     the flat image triangle, sampled on the face's barycentric lattice of
-//     order `lattice` (interior and edge points, not edge midpoints alone),
-//     is at most (1 - 4 / (3 lattice^2)) * tolerance. For a surface that is
-//     quadratic over the face the lattice misses at most that fraction of
-//     the true maximum, so the certified distance bounds the true one.
+//     the mesh near it, sampled on the face's barycentric lattice of order
+//     `lattice` (interior and edge points, not edge midpoints alone), is at
+//     most (1 - 4 / (3 lattice^2)) * tolerance. The distance is to the flat
+//     image triangle, or, for a point the parameterization shears beyond
+//     the face's edges (by at most a quarter of its smallest height), to
+//     the nearest of the triangles across them. Faces whose lattice image
+//     is sheared or stretched, or whose sampled distance is above 0.7 of
+//     the threshold, are sampled again at 3 times the order (for a surface
+//     quadratic over an affinely mapped face the lattice misses at most
+//     4 / (3 lattice^2) of the true maximum; where the curvature changes
+//     within a face it misses more).
 //   - angular: the angle between the flat triangle's normal and the
 //     surface normal at every sample and corner is at most `angle_degrees`,
 //     checked only on faces whose image is larger than the tolerance (on
@@ -23,7 +29,9 @@
 //   - local collapses (shortest edges first), flips and vertex moves of the
 //     bisection pattern, aiming lower.
 // Each then certifies every face again and splits those that fail, so the
-// prediction never decides what is shipped. This brings the count toward
+// prediction never decides what is shipped; faces such splits turn over
+// against the surface normals (a thin, sheared face's new vertex beyond its
+// opposite corner) are unfolded by edge flips and certified again. This brings the count toward
 // the asymptotic optimum (optimal_triangle_count.h).
 //
 // The result is closed, manifold, genus 0 and consistently oriented by

@@ -77,6 +77,40 @@ class EllipsoidSampler : public SurfaceSampler {
   Eigen::Vector3d axes_;
 };
 
+// The same ellipsoid over a twisted domain: S(u) = diag(a) R_z(twist u_z) u,
+// each latitude rotated about z by an angle proportional to its height. The
+// surface (and every distance to it) is the ellipsoid's; the map from the
+// sphere is sheared sideways, as a spherical parameterization of a scan is
+// where it squeezes: the image of a domain triangle's edge bends within
+// the surface.
+class TwistedEllipsoidSampler : public EllipsoidSampler {
+ public:
+  TwistedEllipsoidSampler(const Eigen::Vector3d& axes, double twist)
+      : EllipsoidSampler(axes), twist_(twist) {}
+  void Sample(const Eigen::MatrixX3d& d, Eigen::MatrixX3d* positions,
+              Eigen::MatrixX3d* normals) const override {
+    EllipsoidSampler::Sample(Twisted(d), positions, normals);
+  }
+  bool SampleCurvature(const Eigen::MatrixX3d& d, Eigen::VectorXd* gaussian,
+                       Eigen::VectorXd* mean) const override {
+    return EllipsoidSampler::SampleCurvature(Twisted(d), gaussian, mean);
+  }
+
+ private:
+  Eigen::MatrixX3d Twisted(const Eigen::MatrixX3d& d) const {
+    Eigen::MatrixX3d out(d.rows(), 3);
+    for (Eigen::Index i = 0; i < d.rows(); ++i) {
+      const double angle = twist_ * d(i, 2);
+      const double c = std::cos(angle), s = std::sin(angle);
+      out(i, 0) = c * d(i, 0) - s * d(i, 1);
+      out(i, 1) = s * d(i, 0) + c * d(i, 1);
+      out(i, 2) = d(i, 2);
+    }
+    return out;
+  }
+  double twist_;
+};
+
 }  // namespace sdcb::testing
 
 #endif  // SDCB_TESTS_TESTING_ANALYTIC_SURFACES_H_

@@ -13,6 +13,7 @@
 #include <random>
 
 #include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/tessellate/optimal_triangle_count.h"
 #include "testing/analytic_surfaces.h"
 
@@ -244,6 +245,55 @@ TEST(AdaptiveTessellationTest, RemeshedEllipsoidNearOptimumWithinTolerance) {
             << " x N_opt, measured " << measured / eps << " eps\n";
   EXPECT_GE(ratio, 1.0);
   EXPECT_LE(ratio, 1.8);
+}
+
+TEST(AdaptiveTessellationTest, ShearedParameterizationCostsLittle) {
+  // The certificate measures the distance from the surface to the mesh near
+  // each face (its own triangle or, for points the parameterization shears
+  // beyond its edges, its neighbours'), not only to the triangle of the
+  // face a point's domain triangle maps to: a parameterization that shears
+  // patches sideways (the twisted ellipsoid: the same surface) must not
+  // multiply the triangles. Independent checks: the distance measured
+  // densely (exact point-ellipsoid distance one way, CGAL's AABB tree the
+  // other) within the tolerance; no face turned over against the analytic
+  // normal (the ellipsoid's gradient at the vertex) and no pair of
+  // triangles intersecting (CGAL).
+  const Eigen::Vector3d axes(1.0, 0.7, 0.4);
+  const double eps = 1e-3;
+  TessellationOptions options;
+  options.tolerance = eps;
+  EllipsoidSampler plain(axes);
+  testing::TwistedEllipsoidSampler twisted(axes, 3.0);
+  StatusOr<Tessellation> a = TessellateAdaptively(plain, options);
+  StatusOr<Tessellation> b = TessellateAdaptively(twisted, options);
+  ASSERT_TRUE(a.ok() && b.ok());
+  ExpectDomainIsASphere(*b);
+  const TriangleMesh mesh = ToMesh(*b);
+  StatusOr<MeshTopologyReport> topology = AnalyzeMeshTopology(mesh);
+  ASSERT_TRUE(topology.ok());
+  EXPECT_TRUE(topology->ok) << DescribeTopologyProblem(*topology);
+  StatusOr<SelfIntersectionReport> crossings = FindSelfIntersections(mesh);
+  ASSERT_TRUE(crossings.ok());
+  EXPECT_TRUE(crossings->checked);
+  EXPECT_EQ(crossings->intersecting_pairs, 0);
+  EXPECT_EQ(b->uncertified_faces, 0);
+  for (Eigen::Index f = 0; f < b->faces.rows(); ++f) {
+    const Eigen::Vector3d p0 = b->positions.row(b->faces(f, 0)),
+                          p1 = b->positions.row(b->faces(f, 1)),
+                          p2 = b->positions.row(b->faces(f, 2));
+    const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
+    for (const Eigen::Vector3d& p : {p0, p1, p2}) {
+      const Eigen::Vector3d gradient = p.cwiseQuotient(axes.cwiseProduct(axes));
+      ASSERT_GT(n.dot(gradient), 0.0) << "face " << f << " turned over";
+    }
+  }
+  const double measured = MeasuredHausdorff(*b, twisted, 12);
+  EXPECT_LE(measured, eps);
+  EXPECT_GE(measured, 0.7 * eps);
+  std::cout << "twisted ellipsoid: " << b->faces.rows() << " faces against "
+            << a->faces.rows() << " untwisted, measured " << measured / eps
+            << " eps\n";
+  EXPECT_LE(b->faces.rows(), 1.3 * a->faces.rows());
 }
 
 TEST(AdaptiveTessellationTest, SameBytesForAnyThreadCount) {
