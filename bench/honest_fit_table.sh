@@ -5,24 +5,26 @@
 # reports, the folded area, the paper's vertex errors, control points and
 # time. docs/FITTING.md holds the table.
 #   bench/honest_fit_table.sh [RMSE [MAX_VERTICES [OUT_DIR [TIMEOUT_S]]]]
+# SDCB=path/to/sdcb runs another binary (default ./build/sdcb).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 rmse=${1:-0.1}
 max_vertices=${2:-40000}
 out=${3:-/tmp/sdcb_table}
 limit=${4:-900}
+sdcb=${SDCB:-./build/sdcb}
 mkdir -p "$out"
 echo "| mesh | vertices | reached | control points | rms % | Hausdorff % | folded % | vertex rms % | vertex max % | seconds | note |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|"
 for f in data/meshes/*.off data/meshes/*.ply data/meshes/*.obj data/meshes/*.stl; do
   [ -f "$f" ] || continue
-  check=$(./build/sdcb check "$f" --json - 2>/dev/null) || continue
+  check=$("$sdcb" check "$f" --json - 2>/dev/null) || continue
   echo "$check" | grep -q '"ok": true' || continue
   v=$(echo "$check" | sed -n 's/.*"vertices": \([0-9]*\).*/\1/p' | head -n 1)
   [ "$v" -le "$max_vertices" ] || continue
   name=$(basename "$f")
   start=$(date +%s.%N)
-  timeout "$limit" ./build/sdcb fit "$f" -o "$out/$name.sdcb" --rmse "$rmse" \
+  timeout "$limit" "$sdcb" fit "$f" -o "$out/$name.sdcb" --rmse "$rmse" \
     --json "$out/$name.json" --quiet 2> "$out/$name.err" > /dev/null
   rc=$?
   secs=$(echo "$(date +%s.%N) - $start" | bc)

@@ -118,6 +118,7 @@ json FitStatisticsToJson(const FitStatistics& s) {
               {"options",
                {{"degree", o.degree},
                 {"rmse_percent", o.rmse_percent},
+                {"max_error_percent", o.max_error_percent},
                 {"knots_per_round", o.knots_per_round},
                 {"knots_growth", o.knots_growth},
                 {"initial_knots", o.initial_knots},
@@ -165,6 +166,8 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
       GetOptional(*o, "initial_knots", ow, &so.initial_knots, GetInt));
   SDCB_RETURN_IF_ERROR(
       GetOptional(*o, "knots_growth", ow, &so.knots_growth, GetDouble));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "max_error_percent", ow,
+                                   &so.max_error_percent, GetDouble));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "max_control_points", ow,
                                    &so.max_control_points, GetInt));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "alpha", ow, &so.alpha, GetDouble));

@@ -1,4 +1,5 @@
-// sdcb fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
+// sdcb fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--max-error PCT]
+//          [--knots-per-round N]
 //          [--knots-growth G] [--max-rounds R] [--max-control-points M]
 //          [--lambda L]
 //          [--threads T] [--regularization R] [--store-parameters]
@@ -25,9 +26,9 @@ namespace sdcb::cli {
 
 const CommandOptions& FitOptionNames() {
   static const CommandOptions names = {
-      Concat({"output", "degree", "rmse", "knots-per-round", "knots-growth",
-              "max-rounds", "max-control-points", "lambda", "threads", "json",
-              "plot", "regularization", "quantize"},
+      Concat({"output", "degree", "rmse", "max-error", "knots-per-round",
+              "knots-growth", "max-rounds", "max-control-points", "lambda",
+              "threads", "json", "plot", "regularization", "quantize"},
              kMeshValueOptions),
       Concat({"quiet", "store-parameters", "accept-folds"}, kMeshFlagOptions)};
   return names;
@@ -44,6 +45,8 @@ int RunFit(const std::vector<std::string>& argv) {
   options.degree = args.GetInt("degree", options.degree, 2, 5);
   options.rmse_percent =
       args.GetDouble("rmse", options.rmse_percent, 1e-6, 100);
+  options.max_error_percent =
+      args.GetDouble("max-error", options.max_error_percent, 0, 1000);
   options.knots_per_round =
       args.GetInt("knots-per-round", options.knots_per_round, 1, 100000);
   options.knots_growth =
@@ -123,9 +126,10 @@ int RunFit(const std::vector<std::string>& argv) {
                 path.c_str(), output.c_str(), options.degree, f.knots,
                 f.control_points, static_cast<int>(stats.rounds.size()));
     std::printf(
-        "  rmse %.4f%%  max error %.4f%%  (target rmse %.4f%%)  %.2f s\n",
+        "  rmse %.4f%%  max error %.4f%%  (targets: rmse %.4f%%, max %.4f%%)  "
+        "%.2f s\n",
         f.rmse_percent, f.max_error_percent, options.rmse_percent,
-        fit->timings.total);
+        MaxErrorTarget(options), fit->timings.total);
     if (!quantization.lossless()) {
       std::printf(
           "  control points quantized to %d bits: the stored surface is "
@@ -137,8 +141,10 @@ int RunFit(const std::vector<std::string>& argv) {
   if (!fit->reached_target()) {
     std::fprintf(
         stderr,
-        "sdcb: %s: warning: the target rmse %.4f%% was not reached: %s\n",
-        path.c_str(), options.rmse_percent, fit->shortfall.c_str());
+        "sdcb: %s: warning: the targets (rmse %.4f%%, max %.4f%%) were not "
+        "reached: %s\n",
+        path.c_str(), options.rmse_percent, MaxErrorTarget(options),
+        fit->shortfall.c_str());
   }
   return kExitOk;
 }

@@ -29,12 +29,13 @@ commands:
                              (same vertices and faces; .obj/.off/.ply);
                              lambda (default 1) trades angle for area
                              distortion; --colors angle|area needs .ply.
-  fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--knots-per-round N]
+  fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--max-error PCT] [--knots-per-round N]
       [--knots-growth G] [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
       [--regularization R] [--store-parameters] [--quantize BITS]
       [--accept-folds] [--json FILE] [--plot FILE.svg] [--quiet] [--repair]
                              Fit one smooth spherical DCB-spline (defaults:
-                             degree 4, rmse 0.05 %, 100 knots per round or
+                             degree 4, rmse 0.05 %, max error 10 x rmse,
+                             100 knots per round or
                              a quarter of the knots so far if more, 30
                              rounds); --plot draws the error per round;
                              --store-parameters keeps each vertex's sphere

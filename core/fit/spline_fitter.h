@@ -59,6 +59,10 @@ struct FitOptions {
   // (dense samples of both, core/fit/surface_deviation.h) is at most this,
   // with no folded area; percent of the largest bounding-box side.
   double rmse_percent = 0.05;
+  // ... and the two-sided Hausdorff distance (the same dense samples) at
+  // most this. 0 = ten times rmse_percent; negative = no limit. A fit that
+  // meets the rms but not this goes on adding rounds (docs/FITTING.md).
+  double max_error_percent = 0.0;
   int knots_per_round = 100;  // K: new knots per round (paper: 100)
   // New knots per round are max(K, knots_growth x the knots so far): past
   // 4 K knots the rounds grow geometrically, so a fit that needs thousands
@@ -111,6 +115,10 @@ bool IsBetterFallback(const RoundStatistics& a, const RoundStatistics& b,
 
 // The options of `options` that change a model's bytes.
 RecordedFitOptions RecordFitOptions(const FitOptions& options);
+
+// The Hausdorff target a fit applies: options.max_error_percent, or ten
+// times the rms target when that is 0; negative = none.
+double MaxErrorTarget(const FitOptions& options);
 
 // Wall time per pipeline stage, in seconds.
 struct StageTimings {

@@ -72,6 +72,9 @@ enum class ErrorMeasure {
 struct RecordedFitOptions {
   int degree = 0;
   double rmse_percent = 0.0;  // Target RMSE, percent of the largest side.
+  // Target Hausdorff distance as applied (the default resolved); 0 in files
+  // written before it existed, negative = none.
+  double max_error_percent = 0.0;
   int knots_per_round = 0;
   double knots_growth = 0.0;
   int initial_knots = 0;

@@ -209,6 +209,40 @@ TEST(AdaptiveFitTest, RoundsGrowGeometricallyPastFourTimesK) {
             StatusCode::kInvalidArgument);
 }
 
+// A fit that meets its rms but not its Hausdorff target goes on: blobby at
+// 0.1 % stops in the first round whose rms is met; asked also for half that
+// round's Hausdorff distance, it adds rounds until brute force, at random
+// surface points, finds nothing farther from the mesh than the target (or it
+// says why not). The default target, ten times the rms, is recorded.
+TEST(AdaptiveFitTest, AHausdorffTargetKeepsTheRoundsGoing) {
+  const TriangleMesh mesh = Load("blobby.off");
+  FitOptions options;
+  options.rmse_percent = 0.1;
+  auto first = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(first.ok()) << first.status().message();
+  ASSERT_TRUE(first->reached_target()) << first->shortfall;
+  const FitStatistics& s0 = first->model.statistics;
+  EXPECT_DOUBLE_EQ(s0.options.max_error_percent, 1.0);
+  const double target = 0.5 * s0.final_result.max_error_percent;
+  options.max_error_percent = target;
+  auto fit = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  const FitStatistics& s = fit->model.statistics;
+  EXPECT_GT(s.rounds.size(), s0.rounds.size());
+  EXPECT_EQ(s.options.max_error_percent, target);
+  if (fit->reached_target()) {
+    EXPECT_LE(s.final_result.max_error_percent, target);
+    EXPECT_LE(s.final_result.rmse_percent, 0.1);
+  } else {
+    EXPECT_NE(fit->shortfall.find("Hausdorff"), std::string::npos)
+        << fit->shortfall;
+  }
+  ExpectHonestSurfaceErrors(mesh, *fit, 3000);
+  options.max_error_percent = std::nan("");
+  EXPECT_EQ(FitSphericalSpline(mesh, options).status().code(),
+            StatusCode::kInvalidArgument);
+}
+
 // The cow at 0.3 % meets the rms in round 1 but folds over 0.55 % of its
 // area; the rounds that place knots at the folds stop after two when the
 // folded area has not halved (it was 0.45 % then), instead of running all

@@ -312,6 +312,7 @@ inline ::testing::AssertionResult BitIdentical(const SplineModel& a,
   const RecordedFitOptions& oa = fa.options;
   const RecordedFitOptions& ob = fb.options;
   if (oa.degree != ob.degree || !SameBits(oa.rmse_percent, ob.rmse_percent) ||
+      !SameBits(oa.max_error_percent, ob.max_error_percent) ||
       oa.knots_per_round != ob.knots_per_round ||
       !SameBits(oa.knots_growth, ob.knots_growth) ||
       oa.initial_knots != ob.initial_knots || oa.max_rounds != ob.max_rounds ||
