@@ -60,7 +60,8 @@ constexpr int kMinRoundsBeforeRateStop = 5;
 // Data-term pieces of split triangles per control point at most
 // (FitSampleOptions::max_pieces).
 constexpr int64_t kMaxPiecesPerControlPoint = 128;
-// Knots of a round that only removes folds: at least this many.
+// The fewest knots a round adds: rounds that only remove folds, and rounds
+// halved because the knots had no room for more.
 constexpr int kMinFoldKnots = 10;
 // Fold rounds stop early when, after this many, the folded area has not
 // shrunk to kFoldShrink of what it was when they began (measured on CGAL's
@@ -317,6 +318,13 @@ struct SplineFitter::State {
     return out.str();
   }
 
+  // The stopping test, on a final (dense, closest-point) measurement.
+  bool MeetsTarget(double rms, double hausdorff, double folded) const {
+    const double max_error = MaxErrorTarget(options);
+    return rms <= options.rmse_percent && folded == 0 &&
+           (max_error < 0 || hausdorff <= max_error);
+  }
+
   bool Better(const RoundStatistics& a, const RoundStatistics& b) const {
     return IsBetterFallback(a, b, options.fallback_accepts_folds);
   }
@@ -352,6 +360,16 @@ struct SplineFitter::State {
     kept.rmse_percent = dense.rms_percent;
     kept.max_error_percent = dense.hausdorff_percent;
     kept.folded_area_percent = dense.folded_area_percent;
+    // The rounds' mesh -> surface bound (the parametric residual) can keep a
+    // round from the final measurement that it would pass (the 8-vertex
+    // beam: 0.54 % vertex rms, 0.091 % measured densely). Measured as a
+    // reached round is, it has reached.
+    if (MeetsTarget(kept.rmse_percent, kept.max_error_percent,
+                    kept.folded_area_percent)) {
+      result.model.statistics.reached_target = true;
+      result.shortfall.clear();
+      return Status::Ok();
+    }
     if (earlier) {
       result.shortfall +=
           "; returned round " + std::to_string(kept.round) + " instead, " +
@@ -664,10 +682,19 @@ Status SplineFitter::State::RunRound() {
                         : fold_round
                             ? std::max(kMinFoldKnots, o.knots_per_round / 4)
                             : std::max(o.knots_per_round, grown);
+  // Too many to keep apart: as many as fit, halving down to kMinFoldKnots.
+  int placing = new_knots;
   StatusOr<KnotPlacement> placed =
-      PlaceKnots(density, model.knots, new_knots, CvtOptions());
-  if (!placed.ok() && round > 0 &&
-      placed.status().code() == StatusCode::kUnsupported) {
+      PlaceKnots(density, model.knots, placing, CvtOptions());
+  auto no_room = [&] {
+    return !placed.ok() && round > 0 &&
+           placed.status().code() == StatusCode::kUnsupported;
+  };
+  while (no_room() && placing > kMinFoldKnots) {
+    placing = std::max(kMinFoldKnots, placing / 2);
+    placed = PlaceKnots(density, model.knots, placing, CvtOptions());
+  }
+  if (no_room()) {
     return Finish(false,
                   "no room for more knots (" + placed.status().message() + ")");
   }
@@ -720,21 +747,19 @@ Status SplineFitter::State::RunRound() {
   const Eigen::MatrixX3d vertex_points = fitted.topRows(nv);
   SDCB_ASSIGN_OR_RETURN(SurfaceDeviation deviation,
                         Measure(surface, &vertex_points, false));
-  // The rounds' Hausdorff figure bounds the mesh -> surface half by the
-  // parametric residual, which overstates it on sheared parts: the max-error
-  // target is judged on the final measurement only.
-  auto meets_rms = [&] {
-    return deviation.rms_percent <= o.rmse_percent &&
-           deviation.folded_area_percent == 0;
-  };
-  if (meets_rms()) {
+  // A round's own measurement bounds the mesh -> surface half by the
+  // parametric residual, which overstates it where the map shears: the
+  // targets are judged on the final measurement only, run when the round's
+  // rms and folds already pass.
+  if (deviation.rms_percent <= o.rmse_percent &&
+      deviation.folded_area_percent == 0) {
     SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, &vertex_points, true));
     details.closest_points = true;
   }
-  const double max_error = MaxErrorTarget(o);
   const bool reached =
-      meets_rms() &&
-      (max_error < 0 || deviation.hausdorff_percent <= max_error);
+      details.closest_points &&
+      MeetsTarget(deviation.rms_percent, deviation.hausdorff_percent,
+                  deviation.folded_area_percent);
   details.surface_samples = deviation.surface_samples;
   details.timings.measure = stage.Seconds();
 

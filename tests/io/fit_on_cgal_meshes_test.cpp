@@ -243,6 +243,27 @@ TEST(AdaptiveFitTest, AHausdorffTargetKeepsTheRoundsGoing) {
             StatusCode::kInvalidArgument);
 }
 
+// The 8-vertex beam: its rounds bound the mesh -> surface distance by the
+// vertices' parametric residual (0.54 % rms at its corners), never below the
+// target, until the knots run out of room. The returned surface, measured
+// densely as a reached one is, meets the target: the fit says it reached it,
+// and brute force at random surface points agrees with what it reports.
+TEST(AdaptiveFitTest, AFitThatPassesTheFinalMeasurementHasReached) {
+  const TriangleMesh mesh = Load("beam.off");
+  FitOptions options;
+  options.rmse_percent = 0.1;
+  auto fit = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  const FitStatistics& s = fit->model.statistics;
+  EXPECT_GT(s.rounds.back().rmse_percent, 0.1);
+  EXPECT_TRUE(fit->reached_target()) << fit->shortfall;
+  EXPECT_TRUE(fit->shortfall.empty());
+  EXPECT_LE(s.final_result.rmse_percent, 0.1);
+  EXPECT_LE(s.final_result.max_error_percent, 1.0);
+  EXPECT_EQ(s.final_result.folded_area_percent, 0.0);
+  ExpectHonestSurfaceErrors(mesh, *fit, 3000);
+}
+
 // The cow at 0.3 % meets the rms in round 1 but folds over 0.55 % of its
 // area; the rounds that place knots at the folds stop after two when the
 // folded area has not halved (it was 0.45 % then), instead of running all
