@@ -5,7 +5,8 @@
 # reports, the folded area, the paper's vertex errors, control points and
 # time. docs/FITTING.md holds the table.
 #   bench/honest_fit_table.sh [RMSE [MAX_VERTICES [OUT_DIR [TIMEOUT_S]]]]
-# SDCB=path/to/sdcb runs another binary (default ./build/sdcb).
+# SDCB=path/to/sdcb runs another binary (default ./build/sdcb); MESHES="a.off
+# b.off" runs only those of data/meshes.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 rmse=${1:-0.1}
@@ -16,7 +17,12 @@ sdcb=${SDCB:-./build/sdcb}
 mkdir -p "$out"
 echo "| mesh | vertices | reached | control points | rms % | Hausdorff % | folded % | vertex rms % | vertex max % | seconds | note |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|"
-for f in data/meshes/*.off data/meshes/*.ply data/meshes/*.obj data/meshes/*.stl; do
+if [ -n "${MESHES:-}" ]; then
+  files=$(for m in $MESHES; do echo "data/meshes/$m"; done)
+else
+  files=$(ls data/meshes/*.off data/meshes/*.ply data/meshes/*.obj data/meshes/*.stl 2>/dev/null)
+fi
+for f in $files; do
   [ -f "$f" ] || continue
   check=$("$sdcb" check "$f" --json - 2>/dev/null) || continue
   echo "$check" | grep -q '"ok": true' || continue
