@@ -269,15 +269,17 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     SDCB_ASSIGN_OR_RETURN(const MeshDistance to_image,
                           MeshDistance::Create(image));
     // First the spline point of the lattice image's closest point (and the
-    // candidate), for every vertex.
+    // candidate), for every vertex: the sphere points, then the spline there
+    // in the basis's locality order (several times faster than vertex
+    // order; each vertex's result is the same).
     Eigen::MatrixX3d start(nv, 3);
     Eigen::VectorXd image_distance(nv);
     tbb::parallel_for(
         tbb::blocked_range<Eigen::Index>(0, nv, 64),
         [&](const tbb::blocked_range<Eigen::Index>& range) {
           for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
-            const Eigen::Vector3d x = mesh.vertices.row(i).transpose();
-            const MeshDistance::Closest c = to_image.Find(x);
+            const MeshDistance::Closest c =
+                to_image.Find(mesh.vertices.row(i).transpose());
             const Eigen::Vector3d bary = Barycentric(
                 c.point, image.vertices.row(lattice.triangles(c.face, 0)),
                 image.vertices.row(lattice.triangles(c.face, 1)),
@@ -287,17 +289,18 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
               p += bary[k] *
                    lattice.points.row(lattice.triangles(c.face, k)).transpose();
             }
-            p.normalize();
-            double d = (surface.Evaluate(p) - x).norm();
-            if (vertex_candidates) {
-              d = std::min(d,
-                           (vertex_candidates->row(i).transpose() - x).norm());
-            }
-            start.row(i) = p.transpose();
+            start.row(i) = p.normalized().transpose();
             image_distance[i] = c.distance;
-            distance[i] = d;
           }
         });
+    surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
+      const Eigen::Vector3d x = mesh.vertices.row(i).transpose();
+      double d = (surface.Evaluate(start.row(i).transpose()) - x).norm();
+      if (vertex_candidates) {
+        d = std::min(d, (vertex_candidates->row(i).transpose() - x).norm());
+      }
+      distance[i] = d;
+    });
     // Then a search on the spline itself where the spline point is farther
     // than the lattice image suggests (and, unless all are searched, the
     // vertex is at or above the mesh -> surface rms so far).
@@ -306,22 +309,18 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
                              ? 0.0
                              : std::sqrt(area.dot(distance.cwiseAbs2()) /
                                          std::max(area.sum(), 1e-300));
-    tbb::parallel_for(
-        tbb::blocked_range<Eigen::Index>(0, nv, 64),
-        [&](const tbb::blocked_range<Eigen::Index>& range) {
-          for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
-            const double d = distance[i];
-            if (d < floor || d <= kRefineRatio * image_distance[i] +
-                                      1e-9 * options.length_unit) {
-              continue;
-            }
-            distance[i] = std::min(
-                d, ClosestOnSpline(surface, mesh.vertices.row(i).transpose(),
-                                   start.row(i).transpose(),
-                                   options.closest_point_iterations));
-            refined[i] = 1;
-          }
-        });
+    surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
+      const double d = distance[i];
+      if (d < floor ||
+          d <= kRefineRatio * image_distance[i] + 1e-9 * options.length_unit) {
+        return;
+      }
+      distance[i] =
+          std::min(d, ClosestOnSpline(surface, mesh.vertices.row(i).transpose(),
+                                      start.row(i).transpose(),
+                                      options.closest_point_iterations));
+      refined[i] = 1;
+    });
     distance *= to_percent;
   }
   out.mesh_samples = nv;
