@@ -484,6 +484,26 @@ struct SplineFitter::State::Problem {
   DesignMatrix data;
   BendingQuadrature bending;
   ChartHessianRows hessian;
+
+  // Eigen 3.4's sparse matrices have no move constructor: moving a Problem
+  // (into and out of its StatusOr) swaps them instead of copying.
+  Problem(DcbBasis b, FitSamples s, DesignMatrix* d, BendingQuadrature q,
+          ChartHessianRows* h)
+      : basis(std::move(b)), samples(std::move(s)), bending(std::move(q)) {
+    SwapMatrices(d, h);
+  }
+  Problem(Problem&& other) noexcept
+      : basis(std::move(other.basis)),
+        samples(std::move(other.samples)),
+        bending(std::move(other.bending)) {
+    SwapMatrices(&other.data, &other.hessian);
+  }
+  void SwapMatrices(DesignMatrix* d, ChartHessianRows* h) {
+    data.swap(*d);
+    hessian.uu.swap(h->uu);
+    hessian.uv.swap(h->uv);
+    hessian.vv.swap(h->vv);
+  }
 };
 
 StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
@@ -522,8 +542,8 @@ StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
     details->min_vertices_per_basis =
         *std::min_element(vertices.begin(), vertices.end());
   }
-  return Problem{std::move(basis), std::move(samples), std::move(data),
-                 std::move(bending), std::move(hessian)};
+  return Problem(std::move(basis), std::move(samples), &data,
+                 std::move(bending), &hessian);
 }
 
 StatusOr<Eigen::MatrixX3d> SplineFitter::State::Solve(const Problem& p) const {

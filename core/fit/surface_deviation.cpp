@@ -2,11 +2,13 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "sdcb/core/mesh/mesh_distance.h"
@@ -208,6 +210,15 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     }
   }
 
+  // The image's own AABB tree (for mesh -> surface) is built meanwhile: its
+  // construction is sequential.
+  std::optional<StatusOr<MeshDistance>> image_distance_or;
+  tbb::task_group image_tree;
+  if (options.closest_points) {
+    image_tree.run(
+        [&] { image_distance_or.emplace(MeshDistance::Create(image)); });
+  }
+
   // Surface -> mesh at the lattice vertices, with folds.
   SurfaceDeviation out;
   out.lattice_level = level;
@@ -255,6 +266,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   out.surface_to_mesh_rms_percent =
       area > 0 ? std::sqrt(sum_squares / area) : 0;
   out.folded_area_percent = area > 0 ? 100.0 * folded_area / area : 0;
+  image_tree.wait();
 
   // Mesh -> surface at the vertices.
   const Eigen::Index nv = mesh.vertices.rows();
@@ -267,7 +279,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     }
   } else {
     SDCB_ASSIGN_OR_RETURN(const MeshDistance to_image,
-                          MeshDistance::Create(image));
+                          std::move(*image_distance_or));
     // First the spline point of the lattice image's closest point (and the
     // candidate), for every vertex: the sphere points, then the spline there
     // in the basis's locality order (several times faster than vertex
