@@ -1,8 +1,12 @@
 #include "sdcb/core/fit/fit_samples.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -70,38 +74,56 @@ bool Bisect(const Sub& t, const Eigen::Vector3d s[3], const Length& length,
 
 // The pieces of every triangle to split at `per_spacing` samples per knot
 // spacing (`spacing`: per knot, `knot_tree`: the knots); false when they
-// would exceed options.max_pieces (then `leaves` is to be discarded).
+// would exceed options.max_pieces (then `leaves` is to be discarded). The
+// triangles are split in parallel; the answer is that of a sequential pass
+// (false iff the pieces of all triangles together exceed the budget), for
+// any thread count.
 bool SplitTriangles(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
                     const Eigen::VectorXd& spacing,
                     const PointKdTree& knot_tree, double per_spacing,
                     const FitSampleOptions& options,
                     std::vector<std::vector<Sub>>* leaves, int* split) {
-  int64_t budget = options.max_pieces > 0 ? options.max_pieces
-                                          : std::numeric_limits<int64_t>::max();
-  *split = 0;
-  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
-    (*leaves)[f].clear();
-    const Eigen::Vector3d s[3] = {sphere.row(mesh.faces(f, 0)),
-                                  sphere.row(mesh.faces(f, 1)),
-                                  sphere.row(mesh.faces(f, 2))};
-    const double longest = std::max(
-        {(s[1] - s[0]).norm(), (s[2] - s[1]).norm(), (s[0] - s[2]).norm()});
-    // The sample spacing at a point: the spacing of the knot nearest to it
-    // over per_spacing.
-    const auto length = [&](const Eigen::Vector3d& p) {
-      const PointKdTree::Neighbor near = knot_tree.Nearest(p);
-      return near.index >= 0 ? spacing[near.index] / per_spacing
-                             : std::numeric_limits<double>::infinity();
-    };
-    if (longest <= length((s[0] + s[1] + s[2]).normalized())) continue;
-    const Sub whole{
-        {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1)}};
-    if (!Bisect(whole, s, length, options.max_depth, &budget, &(*leaves)[f])) {
-      return false;
-    }
-    ++*split;
-  }
-  return true;
+  const int64_t budget = options.max_pieces > 0
+                             ? options.max_pieces
+                             : std::numeric_limits<int64_t>::max();
+  std::atomic<int64_t> pieces{0};
+  std::atomic<int> split_count{0};
+  std::atomic<bool> over{false};
+  tbb::parallel_for(
+      tbb::blocked_range<Eigen::Index>(0, mesh.faces.rows(), 256),
+      [&](const tbb::blocked_range<Eigen::Index>& range) {
+        for (Eigen::Index f = range.begin(); f < range.end(); ++f) {
+          (*leaves)[f].clear();
+          if (over.load(std::memory_order_relaxed)) continue;
+          const Eigen::Vector3d s[3] = {sphere.row(mesh.faces(f, 0)),
+                                        sphere.row(mesh.faces(f, 1)),
+                                        sphere.row(mesh.faces(f, 2))};
+          const double longest =
+              std::max({(s[1] - s[0]).norm(), (s[2] - s[1]).norm(),
+                        (s[0] - s[2]).norm()});
+          // The sample spacing at a point: the spacing of the knot nearest
+          // to it over per_spacing.
+          const auto length = [&](const Eigen::Vector3d& p) {
+            const PointKdTree::Neighbor near = knot_tree.Nearest(p);
+            return near.index >= 0 ? spacing[near.index] / per_spacing
+                                   : std::numeric_limits<double>::infinity();
+          };
+          if (longest <= length((s[0] + s[1] + s[2]).normalized())) continue;
+          const Sub whole{{Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0),
+                           Eigen::Vector2d(0, 1)}};
+          // One triangle alone may use the whole budget.
+          int64_t own = budget;
+          const bool fits =
+              Bisect(whole, s, length, options.max_depth, &own, &(*leaves)[f]);
+          const int64_t total =
+              pieces.fetch_add(static_cast<int64_t>((*leaves)[f].size())) +
+              static_cast<int64_t>((*leaves)[f].size());
+          if (!fits || total > budget) over = true;
+          ++split_count;
+        }
+      });
+  *split = split_count;
+  return !over;
 }
 
 // Triangle f's corner vertices, their sphere points and mesh points.

@@ -1,6 +1,7 @@
 #include "sdcb/core/fit/spline_fitter.h"
 
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -452,19 +453,30 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   param_options.progress = [&s](const std::string&, double f) {
     s.Report(FitStage::kParameterization, 0, f);
   };
+  // Meanwhile, independent of it, the mesh's AABB tree and the curvedness
+  // (step 2): they keep busy the threads the parameterization's sequential
+  // parts leave idle. Same results; all three count as this stage.
+  std::optional<StatusOr<MeshDistance>> distance;
+  std::optional<StatusOr<Eigen::VectorXd>> curvedness_or;
   SDCB_ASSIGN_OR_RETURN(const SphericalParameterization param, s.InArena([&] {
-    return ParameterizeOnSphere(mesh, param_options);
+    tbb::task_group side;
+    side.run([&] {
+      distance = MeshDistance::Create(s.mesh);
+      curvedness_or = Curvedness(mesh);
+    });
+    StatusOr<SphericalParameterization> p =
+        ParameterizeOnSphere(mesh, param_options);
+    side.wait();
+    return p;
   }));
   s.u = param.sphere;
-  s.result.timings.parameterization = stage.Seconds();
   s.parameter_tree = std::make_unique<PointKdTree>(s.u);
-  SDCB_ASSIGN_OR_RETURN(
-      s.mesh_distance, s.InArena([&] { return MeshDistance::Create(s.mesh); }));
+  SDCB_ASSIGN_OR_RETURN(s.mesh_distance, std::move(*distance));
+  s.result.timings.parameterization = stage.Seconds();
 
   // 2. Round-0 density: curvedness^alpha (Sec. 4.4).
   stage = Stopwatch();
-  SDCB_ASSIGN_OR_RETURN(Eigen::VectorXd curvedness,
-                        s.InArena([&] { return Curvedness(mesh); }));
+  SDCB_ASSIGN_OR_RETURN(Eigen::VectorXd curvedness, std::move(*curvedness_or));
   if (!(curvedness.maxCoeff() > 0)) curvedness.setOnes();  // flat: uniform
   s.density = SphericalDensity{s.u, mesh.faces, Eigen::VectorXd()};
   SDCB_ASSIGN_OR_RETURN(s.density.values,
@@ -504,6 +516,26 @@ struct SplineFitter::State::Problem {
   DesignMatrix data;
   BendingQuadrature bending;
   ChartHessianRows hessian;
+
+  // Eigen 3.4's sparse matrices have no move constructor: moving a Problem
+  // (into and out of its StatusOr) swaps them instead of copying.
+  Problem(DcbBasis b, FitSamples s, DesignMatrix* d, BendingQuadrature q,
+          ChartHessianRows* h)
+      : basis(std::move(b)), samples(std::move(s)), bending(std::move(q)) {
+    SwapMatrices(d, h);
+  }
+  Problem(Problem&& other) noexcept
+      : basis(std::move(other.basis)),
+        samples(std::move(other.samples)),
+        bending(std::move(other.bending)) {
+    SwapMatrices(&other.data, &other.hessian);
+  }
+  void SwapMatrices(DesignMatrix* d, ChartHessianRows* h) {
+    data.swap(*d);
+    hessian.uu.swap(h->uu);
+    hessian.uv.swap(h->uv);
+    hessian.vv.swap(h->vv);
+  }
 };
 
 StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
@@ -542,8 +574,8 @@ StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
     details->min_vertices_per_basis =
         *std::min_element(vertices.begin(), vertices.end());
   }
-  return Problem{std::move(basis), std::move(samples), std::move(data),
-                 std::move(bending), std::move(hessian)};
+  return Problem(std::move(basis), std::move(samples), &data,
+                 std::move(bending), &hessian);
 }
 
 StatusOr<Eigen::MatrixX3d> SplineFitter::State::Solve(const Problem& p) const {

@@ -122,6 +122,8 @@ double MaxErrorTarget(const FitOptions& options);
 
 // Wall time per pipeline stage, in seconds.
 struct StageTimings {
+  // The parameterization, and the mesh's AABB tree and curvedness (round
+  // 0's density), which run beside it.
   double parameterization = 0.0;
   double knot_placement = 0.0;
   double configurations = 0.0;

@@ -2,11 +2,13 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "sdcb/core/mesh/mesh_distance.h"
@@ -208,6 +210,15 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     }
   }
 
+  // The image's own AABB tree (for mesh -> surface) is built meanwhile: its
+  // construction is sequential.
+  std::optional<StatusOr<MeshDistance>> image_distance_or;
+  tbb::task_group image_tree;
+  if (options.closest_points) {
+    image_tree.run(
+        [&] { image_distance_or.emplace(MeshDistance::Create(image)); });
+  }
+
   // Surface -> mesh at the lattice vertices, with folds.
   SurfaceDeviation out;
   out.lattice_level = level;
@@ -255,6 +266,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   out.surface_to_mesh_rms_percent =
       area > 0 ? std::sqrt(sum_squares / area) : 0;
   out.folded_area_percent = area > 0 ? 100.0 * folded_area / area : 0;
+  image_tree.wait();
 
   // Mesh -> surface at the vertices.
   const Eigen::Index nv = mesh.vertices.rows();
@@ -267,17 +279,19 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     }
   } else {
     SDCB_ASSIGN_OR_RETURN(const MeshDistance to_image,
-                          MeshDistance::Create(image));
+                          std::move(*image_distance_or));
     // First the spline point of the lattice image's closest point (and the
-    // candidate), for every vertex.
+    // candidate), for every vertex: the sphere points, then the spline there
+    // in the basis's locality order (several times faster than vertex
+    // order; each vertex's result is the same).
     Eigen::MatrixX3d start(nv, 3);
     Eigen::VectorXd image_distance(nv);
     tbb::parallel_for(
         tbb::blocked_range<Eigen::Index>(0, nv, 64),
         [&](const tbb::blocked_range<Eigen::Index>& range) {
           for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
-            const Eigen::Vector3d x = mesh.vertices.row(i).transpose();
-            const MeshDistance::Closest c = to_image.Find(x);
+            const MeshDistance::Closest c =
+                to_image.Find(mesh.vertices.row(i).transpose());
             const Eigen::Vector3d bary = Barycentric(
                 c.point, image.vertices.row(lattice.triangles(c.face, 0)),
                 image.vertices.row(lattice.triangles(c.face, 1)),
@@ -287,17 +301,18 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
               p += bary[k] *
                    lattice.points.row(lattice.triangles(c.face, k)).transpose();
             }
-            p.normalize();
-            double d = (surface.Evaluate(p) - x).norm();
-            if (vertex_candidates) {
-              d = std::min(d,
-                           (vertex_candidates->row(i).transpose() - x).norm());
-            }
-            start.row(i) = p.transpose();
+            start.row(i) = p.normalized().transpose();
             image_distance[i] = c.distance;
-            distance[i] = d;
           }
         });
+    surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
+      const Eigen::Vector3d x = mesh.vertices.row(i).transpose();
+      double d = (surface.Evaluate(start.row(i).transpose()) - x).norm();
+      if (vertex_candidates) {
+        d = std::min(d, (vertex_candidates->row(i).transpose() - x).norm());
+      }
+      distance[i] = d;
+    });
     // Then a search on the spline itself where the spline point is farther
     // than the lattice image suggests (and, unless all are searched, the
     // vertex is at or above the mesh -> surface rms so far).
@@ -306,22 +321,18 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
                              ? 0.0
                              : std::sqrt(area.dot(distance.cwiseAbs2()) /
                                          std::max(area.sum(), 1e-300));
-    tbb::parallel_for(
-        tbb::blocked_range<Eigen::Index>(0, nv, 64),
-        [&](const tbb::blocked_range<Eigen::Index>& range) {
-          for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
-            const double d = distance[i];
-            if (d < floor || d <= kRefineRatio * image_distance[i] +
-                                      1e-9 * options.length_unit) {
-              continue;
-            }
-            distance[i] = std::min(
-                d, ClosestOnSpline(surface, mesh.vertices.row(i).transpose(),
-                                   start.row(i).transpose(),
-                                   options.closest_point_iterations));
-            refined[i] = 1;
-          }
-        });
+    surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
+      const double d = distance[i];
+      if (d < floor ||
+          d <= kRefineRatio * image_distance[i] + 1e-9 * options.length_unit) {
+        return;
+      }
+      distance[i] =
+          std::min(d, ClosestOnSpline(surface, mesh.vertices.row(i).transpose(),
+                                      start.row(i).transpose(),
+                                      options.closest_point_iterations));
+      refined[i] = 1;
+    });
     distance *= to_percent;
   }
   out.mesh_samples = nv;

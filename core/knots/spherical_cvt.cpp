@@ -2,10 +2,12 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 #include <string>
@@ -163,8 +165,12 @@ Quadrature Aggregate(const Quadrature& fine, int bins) {
   const double max_area = 16 * 4 * kPi / bins;
   std::vector<int> order(n);
   for (int s = 0; s < n; ++s) order[s] = s;
-  Quadrature q;
-  auto emit = [&](int begin, int end) {
+  // One bin: its point, area, weight and spread energy.
+  struct Bin {
+    Eigen::Vector3d point;
+    double area, weight, spread;
+  };
+  auto emit = [&](int begin, int end, std::vector<Bin>* out) {
     Eigen::Vector3d moment = Eigen::Vector3d::Zero(),
                     area_moment = Eigen::Vector3d::Zero();
     double weight = 0, area = 0;
@@ -178,39 +184,57 @@ Quadrature Aggregate(const Quadrature& fine, int bins) {
     if (!(area > 0)) return;
     const Eigen::Vector3d c = weight > 0 ? Eigen::Vector3d(moment / weight)
                                          : Eigen::Vector3d(area_moment / area);
-    q.points.push_back(c);
-    q.areas.push_back(area);
-    q.weights.push_back(weight);
-    q.spread_energy += weight * std::max(0.0, 1 - c.squaredNorm());
+    out->push_back(
+        {c, area, weight, weight * std::max(0.0, 1 - c.squaredNorm())});
   };
-  // Depth-first over an explicit stack, left half first: a fixed order.
-  std::vector<std::pair<int, int>> stack = {{0, n}};
-  while (!stack.empty()) {
-    const auto [begin, end] = stack.back();
-    stack.pop_back();
-    double root = 0, area = 0;
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(kInf), hi = -lo;
-    for (int i = begin; i < end; ++i) {
-      root += root_mass[order[i]];
-      area += fine.areas[order[i]];
-      lo = lo.cwiseMin(fine.points[order[i]]);
-      hi = hi.cwiseMax(fine.points[order[i]]);
-    }
-    if (end - begin == 1 || (root <= max_root_mass && area <= max_area)) {
-      emit(begin, end);
-      continue;
-    }
-    int axis;
-    (hi - lo).maxCoeff(&axis);
-    const int mid = begin + (end - begin) / 2;
-    std::nth_element(order.begin() + begin, order.begin() + mid,
-                     order.begin() + end, [&](int a, int b) {
-                       const double pa = fine.points[a][axis],
-                                    pb = fine.points[b][axis];
-                       return pa < pb || (pa == pb && a < b);
-                     });
-    stack.emplace_back(mid, end);
-    stack.emplace_back(begin, mid);
+  // Depth first, left half first: a fixed order. Halves of more than
+  // kParallelBins points are split concurrently (they own disjoint ranges
+  // of `order`), their bins concatenated in that order.
+  constexpr int kParallelBins = 8192;
+  std::function<void(int, int, std::vector<Bin>*)> split =
+      [&](int begin, int end, std::vector<Bin>* out) {
+        double root = 0, area = 0;
+        Eigen::Vector3d lo = Eigen::Vector3d::Constant(kInf), hi = -lo;
+        for (int i = begin; i < end; ++i) {
+          root += root_mass[order[i]];
+          area += fine.areas[order[i]];
+          lo = lo.cwiseMin(fine.points[order[i]]);
+          hi = hi.cwiseMax(fine.points[order[i]]);
+        }
+        if (end - begin == 1 || (root <= max_root_mass && area <= max_area)) {
+          emit(begin, end, out);
+          return;
+        }
+        int axis;
+        (hi - lo).maxCoeff(&axis);
+        const int mid = begin + (end - begin) / 2;
+        std::nth_element(order.begin() + begin, order.begin() + mid,
+                         order.begin() + end, [&](int a, int b) {
+                           const double pa = fine.points[a][axis],
+                                        pb = fine.points[b][axis];
+                           return pa < pb || (pa == pb && a < b);
+                         });
+        if (end - begin <= kParallelBins) {
+          split(begin, mid, out);
+          split(mid, end, out);
+          return;
+        }
+        std::vector<Bin> right;
+        tbb::parallel_invoke([&] { split(begin, mid, out); },
+                             [&] { split(mid, end, &right); });
+        out->insert(out->end(), right.begin(), right.end());
+      };
+  std::vector<Bin> all;
+  if (n > 0) split(0, n, &all);
+  Quadrature q;
+  q.points.reserve(all.size());
+  q.areas.reserve(all.size());
+  q.weights.reserve(all.size());
+  for (const Bin& bin : all) {  // in emission order, as the sums were
+    q.points.push_back(bin.point);
+    q.areas.push_back(bin.area);
+    q.weights.push_back(bin.weight);
+    q.spread_energy += bin.spread;
   }
   return q;
 }
@@ -285,12 +309,60 @@ struct FixedCapture {
 
 // Nearest-knot assignment against the free knots, given each point's
 // squared distance to the nearest fixed knot (a fixed knot wins ties).
+// First every point's nearest free knot, in parallel over small chunks (the
+// searches are most of the work, and the settled points that cost nothing
+// cluster: whole kBlockSize blocks would leave a thread idle); then the sums
+// per kBlockSize block in point order, added in block order: the same bits
+// for any thread count and chunking.
 Assignment Assign(const Quadrature& q, const std::vector<double>& fixed_d2,
                   const Eigen::MatrixX3d& free_knots, FixedCapture* capture) {
   // Rounding allowance (chord) on the skip test and recorded margins.
   constexpr double kSlack = 1e-9;
+  constexpr int kChunk = 256;
   const int num_free = static_cast<int>(free_knots.rows());
   const PointKdTree tree(free_knots);
+  // Per point: its nearest free knot if that is strictly nearer than the
+  // fixed one, else -1; and the squared distance to the knot it belongs to.
+  std::vector<int> nearest(q.size());
+  std::vector<double> d2(q.size());
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, q.size(), kChunk), [&](const auto& r) {
+        int previous = -1;  // nearest free knot of the last searched point
+        for (int s = r.begin(); s < r.end(); ++s) {
+          const double d2_fixed = fixed_d2[s];
+          nearest[s] = -1;
+          d2[s] = d2_fixed;
+          if (capture->enabled &&
+              capture->margin[s] - (capture->travel - capture->travel_at[s]) >
+                  kSlack) {
+            continue;
+          }
+          const double d_fixed = std::sqrt(d2_fixed);
+          const double reach = d_fixed + capture->window;
+          // The previous point's nearest free knot (points are in Morton
+          // order) tightens the bound; the bound admits that knot, so the
+          // answer is unchanged whenever it is the tighter one.
+          double bound = reach * reach;
+          if (previous >= 0) {
+            const double d2_previous =
+                (free_knots.row(previous).transpose() - q.points[s])
+                    .squaredNorm();
+            bound = std::min(bound, d2_previous * (1 + 1e-12) + 1e-300);
+          }
+          const PointKdTree::Neighbor n = tree.Nearest(q.points[s], bound);
+          if (n.index >= 0) previous = n.index;
+          capture->travel_at[s] = capture->travel;
+          if (n.index >= 0 && n.squared_distance < d2_fixed) {
+            capture->margin[s] = -1;
+            nearest[s] = n.index;
+            d2[s] = n.squared_distance;
+            continue;
+          }
+          capture->margin[s] =
+              (n.index >= 0 ? std::sqrt(n.squared_distance) : reach) - d_fixed -
+              kSlack;
+        }
+      });
   const int num_blocks = (q.size() + kBlockSize - 1) / kBlockSize;
   std::vector<Assignment> blocks(num_blocks);
   tbb::parallel_for(tbb::blocked_range<int>(0, num_blocks), [&](const auto& r) {
@@ -299,40 +371,12 @@ Assignment Assign(const Quadrature& q, const std::vector<double>& fixed_d2,
       out.moment.assign(num_free, Eigen::Vector3d::Zero());
       out.mass.assign(num_free, 0.0);
       const int end = std::min(q.size(), (b + 1) * kBlockSize);
-      int previous = -1;  // nearest free knot of the last searched point
       for (int s = b * kBlockSize; s < end; ++s) {
-        const double d2_fixed = fixed_d2[s];
-        if (capture->enabled &&
-            capture->margin[s] - (capture->travel - capture->travel_at[s]) >
-                kSlack) {
-          out.energy += q.weights[s] * d2_fixed;
-          continue;
-        }
-        const double d_fixed = std::sqrt(d2_fixed);
-        const double reach = d_fixed + capture->window;
-        // The previous point's nearest free knot (points are in Morton
-        // order) tightens the bound; the bound admits that knot, so the
-        // answer is unchanged whenever it is the tighter one.
-        double bound = reach * reach;
-        if (previous >= 0) {
-          const double d2 = (free_knots.row(previous).transpose() - q.points[s])
-                                .squaredNorm();
-          bound = std::min(bound, d2 * (1 + 1e-12) + 1e-300);
-        }
-        const PointKdTree::Neighbor n = tree.Nearest(q.points[s], bound);
-        if (n.index >= 0) previous = n.index;
-        capture->travel_at[s] = capture->travel;
-        if (n.index >= 0 && n.squared_distance < d2_fixed) {
-          capture->margin[s] = -1;
-          out.energy += q.weights[s] * n.squared_distance;
-          out.moment[n.index] += q.weights[s] * q.points[s];
-          out.mass[n.index] += q.weights[s];
-          continue;
-        }
-        capture->margin[s] =
-            (n.index >= 0 ? std::sqrt(n.squared_distance) : reach) - d_fixed -
-            kSlack;
-        out.energy += q.weights[s] * d2_fixed;
+        out.energy += q.weights[s] * d2[s];
+        const int k = nearest[s];
+        if (k < 0) continue;
+        out.moment[k] += q.weights[s] * q.points[s];
+        out.mass[k] += q.weights[s];
       }
     }
   });

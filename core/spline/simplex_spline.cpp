@@ -559,16 +559,27 @@ double SimplexSplineForest::NodeValue(int g, Scratch& s) const {
   const Node& n = nodes_[g];
   double v = 0.0;
   if (n.matrix < 0) {
-    // Inside [ta, tb, tc) (SimplexSpline::LeafValue).
+    // Inside [ta, tb, tc) (SimplexSpline::LeafValue). A pair's memo is read
+    // here; PairSign computes it when it is stale.
+    const auto sign = [&](int pair) {
+      const Scratch::PairMemo& memo = s.pair[pair];
+      return memo.stamp == s.generation ? memo.sign : PairSign(pair, s);
+    };
     const int o = n.orientation;
-    if (o != 0 && PairSign(n.pair[0], s) == o && PairSign(n.pair[1], s) == -o &&
-        PairSign(n.pair[2], s) == o) {
+    if (o != 0 && sign(n.pair[0]) == o && sign(n.pair[1]) == -o &&
+        sign(n.pair[2]) == o) {
       v = n.inv_abs_det;
     }
   } else {
-    const double v0 = NodeValue(n.child[0], s);
-    const double v1 = NodeValue(n.child[1], s);
-    const double v2 = NodeValue(n.child[2], s);
+    // Most children were computed for an earlier node of the point: their
+    // memo is read here rather than in a call.
+    const auto child = [&](int c) {
+      const Scratch::NodeMemo& memo = s.node[c];
+      return memo.stamp == s.generation ? memo.value : NodeValue(c, s);
+    };
+    const double v0 = child(n.child[0]);
+    const double v1 = child(n.child[1]);
+    const double v2 = child(n.child[2]);
     if (!(v0 == 0.0 && v1 == 0.0 && v2 == 0.0)) {
       const Eigen::Vector3d b = matrices_[n.matrix] * s.p;
       v = b[0] * v0 + b[1] * v1 + b[2] * v2;
@@ -587,16 +598,21 @@ void SimplexSplineForest::NodeJet(int g, Scratch& s) const {
   double hess[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   bool live = false;
   if (n.matrix < 0) {
+    const auto sign = [&](int pair) {  // as in NodeValue
+      const Scratch::PairMemo& memo = s.pair[pair];
+      return memo.stamp == s.generation ? memo.sign : PairSign(pair, s);
+    };
     const int o = n.orientation;
-    if (o != 0 && PairSign(n.pair[0], s) == o && PairSign(n.pair[1], s) == -o &&
-        PairSign(n.pair[2], s) == o) {
+    if (o != 0 && sign(n.pair[0]) == o && sign(n.pair[1]) == -o &&
+        sign(n.pair[2]) == o) {
       value = n.inv_abs_det;
     }
     live = value != 0.0;
   } else {
     for (int j = 0; j < 3; ++j) {
-      NodeJet(n.child[j], s);
-      live = live || s.live[n.child[j]];
+      const int c = n.child[j];
+      if (s.node[c].stamp != s.generation) NodeJet(c, s);
+      live = live || s.live[c];
     }
     if (live) {
       // As SimplexSpline::Evaluate.

@@ -4,6 +4,7 @@
 #include "sdcb/core/fit/fit_samples.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 
@@ -88,6 +89,46 @@ TEST(FitSamplesTest, CappedPiecesStillIntegrateTheWholeSurface) {
     worst = std::max(worst, std::abs(std::abs(x.z()) + x.head<2>().norm() - 1));
   }
   EXPECT_LT(worst, 0.02 * spacing.minCoeff() / 2.0);
+}
+
+// The triangles are split in parallel and a full budget stops the split
+// early; the one-thread run is the oracle: at the smallest budget that holds
+// every piece (split samples) and one below it (pooled samples), 4 threads
+// give its samples bit for bit, whichever thread finds the budget full.
+TEST(FitSamplesTest, SameSamplesForAnyThreadCountAtTheBudget) {
+  const TriangleMesh cone = testing::DoubleCone(300);
+  const Eigen::MatrixX3d sphere = cone.vertices.rowwise().normalized();
+  const Eigen::MatrixX3d knots = FibonacciPoints(200);
+  auto build = [&](int64_t max_pieces, int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                              threads);
+    FitSampleOptions options;
+    options.max_pieces = max_pieces;
+    return BuildFitSamples(cone, sphere, knots, options);
+  };
+  // The smallest budget without pooling, by bisection on the sequential
+  // result.
+  int64_t low = 1, high = 1;
+  while (build(high, 1).merged_pieces > 0) high *= 2;
+  while (low < high) {
+    const int64_t mid = (low + high) / 2;
+    if (build(mid, 1).merged_pieces > 0) {
+      low = mid + 1;
+    } else {
+      high = mid;
+    }
+  }
+  ASSERT_GT(high, 1000);  // the needles are split into many pieces
+  for (int64_t budget : {high - 1, high, int64_t{0}}) {
+    const FitSamples sequential = build(budget, 1);
+    const FitSamples parallel = build(budget, 4);
+    EXPECT_EQ(sequential.merged_pieces > 0, budget == high - 1) << budget;
+    EXPECT_EQ(sequential.points, parallel.points) << budget;
+    EXPECT_EQ(sequential.targets, parallel.targets) << budget;
+    EXPECT_EQ(sequential.weights, parallel.weights) << budget;
+    EXPECT_EQ(sequential.triangle, parallel.triangle) << budget;
+    EXPECT_EQ(sequential.split_triangles, parallel.split_triangles) << budget;
+  }
 }
 
 }  // namespace

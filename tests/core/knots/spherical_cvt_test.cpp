@@ -220,6 +220,36 @@ TEST(SphericalCvtTest, DeterministicForAnyThreadCount) {
   EXPECT_NE(PlaceKnots(density, fixed, 50, other_seed)->knots, one.knots);
 }
 
+TEST(SphericalCvtTest, BinnedQuadratureDeterministicForAnyThreadCount) {
+  // 20,480 quadrature samples merged into bins (more than 2 * 64 bins per
+  // knot): the bins' median splits run concurrently and the nearest-knot
+  // searches in chunks smaller than the summation blocks. The sequential
+  // run is the oracle: every thread count gives its bits, and so does the
+  // search of every point (no settled points skipped).
+  SphericalDensity density = Uniform(5);
+  density.values = (density.sphere_vertices.col(2).array() + 1.2).square();
+  const Eigen::MatrixX3d fixed = RandomUnit(20, 3);
+  KnotPlacement one, four;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = *PlaceKnots(density, fixed, 50);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 4);
+    four = *PlaceKnots(density, fixed, 50);
+  }
+  CvtOptions search_all;
+  search_all.skip_settled_points = false;
+  const KnotPlacement all = *PlaceKnots(density, fixed, 50, search_all);
+  EXPECT_GT(one.quadrature_samples, 0);
+  EXPECT_LT(one.quadrature_samples, 20480);  // binned
+  EXPECT_GT(one.iterations, 1);
+  EXPECT_EQ(one.knots, four.knots);
+  EXPECT_EQ(one.energy_history, four.energy_history);
+  EXPECT_EQ(one.knots, all.knots);
+  EXPECT_EQ(one.energy_history, all.energy_history);
+}
+
 TEST(SphericalCvtTest, MinimumSeparationHoldsUnderConcentratedDensity) {
   // All density in the triangles around one vertex: a CVT would pile the
   // knots there; the separation keeps them 0.05 rad apart.
