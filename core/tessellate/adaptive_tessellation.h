@@ -31,8 +31,8 @@
 // Each then certifies every face again and splits those that fail, so the
 // prediction never decides what is shipped; faces such splits turn over
 // against the surface normals (a thin, sheared face's new vertex beyond its
-// opposite corner) are unfolded by edge flips and certified again. This brings the count toward
-// the asymptotic optimum (optimal_triangle_count.h).
+// opposite corner) are unfolded by edge flips and certified again. This brings
+// the count toward the asymptotic optimum (optimal_triangle_count.h).
 //
 // The result is closed, manifold, genus 0 and consistently oriented by
 // construction (no T-junctions): it is a triangulation of the sphere mapped
@@ -60,6 +60,8 @@ struct TessellationOptions {
   int lattice = 6;
   // Remesh / collapse, flip and move after refinement (see above).
   bool optimize = true;
+  // Certified simplification at the end (see above).
+  bool simplify = true;
   // Faces whose shortest domain edge is below this angle (radians) are not
   // split further; they count as uncertified if they still fail.
   double min_edge_radians = 1e-7;

@@ -84,6 +84,12 @@ int SphereTriangulation::Opposite(int f, int a, int b) const {
   return e.face[0] == f ? e.face[1] : e.face[0];
 }
 
+int SphereTriangulation::FaceOf(int a, int b) const {
+  auto it = edges_.find(Key(a, b));
+  if (it == edges_.end()) return -1;
+  return it->second.face[a < b ? 0 : 1];
+}
+
 void SphereTriangulation::SplitEdge(int a, int b, const EdgeLength& length,
                                     const std::function<void(int)>& on_vertex) {
   const Edge e = edges_.at(Key(a, b));

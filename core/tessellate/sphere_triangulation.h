@@ -61,6 +61,8 @@ class SphereTriangulation {
 
   // The other face across edge (a, b), or -1.
   int Opposite(int f, int a, int b) const;
+  // The face that has the directed edge a -> b (in its orientation), or -1.
+  int FaceOf(int a, int b) const;
   bool HasEdge(int a, int b) const { return edges_.count(Key(a, b)) > 0; }
   bool vertex_alive(int v) const { return vertex_face_[v] >= 0; }
 
