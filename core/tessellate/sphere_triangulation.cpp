@@ -162,9 +162,12 @@ Eigen::MatrixX3i SphereTriangulation::Faces() const {
 }
 
 bool SphereTriangulation::Positive(int a, int b, int c) const {
-  const Eigen::Vector3d& x = vertices_[a];
-  const Eigen::Vector3d& y = vertices_[b];
-  const Eigen::Vector3d& z = vertices_[c];
+  return IsPositive(vertices_[a], vertices_[b], vertices_[c]);
+}
+
+bool SphereTriangulation::IsPositive(const Eigen::Vector3d& x,
+                                     const Eigen::Vector3d& y,
+                                     const Eigen::Vector3d& z) {
   // det(x, y, z) = (y - x) x (z - x) . x for unit vectors; relative margin
   // against rounding.
   const Eigen::Vector3d n = (y - x).cross(z - x);
@@ -184,6 +187,19 @@ std::vector<int> SphereTriangulation::Ring(int v) const {
     f = Opposite(f, v, y);
   } while (f != start && f >= 0 && ring.size() < 10000);
   return ring;
+}
+
+std::vector<int> SphereTriangulation::Star(int v) const {
+  std::vector<int> star;
+  const int start = vertex_face_[v];
+  int f = start;
+  do {
+    star.push_back(f);
+    const Face& t = faces_[f];
+    const int i = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+    f = Opposite(f, v, t[(i + 2) % 3]);
+  } while (f != start && f >= 0 && star.size() < 10000);
+  return star;
 }
 
 bool SphereTriangulation::PreviewCollapse(int v, int w,

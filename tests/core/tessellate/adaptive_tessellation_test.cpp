@@ -297,22 +297,25 @@ TEST(AdaptiveTessellationTest, ShearedParameterizationCostsLittle) {
 }
 
 TEST(AdaptiveTessellationTest, CertifiedSimplificationWithinTolerance) {
-  // The certified simplification (collapses the certificate decides) on an
-  // anisotropic ellipsoid and on the same ellipsoid over a sheared (twisted)
-  // domain, where faces are certified against their neighbours' triangles:
-  // fewer faces than without it; the distance measured densely both ways
+  // The certified simplification (collapses the certificate decides) of the
+  // bisection pattern (optimize = false: on these smooth surfaces the
+  // remesher before it leaves little to gain) on an anisotropic ellipsoid
+  // and on the same ellipsoid over a sheared (twisted) domain, where faces
+  // are certified against their neighbours' triangles: clearly fewer faces
+  // than without it; the distance measured densely both ways
   // (exact point-ellipsoid distance, CGAL's AABB tree) within eps; a closed
   // genus-0 manifold (topology analysis) whose domain faces tile the sphere;
   // no intersecting pair of triangles (CGAL); the same output on 1 and 2
   // threads.
   const Eigen::Vector3d axes(1.0, 0.7, 0.4);
-  const double eps = 5e-4;
+  const double eps = 2e-3;
   EllipsoidSampler plain(axes);
   testing::TwistedEllipsoidSampler twisted(axes, 3.0);
   const std::vector<const EllipsoidSampler*> surfaces = {&plain, &twisted};
   for (const EllipsoidSampler* surface : surfaces) {
     TessellationOptions options;
     options.tolerance = eps;
+    options.optimize = false;
     options.simplify = false;
     StatusOr<Tessellation> before = TessellateAdaptively(*surface, options);
     options.simplify = true;
@@ -348,7 +351,7 @@ TEST(AdaptiveTessellationTest, CertifiedSimplificationWithinTolerance) {
               << before->faces.rows() << " faces without the "
               << "certified simplification, " << after->faces.rows()
               << " with it, measured " << measured / eps << " eps\n";
-    EXPECT_LT(after->faces.rows(), 0.97 * before->faces.rows());
+    EXPECT_LT(after->faces.rows(), 0.8 * before->faces.rows());
   }
 }
 
