@@ -174,7 +174,7 @@ const CommandOptions& ExportOptionNames() {
   static const CommandOptions names = {
       {"output", "tolerance", "angle", "uniform", "qp", "cl", "colors", "mesh",
        "json", "measure-samples", "max-patches"},
-      {"draco", "meshopt", "quiet", "no-optimize"}};
+      {"draco", "meshopt", "quiet", "no-optimize", "no-simplify"}};
   return names;
 }
 
@@ -272,6 +272,7 @@ int RunExport(const std::vector<std::string>& argv) {
     options.tolerance = surface_tolerance;
     options.angle_degrees = angle;
     options.optimize = !args.Has("no-optimize");
+    options.simplify = !args.Has("no-simplify");
     StatusOr<Tessellation> adaptive = TessellateAdaptively(sampler, options);
     if (!adaptive.ok()) {
       return ReportError(adaptive.status().WithPrefix(model_path));

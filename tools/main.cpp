@@ -62,7 +62,8 @@ commands:
   export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb} [--tolerance PCT]
       [--angle DEG] [--uniform N] [--draco [--qp BITS] [--cl LEVEL]]
       [--meshopt [--qp BITS]] [--colors none|error|curvature|gaussian]
-      [--mesh MESH] [--json FILE] [--quiet]
+      [--mesh MESH] [--json FILE] [--quiet] [--no-optimize]
+      [--no-simplify]
                              Triangulate the surface: adaptive (every
                              triangle within PCT, default 0.1, of the
                              surface and its normals within DEG, default

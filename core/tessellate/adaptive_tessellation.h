@@ -31,7 +31,16 @@
 // Each then certifies every face again and splits those that fail, so the
 // prediction never decides what is shipped; faces such splits turn over
 // against the surface normals (a thin, sheared face's new vertex beyond its
-// opposite corner) are unfolded by edge flips and certified again. This brings the count toward
+// opposite corner) are unfolded by edge flips and certified again.
+// Then, if `simplify`, the certified simplification: greedy collapses of
+// vertices (half-edge collapses into the two neighbours of lowest predicted
+// error, else the full collapse of the edge to its domain midpoint), each
+// made only if every face it makes passes the certificate above (sheared
+// faces within 0.9 of its threshold), the faces around whose certificate
+// used the replaced faces still pass, the domain faces stay positively
+// oriented and no face turns over against the surface normals. Collapses
+// whose surroundings do not overlap are certified together in waves, until
+// no vertex around a change is left to try. This brings the count toward
 // the asymptotic optimum (optimal_triangle_count.h).
 //
 // The result is closed, manifold, genus 0 and consistently oriented by
@@ -60,6 +69,9 @@ struct TessellationOptions {
   int lattice = 6;
   // Remesh / collapse, flip and move after refinement (see above).
   bool optimize = true;
+  // Certified simplification at the end (see above); with optimize = false
+  // it simplifies the bisection pattern.
+  bool simplify = true;
   // Faces whose shortest domain edge is below this angle (radians) are not
   // split further; they count as uncertified if they still fail.
   double min_edge_radians = 1e-7;

@@ -84,6 +84,12 @@ int SphereTriangulation::Opposite(int f, int a, int b) const {
   return e.face[0] == f ? e.face[1] : e.face[0];
 }
 
+int SphereTriangulation::FaceOf(int a, int b) const {
+  auto it = edges_.find(Key(a, b));
+  if (it == edges_.end()) return -1;
+  return it->second.face[a < b ? 0 : 1];
+}
+
 void SphereTriangulation::SplitEdge(int a, int b, const EdgeLength& length,
                                     const std::function<void(int)>& on_vertex) {
   const Edge e = edges_.at(Key(a, b));
@@ -156,9 +162,12 @@ Eigen::MatrixX3i SphereTriangulation::Faces() const {
 }
 
 bool SphereTriangulation::Positive(int a, int b, int c) const {
-  const Eigen::Vector3d& x = vertices_[a];
-  const Eigen::Vector3d& y = vertices_[b];
-  const Eigen::Vector3d& z = vertices_[c];
+  return IsPositive(vertices_[a], vertices_[b], vertices_[c]);
+}
+
+bool SphereTriangulation::IsPositive(const Eigen::Vector3d& x,
+                                     const Eigen::Vector3d& y,
+                                     const Eigen::Vector3d& z) {
   // det(x, y, z) = (y - x) x (z - x) . x for unit vectors; relative margin
   // against rounding.
   const Eigen::Vector3d n = (y - x).cross(z - x);
@@ -178,6 +187,19 @@ std::vector<int> SphereTriangulation::Ring(int v) const {
     f = Opposite(f, v, y);
   } while (f != start && f >= 0 && ring.size() < 10000);
   return ring;
+}
+
+std::vector<int> SphereTriangulation::Star(int v) const {
+  std::vector<int> star;
+  const int start = vertex_face_[v];
+  int f = start;
+  do {
+    star.push_back(f);
+    const Face& t = faces_[f];
+    const int i = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+    f = Opposite(f, v, t[(i + 2) % 3]);
+  } while (f != start && f >= 0 && star.size() < 10000);
+  return star;
 }
 
 bool SphereTriangulation::PreviewCollapse(int v, int w,

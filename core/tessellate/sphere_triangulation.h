@@ -61,6 +61,8 @@ class SphereTriangulation {
 
   // The other face across edge (a, b), or -1.
   int Opposite(int f, int a, int b) const;
+  // The face that has the directed edge a -> b (in its orientation), or -1.
+  int FaceOf(int a, int b) const;
   bool HasEdge(int a, int b) const { return edges_.count(Key(a, b)) > 0; }
   bool vertex_alive(int v) const { return vertex_face_[v] >= 0; }
 
@@ -88,6 +90,12 @@ class SphereTriangulation {
   // Whether (a, b, c) is a positively oriented spherical triangle (with a
   // small relative margin against rounding).
   bool IsPositive(int a, int b, int c) const { return Positive(a, b, c); }
+  // The same test for three unit vectors.
+  static bool IsPositive(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
+                         const Eigen::Vector3d& z);
+  // The faces around vertex v in counter-clockwise order: Star(v)[i] is the
+  // face of Ring(v)[i] and Ring(v)[i + 1].
+  std::vector<int> Star(int v) const;
   // All edges as (a, b), a < b, in increasing order of (a, b).
   std::vector<std::array<int, 2>> Edges() const;
 

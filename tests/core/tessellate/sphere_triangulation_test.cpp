@@ -113,6 +113,41 @@ TEST(SphereTriangulationTest, RandomEdgeSplitsStayConforming) {
   }
   EXPECT_EQ(t.num_vertices(), 12 + created);
   ExpectSphereTriangulation(t);
+  // Star and FaceOf against a brute-force scan of the faces: Star(v)[i] is
+  // the face (v, ring[i], ring[i + 1]), the only face with that directed
+  // edge.
+  for (int v = 0; v < t.num_vertices(); ++v) {
+    const std::vector<int> ring = t.Ring(v), star = t.Star(v);
+    ASSERT_EQ(star.size(), ring.size());
+    int faces_of_v = 0;
+    for (int f = 0; f < t.num_face_slots(); ++f) {
+      const auto& face = t.face(f);
+      faces_of_v +=
+          t.alive(f) && (face[0] == v || face[1] == v || face[2] == v);
+    }
+    EXPECT_EQ(faces_of_v, static_cast<int>(star.size()));
+    const int n = static_cast<int>(ring.size());
+    for (int i = 0; i < n; ++i) {
+      const int x = ring[i], y = ring[(i + 1) % n];
+      int found = -1;
+      for (int f = 0; f < t.num_face_slots(); ++f) {
+        if (!t.alive(f)) continue;
+        const auto& face = t.face(f);
+        for (int k = 0; k < 3; ++k) {
+          if (face[k] == v && face[(k + 1) % 3] == x &&
+              face[(k + 2) % 3] == y) {
+            found = f;
+          }
+        }
+      }
+      EXPECT_EQ(star[i], found);
+      EXPECT_EQ(t.FaceOf(v, x), found);
+      EXPECT_TRUE(SphereTriangulation::IsPositive(t.vertex(v), t.vertex(x),
+                                                  t.vertex(y)));
+      EXPECT_FALSE(SphereTriangulation::IsPositive(t.vertex(v), t.vertex(y),
+                                                   t.vertex(x)));
+    }
+  }
 }
 
 }  // namespace
