@@ -18,6 +18,7 @@ namespace {
 // the CLI only.
 std::mutex g_mutex;
 std::vector<std::string> g_prefixes;
+bool g_run_ended = false;  // EndRunBeforeAnyInterrupt was called
 
 sigset_t HandledSignals() {
   sigset_t set;
@@ -28,18 +29,18 @@ sigset_t HandledSignals() {
   return set;
 }
 
-void RemoveTemporaries() {
-  std::lock_guard<std::mutex> lock(g_mutex);
-  for (const std::string& prefix : g_prefixes) RemoveFilesStartingWith(prefix);
-}
-
-// Waits for a handled signal, cleans up, and ends the process by it.
+// Waits for a handled signal, cleans up, and ends the process by it. The
+// lock is held until the process ends: a run that finishes meanwhile (its
+// write failing because the temporary file is gone, say) cannot exit with
+// its own status first (EndRunBeforeAnyInterrupt).
 void WaitForInterrupt() {
   const sigset_t set = HandledSignals();
   int signal_number = 0;
   while (sigwait(&set, &signal_number) != 0) {
   }
-  RemoveTemporaries();
+  std::unique_lock<std::mutex> lock(g_mutex);
+  if (g_run_ended) return;  // the run is complete: it ends as it would have
+  for (const std::string& prefix : g_prefixes) RemoveFilesStartingWith(prefix);
   // Default action, delivered to this thread only: the process ends as if
   // it had never caught the signal (exit status 128 + N in shells).
   struct sigaction action = {};
@@ -74,6 +75,11 @@ void InstallInterruptCleanup() {
   const sigset_t set = HandledSignals();
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
   std::thread(WaitForInterrupt).detach();
+}
+
+void EndRunBeforeAnyInterrupt() {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  g_run_ended = true;
 }
 
 void RemoveTemporariesOnInterrupt(const std::string& output_path) {

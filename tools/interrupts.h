@@ -14,6 +14,11 @@ namespace sdcb::cli {
 // for them. Call first thing in main(), before any other thread exists.
 void InstallInterruptCleanup();
 
+// Called when the run is over, before main returns: an interrupt being
+// handled then ends the process by its signal (this blocks until it does);
+// one handled later leaves the finished run's exit status alone.
+void EndRunBeforeAnyInterrupt();
+
 // Registers `output_path`: when the process is interrupted, files starting
 // with TemporaryFilePrefix(output_path) are removed. A finished output
 // (renamed into place) is a complete file and stays.

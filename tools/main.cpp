@@ -115,11 +115,10 @@ Exit codes: 0 success, 1 bad input (the reason is printed), 2 bad usage.
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int RunCommand(int argc, char** argv) {
   using namespace sdcb::cli;
-  // Before any thread starts: an interrupted run removes its temporary
-  // output files.
-  InstallInterruptCleanup();
   if (argc < 2) {
     std::cerr << kUsage;
     return kExitUsage;
@@ -159,4 +158,15 @@ int main(int argc, char** argv) {
     std::cerr << "sdcb " << command << ": internal error: " << e.what() << "\n";
     return kExitBadInput;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Before any thread starts: an interrupted run removes its temporary
+  // output files.
+  sdcb::cli::InstallInterruptCleanup();
+  const int code = RunCommand(argc, argv);
+  sdcb::cli::EndRunBeforeAnyInterrupt();
+  return code;
 }
