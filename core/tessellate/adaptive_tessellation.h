@@ -12,7 +12,10 @@
 //     the threshold, are sampled again at 3 times the order (for a surface
 //     quadratic over an affinely mapped face the lattice misses at most
 //     4 / (3 lattice^2) of the true maximum; where the curvature changes
-//     within a face it misses more).
+//     within a face it misses more). Faces sampled above 0.8 of the
+//     threshold are then hill-climbed from their largest sample (lattice
+//     directions, halving steps) to the local maximum around it, which
+//     the lattice can miss by several percent even at order 36.
 //   - angular: the angle between the flat triangle's normal and the
 //     surface normal at every sample and corner is at most `angle_degrees`,
 //     checked only on faces whose image is larger than the tolerance (on
@@ -36,7 +39,7 @@
 // vertices (half-edge collapses into the two neighbours of lowest predicted
 // error, else the full collapse of the edge to its domain midpoint), each
 // made only if every face it makes passes the certificate above (sheared
-// faces within 0.9 of its threshold), the faces around whose certificate
+// faces sampled again at order 36), the faces around whose certificate
 // used the replaced faces still pass, the domain faces stay positively
 // oriented and no face turns over against the surface normals. Collapses
 // whose surroundings do not overlap are certified together in waves, until
@@ -67,6 +70,9 @@ struct TessellationOptions {
   // Order m of the barycentric sample lattice per face, 2..16:
   // (m + 1)(m + 2) / 2 - 3 samples per face.
   int lattice = 6;
+  // Hill-climb from the largest sample of each face near the threshold
+  // (see above); off only to measure what it catches.
+  bool ascend = true;
   // Remesh / collapse, flip and move after refinement (see above).
   bool optimize = true;
   // Certified simplification at the end (see above); with optimize = false

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "sdcb/core/tessellate/surface_sampler.h"
 
@@ -109,6 +111,43 @@ class TwistedEllipsoidSampler : public EllipsoidSampler {
     return out;
   }
   double twist_;
+};
+
+// A unit sphere with narrow Gaussian bumps: S(u) = r(u) u with
+// r(u) = 1 + sum_k height * exp((u . c_k - 1) / width), the bumps' centres
+// c_k unit vectors. Its curvature changes sign on each bump's flank within
+// a few faces, where a face's largest distance from the surface can sit
+// between the points of a sample lattice. Normals in closed form: for a
+// radial graph, n ~ r u - grad_T r (grad_T the tangential gradient).
+class BumpySphereSampler : public SurfaceSampler {
+ public:
+  BumpySphereSampler(std::vector<Eigen::Vector3d> centres, double height,
+                     double width)
+      : centres_(std::move(centres)), height_(height), width_(width) {}
+  void Sample(const Eigen::MatrixX3d& d, Eigen::MatrixX3d* positions,
+              Eigen::MatrixX3d* normals) const override {
+    positions->resize(d.rows(), 3);
+    if (normals) normals->resize(d.rows(), 3);
+    for (Eigen::Index i = 0; i < d.rows(); ++i) {
+      const Eigen::Vector3d u = d.row(i).transpose();
+      double r = 1.0;
+      Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+      for (const Eigen::Vector3d& c : centres_) {
+        const double e = height_ * std::exp((u.dot(c) - 1.0) / width_);
+        r += e;
+        gradient += (e / width_) * c;
+      }
+      positions->row(i) = (r * u).transpose();
+      if (normals) {
+        const Eigen::Vector3d tangential = gradient - gradient.dot(u) * u;
+        normals->row(i) = (r * u - tangential).normalized().transpose();
+      }
+    }
+  }
+
+ private:
+  std::vector<Eigen::Vector3d> centres_;
+  double height_, width_;
 };
 
 }  // namespace sdcb::testing

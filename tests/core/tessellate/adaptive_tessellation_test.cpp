@@ -29,12 +29,9 @@ TriangleMesh ToMesh(const Tessellation& t) {
   return m;
 }
 
-// Largest distance from the flat triangles to the ellipsoid (dense
-// barycentric samples, exact point-ellipsoid distance) and from dense
-// surface samples to the mesh (CGAL's AABB tree): independent of the
-// tessellator's certificate.
-double MeasuredHausdorff(const Tessellation& t, const EllipsoidSampler& s,
-                         int order) {
+// Largest distance from `points` to the mesh (CGAL's AABB tree):
+// independent of the tessellator's certificate.
+double PointsToMesh(const Tessellation& t, const Eigen::MatrixX3d& p) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   using Triangles = std::vector<K::Triangle_3>;
   using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::iterator>;
@@ -50,17 +47,24 @@ double MeasuredHausdorff(const Tessellation& t, const EllipsoidSampler& s,
   Tree tree(triangles.begin(), triangles.end());
   tree.accelerate_distance_queries();
   double worst = 0.0;
+  for (Eigen::Index i = 0; i < p.rows(); ++i) {
+    const double d2 =
+        tree.squared_distance(K::Point_3(p(i, 0), p(i, 1), p(i, 2)));
+    worst = std::max(worst, std::sqrt(d2));
+  }
+  return worst;
+}
+
+// Largest distance from dense surface samples (the barycentric lattice of
+// order `order` of every domain face, mapped by the surface) to the mesh.
+double SurfaceToMesh(const Tessellation& t, const SurfaceSampler& s,
+                     int order) {
   std::vector<Eigen::Vector3d> directions;
   for (Eigen::Index f = 0; f < t.faces.rows(); ++f) {
     for (int i = 0; i <= order; ++i)
       for (int j = 0; i + j <= order; ++j) {
         const double a = double(i) / order, b = double(j) / order,
                      c = 1.0 - a - b;
-        const Eigen::Vector3d x =
-            a * t.positions.row(t.faces(f, 0)).transpose() +
-            b * t.positions.row(t.faces(f, 1)).transpose() +
-            c * t.positions.row(t.faces(f, 2)).transpose();
-        worst = std::max(worst, s.Distance(x));
         directions.push_back((a * t.directions.row(t.faces(f, 0)) +
                               b * t.directions.row(t.faces(f, 1)) +
                               c * t.directions.row(t.faces(f, 2)))
@@ -71,10 +75,26 @@ double MeasuredHausdorff(const Tessellation& t, const EllipsoidSampler& s,
   Eigen::MatrixX3d d(directions.size(), 3), p;
   for (size_t i = 0; i < directions.size(); ++i) d.row(i) = directions[i];
   s.Sample(d, &p, nullptr);
-  for (Eigen::Index i = 0; i < p.rows(); ++i) {
-    const double d2 =
-        tree.squared_distance(K::Point_3(p(i, 0), p(i, 1), p(i, 2)));
-    worst = std::max(worst, std::sqrt(d2));
+  return PointsToMesh(t, p);
+}
+
+// The larger of the distance from the flat triangles to the ellipsoid
+// (dense barycentric samples, exact point-ellipsoid distance) and
+// SurfaceToMesh.
+double MeasuredHausdorff(const Tessellation& t, const EllipsoidSampler& s,
+                         int order) {
+  double worst = SurfaceToMesh(t, s, order);
+  for (Eigen::Index f = 0; f < t.faces.rows(); ++f) {
+    for (int i = 0; i <= order; ++i)
+      for (int j = 0; i + j <= order; ++j) {
+        const Eigen::Vector3d x =
+            (i * t.positions.row(t.faces(f, 0)) +
+             j * t.positions.row(t.faces(f, 1)) +
+             (order - i - j) * t.positions.row(t.faces(f, 2)))
+                .transpose() /
+            double(order);
+        worst = std::max(worst, s.Distance(x));
+      }
   }
   return worst;
 }
@@ -353,6 +373,114 @@ TEST(AdaptiveTessellationTest, CertifiedSimplificationWithinTolerance) {
               << " with it, measured " << measured / eps << " eps\n";
     EXPECT_LT(after->faces.rows(), 0.85 * before->faces.rows());
   }
+}
+
+TEST(AdaptiveTessellationTest, AscentCatchesMaximaBetweenLatticePoints) {
+  // A sphere with 40 narrow bumps (curvature changing sign within a few
+  // faces) on the coarsest lattice (order 2: the three edge midpoints, no
+  // interior point; threshold (1 - 1/3) eps), with the default pipeline
+  // (optimizers and certified simplification). Without the hill-climb the
+  // surface's largest distance to the mesh, measured densely (CGAL's AABB
+  // tree, dense lattices plus a fine grid over every bump), is far above
+  // the certificate's threshold: the lattice misses maxima between its
+  // points. With it the measured distance is near the threshold, within
+  // eps both ways (flat points to the surface bounded by their radial
+  // offset |x| - r(x / |x|), which is at least the distance), the mesh is a
+  // closed genus-0 manifold without intersecting triangles, and 1 and 2
+  // threads give the same output.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  std::vector<Eigen::Vector3d> centres;
+  for (int k = 0; k < 40; ++k) {
+    centres.push_back(
+        Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized());
+  }
+  const double height = 3e-3, width = 1e-3;
+  const testing::BumpySphereSampler surface(centres, height, width);
+  const double eps = 1e-3;
+  // Dense points around every bump's top, mapped by the surface.
+  std::vector<Eigen::Vector3d> around;
+  for (const Eigen::Vector3d& c : centres) {
+    const Eigen::Vector3d a = c.unitOrthogonal(), b = c.cross(a);
+    const double reach = 4.0 * std::sqrt(width);
+    for (int i = -40; i <= 40; ++i)
+      for (int j = -40; j <= 40; ++j) {
+        around.push_back((c + reach * (i * a + j * b) / 40.0).normalized());
+      }
+  }
+  Eigen::MatrixX3d directions(around.size(), 3), peaks;
+  for (size_t i = 0; i < around.size(); ++i) directions.row(i) = around[i];
+  surface.Sample(directions, &peaks, nullptr);
+  auto surface_to_mesh = [&](const Tessellation& t) {
+    return std::max(SurfaceToMesh(t, surface, 12), PointsToMesh(t, peaks));
+  };
+  TessellationOptions options;
+  options.tolerance = eps;
+  options.lattice = 2;
+  const double threshold = (1.0 - 4.0 / 12.0) * eps;
+  options.ascend = false;
+  StatusOr<Tessellation> plain = TessellateAdaptively(surface, options);
+  options.ascend = true;
+  StatusOr<Tessellation> climbed = Tessellation();
+  {
+    tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+    climbed = TessellateAdaptively(surface, options);
+  }
+  StatusOr<Tessellation> one = Tessellation();
+  {
+    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+    one = TessellateAdaptively(surface, options);
+  }
+  ASSERT_TRUE(plain.ok() && climbed.ok() && one.ok());
+  const double plain_measured = surface_to_mesh(*plain);
+  const double climbed_measured = surface_to_mesh(*climbed);
+  std::cout << "bumpy sphere, lattice order 2: lattice only "
+            << plain->faces.rows() << " faces, measured "
+            << plain_measured / eps << " eps; with the hill-climb "
+            << climbed->faces.rows() << " faces, measured "
+            << climbed_measured / eps << " eps (threshold " << threshold / eps
+            << " eps)\n";
+  EXPECT_GT(plain_measured, 1.2 * threshold);
+  EXPECT_LE(climbed_measured, 1.12 * threshold);
+  EXPECT_EQ(climbed->uncertified_faces, 0);
+  // Flat points to the surface: the radial offset bounds the distance.
+  double flat_to_surface = 0.0;
+  const int order = 12;
+  std::vector<Eigen::Vector3d> flat;
+  for (Eigen::Index f = 0; f < climbed->faces.rows(); ++f) {
+    for (int i = 0; i <= order; ++i)
+      for (int j = 0; i + j <= order; ++j) {
+        flat.push_back(
+            (i * climbed->positions.row(climbed->faces(f, 0)) +
+             j * climbed->positions.row(climbed->faces(f, 1)) +
+             (order - i - j) * climbed->positions.row(climbed->faces(f, 2)))
+                .transpose() /
+            double(order));
+      }
+  }
+  Eigen::MatrixX3d radial(flat.size(), 3), on_surface;
+  for (size_t i = 0; i < flat.size(); ++i) {
+    radial.row(i) = flat[i].normalized().transpose();
+  }
+  surface.Sample(radial, &on_surface, nullptr);
+  for (size_t i = 0; i < flat.size(); ++i) {
+    flat_to_surface = std::max(
+        flat_to_surface, std::abs(flat[i].norm() - on_surface.row(i).norm()));
+  }
+  EXPECT_LE(flat_to_surface, eps);
+  EXPECT_EQ(climbed->faces, one->faces);
+  EXPECT_EQ(climbed->directions, one->directions);
+  EXPECT_EQ(climbed->positions, one->positions);
+  ExpectDomainIsASphere(*climbed);
+  const TriangleMesh mesh = ToMesh(*climbed);
+  StatusOr<MeshTopologyReport> topology = AnalyzeMeshTopology(mesh);
+  ASSERT_TRUE(topology.ok());
+  EXPECT_TRUE(topology->ok) << DescribeTopologyProblem(*topology);
+  EXPECT_EQ(topology->genus, 0);
+  StatusOr<SelfIntersectionReport> crossings = FindSelfIntersections(mesh);
+  ASSERT_TRUE(crossings.ok());
+  EXPECT_TRUE(crossings->checked);
+  EXPECT_EQ(crossings->intersecting_pairs, 0);
 }
 
 TEST(AdaptiveTessellationTest, SameBytesForAnyThreadCount) {
