@@ -8,8 +8,9 @@
 //     image triangle, or, for a point the parameterization shears beyond
 //     the face's edges (by at most a quarter of its smallest height), to
 //     the nearest of the triangles across them. Faces whose lattice image
-//     is sheared or stretched, or whose sampled distance is above 0.7 of
-//     the threshold, are sampled again at 3 times the order (for a surface
+//     is stretched, or whose sampled distance is above 0.7 of the
+//     threshold, are sampled again at 3 times the order, sheared ones (a
+//     point measured against a neighbour) at order 36 (for a surface
 //     quadratic over an affinely mapped face the lattice misses at most
 //     4 / (3 lattice^2) of the true maximum; where the curvature changes
 //     within a face it misses more). Faces sampled above 0.8 of the
@@ -38,13 +39,14 @@
 // Then, if `simplify`, the certified simplification: greedy collapses of
 // vertices (half-edge collapses into the two neighbours of lowest predicted
 // error, else the full collapse of the edge to its domain midpoint), each
-// made only if every face it makes passes the certificate above (sheared
-// faces sampled again at order 36), the faces around whose certificate
-// used the replaced faces still pass, the domain faces stay positively
-// oriented and no face turns over against the surface normals. Collapses
-// whose surroundings do not overlap are certified together in waves, until
-// no vertex around a change is left to try. This brings the count toward
-// the asymptotic optimum (optimal_triangle_count.h).
+// made only if every face it makes passes the certificate above, the faces
+// around whose certificate used the replaced faces still pass, the domain
+// faces stay positively oriented and no face turns over against the
+// surface normals. Collapses whose surroundings do not overlap are
+// certified together in waves, until no vertex around a change is left to
+// try; faces the final certificate then fails (its climb can reach another
+// local maximum) are split. This brings the count toward the asymptotic
+// optimum (optimal_triangle_count.h).
 //
 // The result is closed, manifold, genus 0 and consistently oriented by
 // construction (no T-junctions): it is a triangulation of the sphere mapped
