@@ -2,7 +2,8 @@
 // repetitions (so that a shared machine's noise mostly cancels): the basis's
 // construction, the design matrix at the mesh's vertices, the spline's
 // position at a lattice of directions (in the basis's locality order) and at
-// the same number of directions in random order.
+// the same number of directions in random order; the least squares' normal
+// matrix (the lower triangle of A^T A) of that design matrix.
 //   fit_kernels_bench MODEL.sdcb [points=60000] [repetitions=5]
 #include <tbb/global_control.h>
 
@@ -13,6 +14,7 @@
 #include <functional>
 #include <limits>
 
+#include "sdcb/core/fit/least_squares.h"
 #include "sdcb/core/spline/design_matrix.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/io/sdcb_file.h"
@@ -64,6 +66,11 @@ int main(int argc, char** argv) {
         sdcb::BuildDesignMatrix(spline->basis(), directions);
     if (a.rows() != points) std::abort();
   });
+  const sdcb::DesignMatrix a =
+      sdcb::BuildDesignMatrix(spline->basis(), directions);
+  const double normal = BestCpuSeconds(repetitions, [&] {
+    if (sdcb::NormalMatrixLower(a).rows() != a.cols()) std::abort();
+  });
   Eigen::MatrixX3d out;
   const double many = BestCpuSeconds(
       repetitions, [&] { out = spline->EvaluateMany(directions); });
@@ -74,6 +81,7 @@ int main(int argc, char** argv) {
   });
   std::printf("basis construction        %8.4f s\n", create);
   std::printf("design matrix             %8.4f s\n", design);
+  std::printf("normal matrix (A^T A)     %8.4f s\n", normal);
   std::printf("positions, locality order %8.4f s\n", many);
   std::printf("positions, random order   %8.4f s\n", single);
   return 0;

@@ -286,7 +286,7 @@ int RunExport(const std::vector<std::string>& argv) {
   const double measure_seconds = Since(t0);
   t0 = Clock::now();
   StatusOr<CurvatureIntegrals> integrals =
-      IntegrateCurvature(sampler, t.directions, t.faces, 0);
+      IntegrateCurvatureOverSurface(sampler);
   if (!integrals.ok()) return ReportError(integrals.status());
   const double optimum = OptimalTriangleCount(*integrals, surface_tolerance);
   const double optimum_seconds = Since(t0);

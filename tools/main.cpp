@@ -63,7 +63,7 @@ commands:
       [--angle DEG] [--uniform N] [--draco [--qp BITS] [--cl LEVEL]]
       [--meshopt [--qp BITS]] [--colors none|error|curvature|gaussian]
       [--mesh MESH] [--json FILE] [--quiet] [--no-optimize]
-      [--no-simplify]
+      [--no-simplify] [--measure-samples N]
                              Triangulate the surface: adaptive (every
                              triangle within PCT, default 0.1, of the
                              surface and its normals within DEG, default
@@ -72,7 +72,9 @@ commands:
                              meshopt-compressed (quantization from PCT
                              unless --qp); per-vertex colors (.ply/.gltf/
                              .glb): distance to --mesh, mean or Gaussian
-                             curvature. docs/EXPORT.md.
+                             curvature. The report's distance is measured
+                             at N (default 4) random points per face.
+                             docs/EXPORT.md.
   export MODEL.sdcb -o OUT.{step,stp,igs,iges} [--tolerance PCT]
       [--angle DEG] [--max-patches N] [--json FILE] [--quiet]
                              The surface as bicubic B-spline patches in one

@@ -6,7 +6,22 @@
 #include <cmath>
 #include <vector>
 
+#include "sdcb/core/mesh/icosphere.h"
+
 namespace sdcb {
+namespace {
+
+// Adds one flat triangle's area, weighted by sqrt(|K|) of its part.
+void Accumulate(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                const Eigen::Vector3d& p2, double k, CurvatureIntegrals* out) {
+  const double area = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+  out->area += area;
+  if (!std::isfinite(k)) return;
+  if (k > 0) out->convex += area * std::sqrt(k);
+  if (k < 0) out->saddle += area * std::sqrt(-k);
+}
+
+}  // namespace
 
 StatusOr<CurvatureIntegrals> IntegrateCurvature(
     const SurfaceSampler& surface, const Eigen::MatrixX3d& directions,
@@ -58,15 +73,38 @@ StatusOr<CurvatureIntegrals> IntegrateCurvature(
   surface.Sample(points, &positions, nullptr);
   CurvatureIntegrals out;
   for (Eigen::Index t = 0; t < count; ++t) {
-    const Eigen::Vector3d p0 = positions.row(4 * t).transpose();
-    const Eigen::Vector3d p1 = positions.row(4 * t + 1).transpose();
-    const Eigen::Vector3d p2 = positions.row(4 * t + 2).transpose();
-    const double area = 0.5 * (p1 - p0).cross(p2 - p0).norm();
-    const double k = gaussian[t];
-    out.area += area;
-    if (!std::isfinite(k)) continue;
-    if (k > 0) out.convex += area * std::sqrt(k);
-    if (k < 0) out.saddle += area * std::sqrt(-k);
+    Accumulate(positions.row(4 * t).transpose(),
+               positions.row(4 * t + 1).transpose(),
+               positions.row(4 * t + 2).transpose(), gaussian[t], &out);
+  }
+  return out;
+}
+
+StatusOr<CurvatureIntegrals> IntegrateCurvatureOverSurface(
+    const SurfaceSampler& surface, int level) {
+  if (level < 0 || level > 8) {
+    return InvalidArgumentError("the quadrature level must be in [0, 8]");
+  }
+  const TriangleMesh sphere = MakeIcosphere(level);
+  Eigen::MatrixX3d centroids(sphere.faces.rows(), 3);
+  for (Eigen::Index f = 0; f < sphere.faces.rows(); ++f) {
+    centroids.row(f) = (sphere.vertices.row(sphere.faces(f, 0)) +
+                        sphere.vertices.row(sphere.faces(f, 1)) +
+                        sphere.vertices.row(sphere.faces(f, 2)))
+                           .normalized();
+  }
+  Eigen::VectorXd gaussian, mean;
+  if (!surface.SampleCurvature(centroids, &gaussian, &mean)) {
+    return InvalidArgumentError("the surface sampler has no curvature");
+  }
+  Eigen::MatrixX3d positions;
+  surface.Sample(sphere.vertices, &positions, nullptr);
+  CurvatureIntegrals out;
+  for (Eigen::Index f = 0; f < sphere.faces.rows(); ++f) {
+    Accumulate(positions.row(sphere.faces(f, 0)).transpose(),
+               positions.row(sphere.faces(f, 1)).transpose(),
+               positions.row(sphere.faces(f, 2)).transpose(), gaussian[f],
+               &out);
   }
   return out;
 }

@@ -38,6 +38,17 @@ StatusOr<CurvatureIntegrals> IntegrateCurvature(
     const SurfaceSampler& surface, const Eigen::MatrixX3d& directions,
     const Eigen::MatrixX3i& faces, int levels);
 
+// The integrals of the whole surface, independent of any tessellation of
+// it: the icosahedral pattern of `level` (20 * 4^level faces, level in
+// [0, 8]) as the quadrature, positions at its vertices and sqrt(|K|) at its
+// faces' centroids. At the default level 6 (81,920 faces) the bunny's N_opt
+// is within 0.1 % of level 7's and of a 1.3M-face pattern's; on an adaptive
+// tessellation the same rule is biased low (5 to 8 % on the bunny at 0.1
+// and 0.01 %: its large faces lie where the integrand is small and
+// uneven). kInvalidArgument if the sampler has no curvature.
+StatusOr<CurvatureIntegrals> IntegrateCurvatureOverSurface(
+    const SurfaceSampler& surface, int level = 6);
+
 // N_opt(eps) from the integrals; eps > 0 in the same length unit.
 double OptimalTriangleCount(const CurvatureIntegrals& integrals, double eps);
 
