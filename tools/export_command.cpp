@@ -16,6 +16,7 @@
 #include "sdcb/converters/color_ramp.h"
 #include "sdcb/converters/gltf_export.h"
 #include "sdcb/converters/mesh_export.h"
+#include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/spherical_spline.h"
@@ -37,6 +38,20 @@ double Since(Clock::time_point t) {
 // Fraction of the tolerance given to position quantization when a
 // compressed glTF is written; the tessellation gets the rest.
 constexpr double kQuantizationShare = 0.1;
+
+// Largest quantization error of 16-bit positions over the surface's
+// bounding box (normalized frame): sqrt(3) / 2 steps of its largest side
+// / (2^16 - 1). The box comes from 40,962 surface points, widened by 1 %
+// (more than a sampled box can miss); a tessellation's vertices lie on the
+// surface, so their box is no larger.
+double SixteenBitQuantizationError(const SurfaceSampler& surface) {
+  Eigen::MatrixX3d positions;
+  surface.Sample(MakeIcosphere(6).vertices, &positions, nullptr);
+  const double side =
+      (positions.colwise().maxCoeff() - positions.colwise().minCoeff())
+          .maxCoeff();
+  return std::sqrt(3.0) / 2.0 * 1.01 * side / (std::pow(2.0, 16) - 1.0);
+}
 
 // Largest distances between the tessellation and the spline, measured
 // independently of the tessellator's lattice certificate (normalized frame):
@@ -260,9 +275,26 @@ int RunExport(const std::vector<std::string>& argv) {
   // Tolerances in the normalized frame (largest side 1): PCT / 100.
   const double tolerance = tolerance_percent / 100.0;
   const bool quantized = draco || meshopt;
-  const double surface_tolerance = quantized && !args.Has("qp")
-                                       ? (1.0 - kQuantizationShare) * tolerance
-                                       : tolerance;
+  // The positions' quantization gets a share of the tolerance, the surface
+  // the rest. meshopt's positions have at most 16 bits
+  // (KHR_mesh_quantization): where those cannot stay within the share, the
+  // quantization gets what 16 bits need and the surface less.
+  double quantization_budget =
+      quantized && !args.Has("qp") ? kQuantizationShare * tolerance : 0.0;
+  if (meshopt && !args.Has("qp")) {
+    const double floor = SixteenBitQuantizationError(sampler);
+    if (floor > 0.5 * tolerance) {
+      char message[200];
+      std::snprintf(message, sizeof message,
+                    "--meshopt cannot keep --tolerance %g %%: its 16-bit "
+                    "positions alone are off by up to %.3g %% (use --draco, "
+                    "or --qp 16 to accept that)",
+                    tolerance_percent, 100.0 * floor);
+      throw UsageError{message};
+    }
+    quantization_budget = std::max(quantization_budget, floor);
+  }
+  const double surface_tolerance = tolerance - quantization_budget;
   Clock::time_point t0 = Clock::now();
   Tessellation t;
   if (uniform > 0) {
@@ -341,9 +373,9 @@ int RunExport(const std::vector<std::string>& argv) {
                                     : GltfCompression::kNone;
     bits = qp;
     if (quantized && bits == 0) {
-      bits = PositionBitsFor(mesh.positions,
-                             kQuantizationShare * tolerance * transform.scale,
-                             meshopt ? 16 : 30);
+      bits =
+          PositionBitsFor(mesh.positions, quantization_budget * transform.scale,
+                          meshopt ? 16 : 30);
     }
     options.position_bits = std::max(bits, 1);
     options.draco_level = cl;

@@ -165,6 +165,26 @@ TEST_F(ExportCliTest, CompressedFilesDecodeToTheUncompressedGeometry) {
   }
 }
 
+TEST_F(ExportCliTest, MeshoptKeepsTheToleranceWhereSixteenBitsAreCoarse) {
+  // meshopt's positions have at most 16 bits: over a largest side of about
+  // 1 (the normalized frame) they are off by up to sqrt(3) / 2 / 65535 =
+  // 0.00132 %, more than the usual 10 % share of a 0.013 % tolerance. The
+  // surface must then get less than 90 % of it, so that the measured
+  // distance plus the quantization error stays within the tolerance.
+  const std::string dir = testing::FreshTestDir();
+  const double tolerance = 0.013;
+  const auto report =
+      Export(dir, "m.glb", {"--tolerance", "0.013", "--meshopt"});
+  const double quantization =
+      report["quantization"]["error_percent"].get<double>();
+  const double surface = report["surface_tolerance_percent"].get<double>();
+  EXPECT_EQ(report["quantization"]["bits"], 16);
+  EXPECT_GT(quantization, 0.1 * tolerance);  // the case this is about
+  EXPECT_LE(surface + quantization, tolerance);
+  EXPECT_LE(report["max_distance_percent"].get<double>(), surface);
+  EXPECT_LE(report["total_error_bound_percent"].get<double>(), tolerance);
+}
+
 TEST_F(ExportCliTest, MeshesPassCheckWithinTheTolerance) {
   const std::string dir = testing::FreshTestDir();
   for (const char* name : {"m.obj", "m.ply", "m.stl"}) {
@@ -201,6 +221,11 @@ TEST_F(ExportCliTest, BadInputExitsCleanlyLeavingNothing) {
       {{"export", dir + "/absent.sdcb", "-o", dir + "/f.glb"},
        1,
        dir + "/f.glb"},
+      // 16-bit positions alone are off by more than half of 0.002 %.
+      {{"export", *model_, "-o", dir + "/g.glb", "--meshopt", "--tolerance",
+        "0.002"},
+       2,
+       dir + "/g.glb"},
   };
   for (const Case& c : cases) {
     const auto r = RunSdcb(c.args, dir);
