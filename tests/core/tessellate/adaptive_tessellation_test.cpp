@@ -238,6 +238,28 @@ void ExpectDomainIsASphere(const Tessellation& t) {
             2);
 }
 
+// The domain is a sphere (above); the surface mesh is a closed, manifold
+// genus-0 mesh (topology analysis) with no intersecting pair of triangles
+// (CGAL).
+void ExpectClosedSphereWithoutCrossings(const Tessellation& t) {
+  ExpectDomainIsASphere(t);
+  const TriangleMesh mesh = ToMesh(t);
+  StatusOr<MeshTopologyReport> topology = AnalyzeMeshTopology(mesh);
+  ASSERT_TRUE(topology.ok());
+  EXPECT_TRUE(topology->ok) << DescribeTopologyProblem(*topology);
+  EXPECT_EQ(topology->genus, 0);
+  StatusOr<SelfIntersectionReport> crossings = FindSelfIntersections(mesh);
+  ASSERT_TRUE(crossings.ok());
+  EXPECT_TRUE(crossings->checked);
+  EXPECT_EQ(crossings->intersecting_pairs, 0);
+}
+
+void ExpectSameTessellation(const Tessellation& a, const Tessellation& b) {
+  EXPECT_EQ(a.faces, b.faces);
+  EXPECT_EQ(a.directions, b.directions);
+  EXPECT_EQ(a.positions, b.positions);
+}
+
 TEST(AdaptiveTessellationTest, RemeshedEllipsoidNearOptimumWithinTolerance) {
   // An anisotropic convex surface: N_opt by quadrature on the output; the
   // measured distance (dense, both ways, exact point-ellipsoid distance)
@@ -287,15 +309,7 @@ TEST(AdaptiveTessellationTest, ShearedParameterizationCostsLittle) {
   StatusOr<Tessellation> a = TessellateAdaptively(plain, options);
   StatusOr<Tessellation> b = TessellateAdaptively(twisted, options);
   ASSERT_TRUE(a.ok() && b.ok());
-  ExpectDomainIsASphere(*b);
-  const TriangleMesh mesh = ToMesh(*b);
-  StatusOr<MeshTopologyReport> topology = AnalyzeMeshTopology(mesh);
-  ASSERT_TRUE(topology.ok());
-  EXPECT_TRUE(topology->ok) << DescribeTopologyProblem(*topology);
-  StatusOr<SelfIntersectionReport> crossings = FindSelfIntersections(mesh);
-  ASSERT_TRUE(crossings.ok());
-  EXPECT_TRUE(crossings->checked);
-  EXPECT_EQ(crossings->intersecting_pairs, 0);
+  ExpectClosedSphereWithoutCrossings(*b);
   EXPECT_EQ(b->uncertified_faces, 0);
   for (Eigen::Index f = 0; f < b->faces.rows(); ++f) {
     const Eigen::Vector3d p0 = b->positions.row(b->faces(f, 0)),
@@ -351,19 +365,8 @@ TEST(AdaptiveTessellationTest, CertifiedSimplificationWithinTolerance) {
       one = TessellateAdaptively(*surface, options);
     }
     ASSERT_TRUE(before.ok() && after.ok() && one.ok());
-    EXPECT_EQ(after->faces, one->faces);
-    EXPECT_EQ(after->directions, one->directions);
-    EXPECT_EQ(after->positions, one->positions);
-    ExpectDomainIsASphere(*after);
-    const TriangleMesh mesh = ToMesh(*after);
-    StatusOr<MeshTopologyReport> topology = AnalyzeMeshTopology(mesh);
-    ASSERT_TRUE(topology.ok());
-    EXPECT_TRUE(topology->ok) << DescribeTopologyProblem(*topology);
-    EXPECT_EQ(topology->genus, 0);
-    StatusOr<SelfIntersectionReport> crossings = FindSelfIntersections(mesh);
-    ASSERT_TRUE(crossings.ok());
-    EXPECT_TRUE(crossings->checked);
-    EXPECT_EQ(crossings->intersecting_pairs, 0);
+    ExpectSameTessellation(*after, *one);
+    ExpectClosedSphereWithoutCrossings(*after);
     EXPECT_EQ(after->uncertified_faces, 0);
     const double measured = MeasuredHausdorff(*after, *surface, 12);
     EXPECT_LE(measured, eps);
@@ -468,19 +471,8 @@ TEST(AdaptiveTessellationTest, AscentCatchesMaximaBetweenLatticePoints) {
         flat_to_surface, std::abs(flat[i].norm() - on_surface.row(i).norm()));
   }
   EXPECT_LE(flat_to_surface, eps);
-  EXPECT_EQ(climbed->faces, one->faces);
-  EXPECT_EQ(climbed->directions, one->directions);
-  EXPECT_EQ(climbed->positions, one->positions);
-  ExpectDomainIsASphere(*climbed);
-  const TriangleMesh mesh = ToMesh(*climbed);
-  StatusOr<MeshTopologyReport> topology = AnalyzeMeshTopology(mesh);
-  ASSERT_TRUE(topology.ok());
-  EXPECT_TRUE(topology->ok) << DescribeTopologyProblem(*topology);
-  EXPECT_EQ(topology->genus, 0);
-  StatusOr<SelfIntersectionReport> crossings = FindSelfIntersections(mesh);
-  ASSERT_TRUE(crossings.ok());
-  EXPECT_TRUE(crossings->checked);
-  EXPECT_EQ(crossings->intersecting_pairs, 0);
+  ExpectSameTessellation(*climbed, *one);
+  ExpectClosedSphereWithoutCrossings(*climbed);
 }
 
 TEST(AdaptiveTessellationTest, SameBytesForAnyThreadCount) {
