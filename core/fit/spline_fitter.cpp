@@ -541,15 +541,24 @@ StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
     const Eigen::MatrixX3d& knots, const DelaunayConfigurations& configurations,
     const DelaunayConfigurations& knot_triangles, RoundDetails* details) const {
   const FitOptions& o = options;
-  SDCB_ASSIGN_OR_RETURN(DcbBasis basis,
-                        DcbBasis::Create(knots, configurations));
   FitSampleOptions sample_options;
   sample_options.samples_per_spacing = o.samples_per_spacing;
   // Far above what any closed genus-0 CGAL mesh asks (at most 68 sample
   // rows per control point), far below what a fan's needles ask (2,000).
   sample_options.max_pieces = kMaxPiecesPerControlPoint *
                               static_cast<int64_t>(configurations.sets.size());
-  FitSamples samples = BuildFitSamples(mesh, u, knots, sample_options);
+  // The basis and the samples do not depend on each other: the samples are
+  // built meanwhile, on the threads the basis's sequential parts (merging
+  // the splines' recursions) leave idle. The same results.
+  std::optional<FitSamples> samples_or;
+  tbb::task_group side;
+  side.run([&] {
+    samples_or.emplace(BuildFitSamples(mesh, u, knots, sample_options));
+  });
+  StatusOr<DcbBasis> basis_or = DcbBasis::Create(knots, configurations);
+  side.wait();
+  SDCB_ASSIGN_OR_RETURN(DcbBasis basis, std::move(basis_or));
+  FitSamples samples = std::move(*samples_or);
   DesignMatrix data =
       BuildFormDesignMatrix(basis, samples.points, o.basis_form);
   BendingQuadrature bending = MakeBendingQuadrature(knots, knot_triangles);

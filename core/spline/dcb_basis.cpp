@@ -351,18 +351,24 @@ std::vector<Eigen::Index> DcbBasis::LocalityOrder(
   return order;
 }
 
-double DcbBasis::Value(int i, const Eigen::Vector3d& p) const {
+template <typename ForestValue>
+double DcbBasis::ValueWith(int i, const Eigen::Vector3d& p,
+                           const ForestValue& forest_value) const {
   double value = 0.0;
   if (weights_[i] != 0.0) {
-    value = weights_[i] * (forest_handle_[i] >= 0
-                               ? forest_.Value(forest_handle_[i], p)
-                               : splines_[i]->Value(p));
+    value =
+        weights_[i] * (forest_handle_[i] >= 0 ? forest_value(forest_handle_[i])
+                                              : splines_[i]->Value(p));
   }
   for (int t = limit_start_[i]; t < limit_start_[i + 1]; ++t) {
     const LimitTerm& term = limit_terms_[t];
     value += term.cofactor.dot(p) * term.spline.Value(p);
   }
   return value;
+}
+
+double DcbBasis::Value(int i, const Eigen::Vector3d& p) const {
+  return ValueWith(i, p, [&](int handle) { return forest_.Value(handle, p); });
 }
 
 ScalarJet DcbBasis::Evaluate(int i, const Eigen::Vector3d& p,
@@ -428,8 +434,11 @@ void DcbBasis::Candidates(const Eigen::Vector3d& p,
 void DcbBasis::NonzeroValues(const Eigen::Vector3d& p,
                              std::vector<BasisValue>* out) const {
   out->clear();
+  // Value(i, p), the forest's memo prepared once for the point.
+  const SimplexSplineForest::PointValues at = forest_.At(p);
+  const auto forest_value = [&](int handle) { return at.value(handle); };
   ForEachCandidate(p, [&](int i) {
-    const double v = Value(i, p);
+    const double v = ValueWith(i, p, forest_value);
     if (v != 0.0) out->push_back({i, v});
   });
 }
@@ -448,7 +457,7 @@ void DcbBasis::ParallelForEachPoint(
 }
 
 double DcbBasis::Normalization(const Eigen::Vector3d& p) const {
-  std::vector<BasisValue> values;
+  thread_local std::vector<BasisValue> values;  // no allocation per point
   NonzeroValues(p, &values);
   double sum = 0.0;
   for (const BasisValue& v : values) sum += v.value;

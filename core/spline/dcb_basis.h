@@ -138,6 +138,11 @@ class DcbBasis {
                                    std::vector<LimitTerm>* limit_terms,
                                    SphericalCap* support);
   int CellOf(const Eigen::Vector3d& p) const;
+  // Value(i, p) with the forest's value of a handle from
+  // forest_value(handle).
+  template <typename ForestValue>
+  double ValueWith(int i, const Eigen::Vector3d& p,
+                   const ForestValue& forest_value) const;
   // kInvalidInput if I = 0 at one of `samples` quasi-uniform points.
   Status CheckCoverage(int samples) const;
   // Calls visit(i), ascending, for each basis i whose support cap holds p.

@@ -45,18 +45,60 @@ DesignMatrix Assemble(const std::vector<std::vector<BasisValue>>& row_values,
 DesignMatrix BuildDesignMatrix(const DcbBasis& basis,
                                const Eigen::MatrixX3d& points,
                                const DesignMatrixOptions& options) {
-  // Each row is computed independently into its own slot; assembly is
-  // sequential, so the bytes do not depend on scheduling.
-  std::vector<std::vector<BasisValue>> row_values(points.rows());
-  basis.ParallelForEachPoint(points, [&](Eigen::Index r) {
-    const Eigen::Vector3d p = points.row(r).transpose();
-    if (options.normalized) {
-      basis.NormalizedValues(p, &row_values[r]);
-    } else {
-      basis.NonzeroValues(p, &row_values[r]);
-    }
-  });
-  return Assemble(row_values, basis.size());
+  // Each row is computed independently, in the basis's locality order (as
+  // ParallelForEachPoint), by chunks of consecutive rows of that order whose
+  // values share one buffer (one allocation per chunk, not per row); rows
+  // are then packed in row order, so the bytes do not depend on scheduling.
+  constexpr Eigen::Index kChunk = 128;
+  const Eigen::Index n = points.rows();
+  const std::vector<Eigen::Index> order = basis.LocalityOrder(points);
+  const Eigen::Index chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::vector<BasisValue>> chunk_values(chunks);
+  std::vector<int> row_chunk(n), row_start(n), row_count(n);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, chunks, 1),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+                      thread_local std::vector<BasisValue> row;
+                      for (Eigen::Index c = range.begin(); c < range.end();
+                           ++c) {
+                        std::vector<BasisValue>& values = chunk_values[c];
+                        for (Eigen::Index o = c * kChunk;
+                             o < std::min(n, (c + 1) * kChunk); ++o) {
+                          const Eigen::Index r = order[o];
+                          const Eigen::Vector3d p = points.row(r).transpose();
+                          if (options.normalized) {
+                            basis.NormalizedValues(p, &row);
+                          } else {
+                            basis.NonzeroValues(p, &row);
+                          }
+                          row_chunk[r] = static_cast<int>(c);
+                          row_start[r] = static_cast<int>(values.size());
+                          row_count[r] = static_cast<int>(row.size());
+                          values.insert(values.end(), row.begin(), row.end());
+                        }
+                      }
+                    });
+  DesignMatrix a(n, basis.size());
+  Eigen::Index at = 0;
+  for (Eigen::Index r = 0; r < n; ++r) {
+    a.outerIndexPtr()[r] = static_cast<int>(at);
+    at += row_count[r];
+  }
+  a.outerIndexPtr()[n] = static_cast<int>(at);
+  a.resizeNonZeros(at);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 1024),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+                      for (Eigen::Index r = range.begin(); r < range.end();
+                           ++r) {
+                        const BasisValue* v =
+                            chunk_values[row_chunk[r]].data() + row_start[r];
+                        Eigen::Index k = a.outerIndexPtr()[r];
+                        for (int j = 0; j < row_count[r]; ++j, ++k) {
+                          a.innerIndexPtr()[k] = v[j].index;
+                          a.valuePtr()[k] = v[j].value;
+                        }
+                      }
+                    });
+  return a;
 }
 
 DesignMatrix BuildRawDesignMatrix(const DcbBasis& basis,

@@ -554,28 +554,37 @@ int SimplexSplineForest::PairSign(int pair, Scratch& s) const {
   return memo.sign;
 }
 
+// Degree 0: 1 / |det| inside [ta, tb, tc) (SimplexSpline::LeafValue), else
+// 0. A pair's memo is read here; PairSign computes it when it is stale.
+inline double SimplexSplineForest::LeafValue(const Node& n, Scratch& s) const {
+  const auto sign = [&](int pair) {
+    const Scratch::PairMemo& memo = s.pair[pair];
+    return memo.stamp == s.generation ? memo.sign : PairSign(pair, s);
+  };
+  const int o = n.orientation;
+  return o != 0 && sign(n.pair[0]) == o && sign(n.pair[1]) == -o &&
+                 sign(n.pair[2]) == o
+             ? n.inv_abs_det
+             : 0.0;
+}
+
 double SimplexSplineForest::NodeValue(int g, Scratch& s) const {
   if (s.node[g].stamp == s.generation) return s.node[g].value;
   const Node& n = nodes_[g];
   double v = 0.0;
   if (n.matrix < 0) {
-    // Inside [ta, tb, tc) (SimplexSpline::LeafValue). A pair's memo is read
-    // here; PairSign computes it when it is stale.
-    const auto sign = [&](int pair) {
-      const Scratch::PairMemo& memo = s.pair[pair];
-      return memo.stamp == s.generation ? memo.sign : PairSign(pair, s);
-    };
-    const int o = n.orientation;
-    if (o != 0 && sign(n.pair[0]) == o && sign(n.pair[1]) == -o &&
-        sign(n.pair[2]) == o) {
-      v = n.inv_abs_det;
-    }
+    v = LeafValue(n, s);
   } else {
     // Most children were computed for an earlier node of the point: their
-    // memo is read here rather than in a call.
+    // memo is read here rather than in a call; a stale leaf is computed
+    // here too (no call).
     const auto child = [&](int c) {
-      const Scratch::NodeMemo& memo = s.node[c];
-      return memo.stamp == s.generation ? memo.value : NodeValue(c, s);
+      Scratch::NodeMemo& memo = s.node[c];
+      if (memo.stamp == s.generation) return memo.value;
+      const Node& cn = nodes_[c];
+      if (cn.matrix >= 0) return NodeValue(c, s);
+      memo = {s.generation, LeafValue(cn, s)};
+      return memo.value;
     };
     const double v0 = child(n.child[0]);
     const double v1 = child(n.child[1]);
@@ -646,6 +655,16 @@ void SimplexSplineForest::NodeJet(int g, Scratch& s) const {
 double SimplexSplineForest::Value(int handle, const Eigen::Vector3d& p) const {
   Scratch& s = Begin(p, 0);
   return NodeValue(tops_[handle], s);
+}
+
+SimplexSplineForest::PointValues SimplexSplineForest::At(
+    const Eigen::Vector3d& p) const {
+  return PointValues(this, &Begin(p, 0));
+}
+
+double SimplexSplineForest::PointValues::value(int handle) const {
+  return forest_->NodeValue(forest_->tops_[handle],
+                            *static_cast<Scratch*>(scratch_));
 }
 
 ScalarJet SimplexSplineForest::Evaluate(int handle, const Eigen::Vector3d& p,

@@ -199,6 +199,22 @@ class SimplexSplineForest {
   // SimplexSpline::Value / Evaluate of the spline `handle`. Thread-safe;
   // consecutive calls at the same p on one thread reuse each other's nodes.
   double Value(int handle, const Eigen::Vector3d& p) const;
+
+  // Values of many splines at one point p: value(handle) is Value(handle, p),
+  // without checking the point again for every spline. Valid on the thread
+  // that called At, until that thread evaluates this forest at another point.
+  class PointValues {
+   public:
+    double value(int handle) const;
+
+   private:
+    friend class SimplexSplineForest;
+    PointValues(const SimplexSplineForest* forest, void* scratch)
+        : forest_(forest), scratch_(scratch) {}
+    const SimplexSplineForest* forest_;
+    void* scratch_;
+  };
+  PointValues At(const Eigen::Vector3d& p) const;
   ScalarJet Evaluate(int handle, const Eigen::Vector3d& p,
                      JetOrder order) const;
 
@@ -216,6 +232,7 @@ class SimplexSplineForest {
   };
   Scratch& Begin(const Eigen::Vector3d& p, int order) const;
   int PairSign(int pair, Scratch& s) const;
+  double LeafValue(const Node& node, Scratch& s) const;
   double NodeValue(int node, Scratch& s) const;
   void NodeJet(int node, Scratch& s) const;
 

@@ -32,7 +32,7 @@ StatusOr<SphericalSpline> SphericalSpline::Create(
 }
 
 Eigen::Vector3d SphericalSpline::Evaluate(const Eigen::Vector3d& p) const {
-  std::vector<BasisValue> values;
+  thread_local std::vector<BasisValue> values;  // no allocation per point
   const bool raw = form_ == BasisForm::kRaw;
   // The raw B_i are homogeneous of degree k: evaluate on the sphere.
   basis_.NonzeroValues(raw ? Eigen::Vector3d(p.normalized()) : p, &values);
@@ -58,7 +58,7 @@ SurfacePoint SphericalSpline::EvaluateDifferential(const Eigen::Vector3d& p,
   const bool raw = form_ == BasisForm::kRaw;
   // The raw form's jets below assume |p| = 1.
   const Eigen::Vector3d q = raw ? Eigen::Vector3d(p.normalized()) : p;
-  std::vector<int> candidates;
+  thread_local std::vector<int> candidates;  // no allocation per point
   basis_.Candidates(q, &candidates);
   // Numerator N = sum B_i c_i and denominator I = sum B_i with derivatives.
   Eigen::Vector3d n = Eigen::Vector3d::Zero();

@@ -366,5 +366,44 @@ TEST(SimplexSplineForest, MatchesEverySplineBitForBit) {
   }
 }
 
+// At(p) prepares a point once for many splines: each value is that of the
+// spline's own recursion, bit for bit, in any order of the splines, and a
+// point's values do not leak into the next point's (nearby points share
+// most nodes, so a stale memo would show).
+TEST(SimplexSplineForest, PointValuesMatchEverySplineBitForBit) {
+  const Eigen::MatrixX3d knots =
+      testing::RandomUnitVectorsInCap(12, kCenter, 0.6, 400);
+  SimplexSplineForest forest;
+  std::vector<SimplexSpline> splines;
+  for (int s = 0; s < 40; ++s) {
+    const std::vector<int> subset = RandomSubset(12, 7, 31 * s + 5);
+    Eigen::MatrixX3d local(7, 3);
+    for (int j = 0; j < 7; ++j) local.row(j) = knots.row(subset[j]);
+    StatusOr<SimplexSpline> spline = SimplexSpline::Create(local);
+    ASSERT_TRUE(spline.ok()) << spline.status().message();
+    forest.Add(*spline, subset);
+    splines.push_back(std::move(spline).value());
+  }
+  forest.FinishAdding();
+  const Eigen::MatrixX3d points =
+      testing::RandomUnitVectorsInCap(200, kCenter, 0.6, 401);
+  int nonzero = 0;
+  for (Eigen::Index r = 0; r < points.rows(); ++r) {
+    // Every other point a hair away from the previous one.
+    const Eigen::Vector3d p =
+        r % 2 == 1 ? Eigen::Vector3d((points.row(r - 1).transpose() +
+                                      1e-9 * points.row(r).transpose())
+                                         .normalized())
+                   : Eigen::Vector3d(points.row(r).transpose());
+    const SimplexSplineForest::PointValues at = forest.At(p);
+    for (int s = forest.size() - 1; s >= 0; s -= (r % 3) + 1) {
+      const double expected = splines[s].Value(p);
+      ASSERT_EQ(at.value(s), expected) << "spline " << s << " point " << r;
+      nonzero += expected != 0.0;
+    }
+  }
+  EXPECT_GT(nonzero, 300);
+}
+
 }  // namespace
 }  // namespace sdcb
