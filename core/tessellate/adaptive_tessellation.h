@@ -44,9 +44,16 @@
 // faces stay positively oriented and no face turns over against the
 // surface normals. Collapses whose surroundings do not overlap are
 // certified together in waves, until no vertex around a change is left to
-// try; faces the final certificate then fails (its climb can reach another
-// local maximum) are split. This brings the count toward the asymptotic
-// optimum (optimal_triangle_count.h).
+// try. Where no half-edge collapse passes, the full collapse is tried with
+// the merged vertex at the edge's midpoint and at the best (by prediction)
+// of two other places. Then, a few rounds: certified vertex moves (toward
+// the vertex's faces weighted by their distance, or toward its ring's
+// centroid), each made only if all its faces pass and their largest
+// distance goes down, and collapses again around the moved vertices (the
+// moves spread what is left of the tolerance, so that more collapses
+// pass). Faces the final certificate then fails (its climb can reach
+// another local maximum) are split. This brings the count toward the
+// asymptotic optimum (optimal_triangle_count.h).
 //
 // The result is closed, manifold, genus 0 and consistently oriented by
 // construction (no T-junctions): it is a triangulation of the sphere mapped
@@ -75,6 +82,9 @@ struct TessellationOptions {
   // Hill-climb from the largest sample of each face near the threshold
   // (see above); off only to measure what it catches.
   bool ascend = true;
+  // Certified vertex moves between the simplification's collapses (see
+  // above); off only to measure what they gain.
+  bool relocate = true;
   // Remesh / collapse, flip and move after refinement (see above).
   bool optimize = true;
   // Certified simplification at the end (see above); with optimize = false
