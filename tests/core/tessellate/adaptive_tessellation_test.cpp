@@ -431,7 +431,7 @@ TEST(AdaptiveTessellationTest, AscentCatchesMaximaBetweenLatticePoints) {
   // stop 21, the contrast was 0.94 against 0.73 eps; the current
   // simplification, which tries more collapses and places, leaves 0.864
   // against 0.851 at order 3 and none at order 2.) Last, the default
-  // pipeline (lattice 6, moves on): within eps.
+  // lattice (6) with the moves on: within eps.
   std::mt19937 rng(7);
   std::normal_distribution<double> normal;
   std::vector<Eigen::Vector3d> centres;
@@ -518,6 +518,7 @@ TEST(AdaptiveTessellationTest, AscentCatchesMaximaBetweenLatticePoints) {
   // The default pipeline (lattice 6, moves on): within eps.
   TessellationOptions defaults;
   defaults.tolerance = eps;
+  defaults.relocate = true;
   StatusOr<Tessellation> moved = TessellateAdaptively(surface, defaults);
   ASSERT_TRUE(moved.ok());
   const double moved_measured = surface_to_mesh(*moved);
