@@ -37,7 +37,7 @@
 // against the surface normals (a thin, sheared face's new vertex beyond its
 // opposite corner) are unfolded by edge flips and certified again.
 // Then, if `simplify`, the certified simplification: greedy collapses of
-// vertices (half-edge collapses into the two neighbours of lowest predicted
+// vertices (half-edge collapses into the three neighbours of lowest predicted
 // error, else the full collapse of the edge to its domain midpoint), each
 // made only if every face it makes passes the certificate above, the faces
 // around whose certificate used the replaced faces still pass, the domain
