@@ -1,6 +1,7 @@
 // Where an adaptive tessellation's triangles go, against the asymptotic
 // optimum N_opt (core/tessellate/optimal_triangle_count.h):
 //   tessellation_efficiency_bench MODEL.sdcb TOLERANCE_PCT [--no-simplify]
+//       [--no-optimize] [--no-relocate]
 // Tessellates the model at the tolerance, then for each face: its share of
 // N_opt (area times the optimum's density at its centroid, eta), its
 // largest distance to its own flat triangle on an order-24 lattice (err, a
@@ -35,7 +36,7 @@ int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr,
                  "usage: %s MODEL.sdcb TOLERANCE_PCT [--no-simplify] "
-                 "[--no-optimize]\n",
+                 "[--no-optimize] [--no-relocate]\n",
                  argv[0]);
     return 2;
   }
@@ -53,6 +54,7 @@ int main(int argc, char** argv) {
   for (int i = 3; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--no-simplify")) options.simplify = false;
     if (!std::strcmp(argv[i], "--no-optimize")) options.optimize = false;
+    if (!std::strcmp(argv[i], "--no-relocate")) options.relocate = false;
   }
   const double eps = options.tolerance;
   const auto start = std::chrono::steady_clock::now();

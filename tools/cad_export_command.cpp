@@ -53,7 +53,7 @@ int RunCadExport(const Args& args, const std::string& ext) {
   SilenceOpenCascadeMessages();
   for (const char* mesh_only :
        {"uniform", "qp", "cl", "colors", "mesh", "measure-samples", "draco",
-        "meshopt", "no-optimize", "no-simplify"}) {
+        "meshopt", "no-optimize", "no-simplify", "no-relocate"}) {
     if (args.Has(mesh_only)) {
       throw UsageError{std::string("--") + mesh_only + " does not apply to a " +
                        ext + " output"};

@@ -189,7 +189,8 @@ const CommandOptions& ExportOptionNames() {
   static const CommandOptions names = {
       {"output", "tolerance", "angle", "uniform", "qp", "cl", "colors", "mesh",
        "json", "measure-samples", "max-patches"},
-      {"draco", "meshopt", "quiet", "no-optimize", "no-simplify"}};
+      {"draco", "meshopt", "quiet", "no-optimize", "no-simplify",
+       "no-relocate"}};
   return names;
 }
 
@@ -305,6 +306,7 @@ int RunExport(const std::vector<std::string>& argv) {
     options.angle_degrees = angle;
     options.optimize = !args.Has("no-optimize");
     options.simplify = !args.Has("no-simplify");
+    options.relocate = !args.Has("no-relocate");
     StatusOr<Tessellation> adaptive = TessellateAdaptively(sampler, options);
     if (!adaptive.ok()) {
       return ReportError(adaptive.status().WithPrefix(model_path));

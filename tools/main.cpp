@@ -63,7 +63,7 @@ commands:
       [--angle DEG] [--uniform N] [--draco [--qp BITS] [--cl LEVEL]]
       [--meshopt [--qp BITS]] [--colors none|error|curvature|gaussian]
       [--mesh MESH] [--json FILE] [--quiet] [--no-optimize]
-      [--no-simplify] [--measure-samples N]
+      [--no-simplify] [--no-relocate] [--measure-samples N]
                              Triangulate the surface: adaptive (every
                              triangle within PCT, default 0.1, of the
                              surface and its normals within DEG, default

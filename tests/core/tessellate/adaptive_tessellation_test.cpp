@@ -418,8 +418,10 @@ TEST(AdaptiveTessellationTest, AscentCatchesMaximaBetweenLatticePoints) {
   // A sphere with 40 narrow bumps (curvature changing sign within a few
   // faces) on a coarse lattice (order 3: 7 points per face, threshold
   // (1 - 4/27) eps), with the optimizers and the certified simplification
-  // but not its moves (which, on so coarse a lattice, resample near the
-  // threshold at order 36 and take minutes). Without the hill-climb the
+  // but neither its moves (which, on so coarse a lattice, resample near the
+  // threshold at order 36 and take minutes) nor the final verification on
+  // the order-36 lattice (which catches what the climb catches, and is
+  // tested last). Without the hill-climb the
   // surface's largest distance to the mesh, measured densely (CGAL's AABB
   // tree, dense lattices plus a fine grid over every bump), is above the
   // certificate's threshold: the lattice misses maxima between its points.
@@ -430,8 +432,10 @@ TEST(AdaptiveTessellationTest, AscentCatchesMaximaBetweenLatticePoints) {
   // give the same output. (Written at order 2 with the simplification of
   // stop 21, the contrast was 0.94 against 0.73 eps; the current
   // simplification, which tries more collapses and places, leaves 0.864
-  // against 0.851 at order 3 and none at order 2.) Last, the default
-  // lattice (6) with the moves on: within eps.
+  // against 0.851 at order 3 and none at order 2.) Then the same lattice
+  // without the climb but with the final verification: within the
+  // threshold too. Last, the defaults (lattice 6, moves, verification):
+  // within eps.
   std::mt19937 rng(7);
   std::normal_distribution<double> normal;
   std::vector<Eigen::Vector3d> centres;
@@ -462,6 +466,7 @@ TEST(AdaptiveTessellationTest, AscentCatchesMaximaBetweenLatticePoints) {
   options.tolerance = eps;
   options.lattice = 3;
   options.relocate = false;
+  options.verify = false;
   const double threshold = (1.0 - 4.0 / 27.0) * eps;
   options.ascend = false;
   StatusOr<Tessellation> plain = TessellateAdaptively(surface, options);
@@ -515,15 +520,25 @@ TEST(AdaptiveTessellationTest, AscentCatchesMaximaBetweenLatticePoints) {
   EXPECT_LE(flat_to_surface, eps);
   ExpectSameTessellation(*climbed, *one);
   ExpectClosedSphereWithoutCrossings(*climbed);
-  // The default pipeline (lattice 6, moves on): within eps.
+  // The lattice without the climb, verified on the order-36 lattice.
+  options.ascend = false;
+  options.verify = true;
+  StatusOr<Tessellation> verified = TessellateAdaptively(surface, options);
+  ASSERT_TRUE(verified.ok());
+  const double verified_measured = surface_to_mesh(*verified);
+  std::cout << "lattice order 3 without the climb, verified at order 36: "
+            << verified->faces.rows() << " faces, measured "
+            << verified_measured / eps << " eps\n";
+  EXPECT_LE(verified_measured, threshold);
+  EXPECT_EQ(verified->uncertified_faces, 0);
+  // The defaults (lattice 6, moves, verification): within eps.
   TessellationOptions defaults;
   defaults.tolerance = eps;
-  defaults.relocate = true;
   StatusOr<Tessellation> moved = TessellateAdaptively(surface, defaults);
   ASSERT_TRUE(moved.ok());
   const double moved_measured = surface_to_mesh(*moved);
-  std::cout << "default lattice with the moves: " << moved->faces.rows()
-            << " faces, measured " << moved_measured / eps << " eps\n";
+  std::cout << "defaults: " << moved->faces.rows() << " faces, measured "
+            << moved_measured / eps << " eps\n";
   EXPECT_LE(moved_measured, eps);
 }
 
