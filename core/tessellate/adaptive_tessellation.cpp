@@ -672,8 +672,9 @@ std::vector<FaceCheck> Tessellator::CheckFaces(
                                    std::max(stretch, kShearedRefinement))));
       }
       // Sheared faces: where the lattice misses most. Faces of a move near
-      // the threshold too: moves search for places where the certificate
-      // passes, and find where it passes short.
+      // the threshold too (moves search for places where the certificate
+      // passes, and find where it passes short), and in the final
+      // verification every face near the threshold.
       if (sheared ||
           ((verify_densely_ || (below && std::isfinite((*below)[i]))) &&
            check.distance > kRecheckFraction * accept_)) {
