@@ -12,8 +12,10 @@
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/sdcb_file.h"
+#include "tools/allocator_tuning.h"
 
 int main(int argc, char** argv) {
+  sdcb::cli::TuneAllocatorForRounds();  // as the sdcb command does
   std::string path = std::string(SDCB_MESH_DIR) + "/bunny00.off";
   sdcb::FitOptions options;
   std::string output;
@@ -78,9 +80,10 @@ int main(int argc, char** argv) {
         r.round, r.knots, r.control_points, r.rmse_percent, r.max_error_percent,
         r.folded_area_percent, r.vertex_rmse_percent,
         r.vertex_max_error_percent, d.data_samples, d.split_triangles,
-        d.min_samples_per_basis, d.min_vertices_per_basis, d.closest_points ? "*" : " ",
-        d.timings.knot_placement, d.timings.configurations, d.timings.basis,
-        d.timings.solve, d.timings.measure, d.timings.total);
+        d.min_samples_per_basis, d.min_vertices_per_basis,
+        d.closest_points ? "*" : " ", d.timings.knot_placement,
+        d.timings.configurations, d.timings.basis, d.timings.solve,
+        d.timings.measure, d.timings.total);
   }
   const auto& f = s.final_result;
   const auto& t = fit->timings;

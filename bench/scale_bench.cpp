@@ -29,6 +29,7 @@
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/io/mesh_reader.h"
+#include "tools/allocator_tuning.h"
 
 namespace {
 
@@ -115,6 +116,7 @@ double Exponent(const std::vector<double>& x, const std::vector<double>& y) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  sdcb::cli::TuneAllocatorForRounds();       // as the sdcb command does
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // lines appear as stages end
   sdcb::FitOptions options;
   options.rmse_percent = 0.1;

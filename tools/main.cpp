@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "tools/allocator_tuning.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/interrupts.h"
@@ -165,8 +166,9 @@ int RunCommand(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Before any thread starts: an interrupted run removes its temporary
-  // output files.
+  // Before any thread starts: the allocator's settings, and an interrupted
+  // run removes its temporary output files.
+  sdcb::cli::TuneAllocatorForRounds();
   sdcb::cli::InstallInterruptCleanup();
   const int code = RunCommand(argc, argv);
   sdcb::cli::EndRunBeforeAnyInterrupt();
