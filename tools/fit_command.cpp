@@ -130,6 +130,12 @@ int RunFit(const std::vector<std::string>& argv) {
         "%.2f s\n",
         f.rmse_percent, f.max_error_percent, options.rmse_percent,
         MaxErrorTarget(options), fit->timings.total);
+    const StageTimings& t = fit->timings;
+    std::printf(
+        "  stages: parameterization %.2f s, knot placement %.2f s, "
+        "configurations %.2f s, basis %.2f s, solve %.2f s, measure %.2f s\n",
+        t.parameterization, t.knot_placement, t.configurations, t.basis,
+        t.solve, t.measure);
     if (!quantization.lossless()) {
       std::printf(
           "  control points quantized to %d bits: the stored surface is "

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -83,6 +84,42 @@ TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
   const std::string svg = ReadBytes(dir + "/plot.svg");
   EXPECT_EQ(svg.rfind("<svg", 0), 0u);
   EXPECT_NE(svg.find("polyline"), std::string::npos);
+}
+
+// Without --quiet the summary prints the seconds of every stage: the
+// report's values, and together no more than the whole fit (the stages run
+// one after the other).
+TEST(FitCliTest, SummaryPrintsTheStageTimesOfTheReport) {
+  const std::string dir = FreshTestDir();
+  const RunResult r =
+      RunSdcb({"fit", MeshPath("blobby.off"), "-o", dir + "/b.sdcb", "--rmse",
+               "0.1", "--max-rounds", "2", "--json", dir + "/report.json"},
+              dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto t =
+      nlohmann::json::parse(ReadBytes(dir + "/report.json"))["timings"];
+  const size_t at = r.out.find("  stages: ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  double printed[6];
+  ASSERT_EQ(std::sscanf(r.out.c_str() + at,
+                        "  stages: parameterization %lf s, knot placement %lf "
+                        "s, configurations %lf s, basis %lf s, solve %lf s, "
+                        "measure %lf s",
+                        &printed[0], &printed[1], &printed[2], &printed[3],
+                        &printed[4], &printed[5]),
+            6)
+      << r.out;
+  double sum = 0.0;
+  int i = 0;
+  for (const char* key : {"parameterization", "knot_placement",
+                          "configurations", "basis", "solve", "measure"}) {
+    const double seconds = t[key];
+    EXPECT_NEAR(printed[i++], seconds, 0.005 + 1e-9) << key;
+    EXPECT_GE(seconds, 0.0) << key;
+    sum += seconds;
+  }
+  EXPECT_GT(t["parameterization"].get<double>(), 0.0);
+  EXPECT_LE(sum, t["total"].get<double>() + 1e-6);
 }
 
 // A target the rounds cannot reach: the model is still written (exit 0), and
