@@ -257,7 +257,9 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
                        {"split_triangles", d.split_triangles},
                        {"min_samples_per_basis", d.min_samples_per_basis},
                        {"surface_samples", d.surface_samples},
-                       {"closest_points", d.closest_points}});
+                       {"closest_points", d.closest_points},
+                       {"round_rmse_percent", d.round_rmse_percent},
+                       {"estimated_rmse_percent", d.estimated_rmse_percent}});
   }
   report["round_details"] = std::move(details);
   return report;

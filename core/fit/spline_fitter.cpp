@@ -269,6 +269,10 @@ struct SplineFitter::State {
   TriangleMesh mesh;   // in the normalized frame
   Eigen::MatrixX3d u;  // the vertices' sphere parameters
   double mesh_area = 0;
+  // Per vertex: a third of its triangles' area, and the unit normal of their
+  // area-weighted sum (the rounds' estimate of the dense measurement).
+  Eigen::VectorXd vertex_area;
+  Eigen::MatrixX3d vertex_normal;
   std::unique_ptr<PointKdTree> parameter_tree;
   // The mesh's AABB tree, built once for every round's measurement.
   std::optional<MeshDistance> mesh_distance;
@@ -402,6 +406,18 @@ struct SplineFitter::State {
   StatusOr<SurfaceDeviation> Measure(const SphericalSpline& surface,
                                      const Eigen::MatrixX3d* vertex_points,
                                      bool final_measurement) const;
+  // The round's rms with the mesh -> surface half estimated by the residuals'
+  // components along the mesh's vertex normals (the distance to first order,
+  // without the tangential part by which the parametric bound overstates it).
+  double EstimatedRms(const SurfaceDeviation& deviation,
+                      const Eigen::MatrixX3d& residuals) const {
+    const Eigen::VectorXd normal_part =
+        100.0 * residuals.cwiseProduct(vertex_normal).rowwise().sum();
+    const double ms = vertex_area.dot(normal_part.cwiseAbs2()) /
+                      std::max(vertex_area.sum(), 1e-300);
+    const double s2m = deviation.surface_to_mesh_rms_percent;
+    return std::sqrt(0.5 * (s2m * s2m + ms));
+  }
   void NextDensity(const Problem& problem, const Eigen::MatrixX3d& fitted,
                    const Eigen::VectorXd& vertex_errors,
                    const SurfaceDeviation& deviation);
@@ -436,12 +452,20 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   model.source.hash = HashTriangleMesh(mesh);
   model.statistics.options = RecordFitOptions(o);
   model.statistics.error_measure = ErrorMeasure::kDenseTwoSided;
+  s.vertex_area = Eigen::VectorXd::Zero(s.mesh.vertices.rows());
+  s.vertex_normal = Eigen::MatrixX3d::Zero(s.mesh.vertices.rows(), 3);
   for (Eigen::Index f = 0; f < s.mesh.faces.rows(); ++f) {
     const Eigen::Vector3d a = s.mesh.vertices.row(s.mesh.faces(f, 0));
     const Eigen::Vector3d b = s.mesh.vertices.row(s.mesh.faces(f, 1));
     const Eigen::Vector3d c = s.mesh.vertices.row(s.mesh.faces(f, 2));
-    s.mesh_area += 0.5 * (b - a).cross(c - a).norm();
+    const Eigen::Vector3d n = 0.5 * (b - a).cross(c - a);
+    s.mesh_area += n.norm();
+    for (int k = 0; k < 3; ++k) {
+      s.vertex_area[s.mesh.faces(f, k)] += n.norm() / 3.0;
+      s.vertex_normal.row(s.mesh.faces(f, k)) += n.transpose();
+    }
   }
+  s.vertex_normal.rowwise().normalize();
 
   // 1. Spherical parameterization (Sec. 4.3).
   s.Report(FitStage::kParameterization, 0, 0);
@@ -788,10 +812,16 @@ Status SplineFitter::State::RunRound() {
   SDCB_ASSIGN_OR_RETURN(SurfaceDeviation deviation,
                         Measure(surface, &vertex_points, false));
   // A round's own measurement bounds the mesh -> surface half by the
-  // parametric residual, which overstates it where the map shears: the
-  // targets are judged on the final measurement only, run when the round's
-  // rms and folds already pass.
-  if (deviation.rms_percent <= o.rmse_percent &&
+  // parametric residual, which overstates it where the map shears (up to
+  // 1.3 times on CGAL's meshes): the targets are judged on the final
+  // measurement only, run when nothing folds and the round's rms, or its
+  // first-order estimate (within 0.90-1.21 of the dense rms on them,
+  // docs/FITTING.md), meets the target.
+  details.round_rmse_percent = deviation.rms_percent;
+  details.estimated_rmse_percent =
+      EstimatedRms(deviation, vertex_points - mesh.vertices);
+  if (std::min(deviation.rms_percent, details.estimated_rmse_percent) <=
+          o.rmse_percent &&
       deviation.folded_area_percent == 0) {
     SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, &vertex_points, true));
     details.closest_points = true;

@@ -148,6 +148,12 @@ struct RoundDetails {
   // parametric bound |F(u_i) - x_i| unless `closest_points`).
   int64_t surface_samples = 0;
   bool closest_points = false;
+  // The round's own rms (its lattice and the parametric bound), before the
+  // dense measurement replaced it (closest_points) or not.
+  double round_rmse_percent = 0;
+  // The same with the mesh -> surface half estimated to first order (the
+  // residuals' components along the mesh's vertex normals).
+  double estimated_rmse_percent = 0;
 };
 
 struct FitResult {
