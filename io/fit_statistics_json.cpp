@@ -129,6 +129,7 @@ json FitStatisticsToJson(const FitStatistics& s) {
                 {"regularization", o.regularization},
                 {"fairness", o.fairness},
                 {"samples_per_spacing", o.samples_per_spacing},
+                {"thinned_cells_per_spacing", o.thinned_cells_per_spacing},
                 {"max_fold_rounds", o.max_fold_rounds},
                 {"fallback_accepts_folds", o.fallback_accepts_folds},
                 {"round_samples_per_knot", o.round_samples_per_knot},
@@ -177,6 +178,8 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
       GetOptional(*o, "fairness", ow, &so.fairness, GetDouble));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "samples_per_spacing", ow,
                                    &so.samples_per_spacing, GetDouble));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "thinned_cells_per_spacing", ow,
+                                   &so.thinned_cells_per_spacing, GetDouble));
   SDCB_RETURN_IF_ERROR(
       GetOptional(*o, "max_fold_rounds", ow, &so.max_fold_rounds, GetInt));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "fallback_accepts_folds", ow,
@@ -254,6 +257,7 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
                        {"cvt_iterations", d.cvt_iterations},
                        {"min_knot_separation_radians", d.min_knot_separation},
                        {"data_samples", d.data_samples},
+                       {"unthinned_samples", d.unthinned_samples},
                        {"split_triangles", d.split_triangles},
                        {"min_samples_per_basis", d.min_samples_per_basis},
                        {"surface_samples", d.surface_samples},

@@ -2,6 +2,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -166,6 +167,26 @@ int64_t NormalBin(const Eigen::Vector3d& n) {
   return 16 * face + 4 * cell(u) + cell(v);
 }
 
+// The cell of sphere point p: its nearest knot, the square of side
+// spacing / per_spacing holding p in a tangent grid of that knot (a frame
+// fixed by the knot alone), and `normal_bin`.
+std::array<int64_t, 4> CellKey(const Eigen::Vector3d& p,
+                               const Eigen::MatrixX3d& knots,
+                               const Eigen::VectorXd& spacing,
+                               const PointKdTree& knot_tree, double per_spacing,
+                               int64_t normal_bin) {
+  const int k = std::max(knot_tree.Nearest(p).index, 0);
+  const Eigen::Vector3d t = knots.row(k).transpose();
+  const Eigen::Vector3d helper = std::abs(t.x()) < 0.6
+                                     ? Eigen::Vector3d::UnitX()
+                                     : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d e1 = t.cross(helper).normalized();
+  const Eigen::Vector3d e2 = t.cross(e1);
+  const double h = std::max(spacing[k] / per_spacing, 1e-12);
+  return {k, static_cast<int64_t>(std::floor(p.dot(e1) / h)),
+          static_cast<int64_t>(std::floor(p.dot(e2) / h)), normal_bin};
+}
+
 // The pieces exceed the budget: many triangles sample the same part of the
 // sphere (a fan's needles, each cut along its whole length, cover the same
 // region n times over). Every piece is still integrated at the full density,
@@ -196,19 +217,8 @@ void MergedSamples(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
   Eigen::VectorXd vertex_weight = Eigen::VectorXd::Zero(nv);
   auto deposit = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& x,
                      double w, int f) {
-    const PointKdTree::Neighbor near = knot_tree.Nearest(p);
-    const int k = std::max(near.index, 0);
-    const Eigen::Vector3d t = knots.row(k).transpose();
-    // A tangent frame at the knot, fixed by the knot alone.
-    const Eigen::Vector3d helper = std::abs(t.x()) < 0.6
-                                       ? Eigen::Vector3d::UnitX()
-                                       : Eigen::Vector3d::UnitY();
-    const Eigen::Vector3d e1 = t.cross(helper).normalized();
-    const Eigen::Vector3d e2 = t.cross(e1);
-    const double h = std::max(spacing[k] / per_spacing, 1e-12);
-    const std::array<int64_t, 4> key = {
-        k, static_cast<int64_t>(std::floor(p.dot(e1) / h)),
-        static_cast<int64_t>(std::floor(p.dot(e2) / h)), normal_bin};
+    const std::array<int64_t, 4> key =
+        CellKey(p, knots, spacing, knot_tree, per_spacing, normal_bin);
     Cell& c = cells[key];
     c.point += w * p;
     c.target += w * x;
@@ -320,6 +330,127 @@ void MergedSamples(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
   }
 }
 
+// Thins `out` (FitSampleOptions::thin_above_vertices) in place; false, leaving
+// it as it was, when thinning would keep more than thin_keep_at_most of its
+// rows.
+bool Thin(const TriangleMesh& mesh, const Eigen::MatrixX3d& knots,
+          const Eigen::VectorXd& spacing, const PointKdTree& knot_tree,
+          const FitSampleOptions& options, FitSamples* out) {
+  const Eigen::Index nv = out->num_vertices, rows = out->points.rows();
+  // Mesh normals: of the triangle for a point inside it, area-weighted over
+  // the incident triangles for a vertex.
+  Eigen::MatrixX3d vertex_normal = Eigen::MatrixX3d::Zero(nv, 3);
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
+    const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
+    const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
+    const Eigen::RowVector3d n = (b - a).cross(c - a).transpose();
+    for (int k = 0; k < 3; ++k) vertex_normal.row(mesh.faces(f, k)) += n;
+  }
+  // Each row's cell: (knot, grid row, grid column, normal bin).
+  std::vector<std::array<int64_t, 4>> key(rows);
+  const double per_spacing = options.thinned_cells_per_spacing;
+  tbb::parallel_for(
+      tbb::blocked_range<Eigen::Index>(0, rows, 1024),
+      [&](const tbb::blocked_range<Eigen::Index>& range) {
+        for (Eigen::Index r = range.begin(); r < range.end(); ++r) {
+          Eigen::Vector3d normal;
+          if (r < nv) {
+            normal = vertex_normal.row(r).transpose();
+          } else {
+            const int f = out->triangle[r - nv];
+            const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
+            const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
+            const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
+            normal = (b - a).cross(c - a);
+          }
+          key[r] = CellKey(out->points.row(r).transpose(), knots, spacing,
+                           knot_tree, per_spacing, NormalBin(normal));
+        }
+      });
+  std::vector<Eigen::Index> order(rows);
+  for (Eigen::Index r = 0; r < rows; ++r) order[r] = r;
+  tbb::parallel_sort(order.begin(), order.end(),
+                     [&](Eigen::Index a, Eigen::Index b) {
+                       return key[a] != key[b] ? key[a] < key[b] : a < b;
+                     });
+  // Per cell (a run of `order`): the kept row and the cell's weight.
+  std::vector<std::pair<Eigen::Index, double>> kept;
+  std::vector<Eigen::Index> cell_of(rows);
+  for (Eigen::Index begin = 0; begin < rows;) {
+    Eigen::Index end = begin + 1;
+    while (end < rows && key[order[end]] == key[order[begin]]) ++end;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    double weight = 0.0;
+    for (Eigen::Index i = begin; i < end; ++i) {
+      centroid +=
+          out->weights[order[i]] * out->points.row(order[i]).transpose();
+      weight += out->weights[order[i]];
+    }
+    // The row nearest the centroid (the lowest on ties: `order` is sorted
+    // by row within a cell).
+    Eigen::Index best = order[begin];
+    double best_distance = std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = begin; i < end; ++i) {
+      const double d =
+          (out->points.row(order[i]).transpose() * weight - centroid)
+              .squaredNorm();
+      if (d < best_distance) {
+        best_distance = d;
+        best = order[i];
+      }
+    }
+    for (Eigen::Index i = begin; i < end; ++i) {
+      cell_of[order[i]] = static_cast<Eigen::Index>(kept.size());
+    }
+    kept.emplace_back(best, weight);
+    begin = end;
+  }
+  if (static_cast<double>(kept.size()) >
+      options.thin_keep_at_most * static_cast<double>(rows)) {
+    return false;
+  }
+  // Kept rows in the order of their original rows.
+  std::vector<Eigen::Index> by_row(kept.size());
+  for (size_t c = 0; c < kept.size(); ++c)
+    by_row[c] = static_cast<Eigen::Index>(c);
+  std::sort(by_row.begin(), by_row.end(), [&](Eigen::Index a, Eigen::Index b) {
+    return kept[a].first < kept[b].first;
+  });
+  std::vector<int> row_of_cell(kept.size());
+  FitSamples thinned;
+  const Eigen::Index n = static_cast<Eigen::Index>(kept.size());
+  thinned.points.resize(n, 3);
+  thinned.targets.resize(n, 3);
+  thinned.weights.resize(n);
+  thinned.triangle.assign(n, -1);
+  thinned.row_vertex.assign(n, -1);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto& [row, weight] = kept[by_row[i]];
+    row_of_cell[by_row[i]] = static_cast<int>(i);
+    thinned.points.row(i) = out->points.row(row);
+    thinned.targets.row(i) = out->targets.row(row);
+    thinned.weights[i] = weight;
+    if (row < nv) {
+      thinned.row_vertex[i] = static_cast<int>(row);
+    } else {
+      thinned.triangle[i] = out->triangle[row - nv];
+    }
+  }
+  thinned.vertex_row.resize(nv);
+  for (Eigen::Index v = 0; v < nv; ++v) {
+    thinned.vertex_row[v] = row_of_cell[cell_of[v]];
+  }
+  thinned.num_vertices = 0;
+  thinned.thinned = true;
+  thinned.unthinned_rows = rows;
+  thinned.split_triangles = out->split_triangles;
+  thinned.samples_per_spacing = out->samples_per_spacing;
+  thinned.merged_pieces = out->merged_pieces;
+  *out = std::move(thinned);
+  return true;
+}
+
 }  // namespace
 
 FitSamples BuildFitSamples(const TriangleMesh& mesh,
@@ -342,6 +473,10 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
                       options.samples_per_spacing, options, &leaves,
                       &out.split_triangles)) {
     MergedSamples(mesh, sphere, knots, spacing, knot_tree, options, &out);
+    out.unthinned_rows = out.points.rows();
+    if (options.thin_above_vertices > 0 && nv > options.thin_above_vertices) {
+      Thin(mesh, knots, spacing, knot_tree, options, &out);
+    }
     return out;
   }
 
@@ -394,6 +529,10 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
   out.targets.conservativeResize(next, 3);
   out.weights.conservativeResize(next);
   out.triangle.resize(next - nv);
+  out.unthinned_rows = out.points.rows();
+  if (options.thin_above_vertices > 0 && nv > options.thin_above_vertices) {
+    Thin(mesh, knots, spacing, knot_tree, options, &out);
+  }
   return out;
 }
 

@@ -39,6 +39,22 @@ struct FitSampleOptions {
   // cut into a few strips at a staggered phase instead of along their whole
   // length (their neighbours' strips fill the cells between).
   int64_t max_pieces = 0;
+  // A mesh far denser than its knots asks for far more rows than the knots
+  // can use (every vertex is a row; the points inside split triangles are
+  // already at the knots' density): with more than `thin_above_vertices`
+  // vertices (0: never), the rows are thinned to the knots' density. Each row
+  // falls into a cell of a tangent grid at its nearest knot,
+  // `thinned_cells_per_spacing` cells per that knot's spacing, split further by
+  // the direction of the mesh's normal (a crease's two sides stay apart); each
+  // cell keeps the one of its rows nearest (on the sphere) to the cells'
+  // weighted centroid, with the cell's summed weight. The kept rows are points
+  // of the mesh with their own sphere points (no averaging, which would pull
+  // targets inside a curved surface), the weights still add up to the area, and
+  // the rows are a few per control point however dense the mesh. Skipped when
+  // it would keep more than `thin_keep_at_most` of the rows.
+  int64_t thin_above_vertices = 0;
+  double thinned_cells_per_spacing = 4.0;
+  double thin_keep_at_most = 0.7;
 };
 
 struct FitSamples {
@@ -46,12 +62,21 @@ struct FitSamples {
   // split triangles. Sphere points (unit vectors), target points (the mesh's
   // frame), quadrature weights (mesh area), and for the rows after the
   // vertices the mesh triangle each point lies in.
+  //
+  // Thinned (FitSampleOptions::thin_above_vertices): num_vertices is 0, every
+  // row is a cell's kept row; row_vertex[r] is the mesh vertex row r is, or
+  // -1 for a point inside triangle[r] (which is -1 for a vertex), and
+  // vertex_row[v] the row kept for mesh vertex v's cell.
   Eigen::MatrixX3d points;
   Eigen::MatrixX3d targets;
   Eigen::VectorXd weights;
   std::vector<int> triangle;  // size points.rows() - num_vertices
   Eigen::Index num_vertices = 0;
-  int split_triangles = 0;  // triangles split into pieces
+  bool thinned = false;
+  std::vector<int> row_vertex;      // thinned: per row
+  std::vector<int> vertex_row;      // thinned: per mesh vertex
+  Eigen::Index unthinned_rows = 0;  // rows before thinning
+  int split_triangles = 0;          // triangles split into pieces
   // The samples per spacing used (options.samples_per_spacing).
   double samples_per_spacing = 0.0;
   // Pieces and needle strips pooled into cells when the pieces exceeded

@@ -61,6 +61,13 @@ constexpr int kMinRoundsBeforeRateStop = 5;
 // Data-term pieces of split triangles per control point at most
 // (FitSampleOptions::max_pieces).
 constexpr int64_t kMaxPiecesPerControlPoint = 128;
+// Mesh vertices per control point above which the data term is thinned to
+// the knots' density (FitOptions::thinned_cells_per_spacing). A coarse
+// mesh's rows are mostly points inside its split triangles, already at the
+// knots' density; thinning them too made the rounds' own measurement (at
+// the fitted rows) read up to 4.6 times below the dense one on CGAL's coarse
+// meshes (the mesh -> surface half is measured at their few vertices).
+constexpr int64_t kThinAboveVerticesPerControlPoint = 8;
 // The fewest knots a round adds: rounds that only remove folds, and rounds
 // halved because the knots had no room for more.
 constexpr int kMinFoldKnots = 10;
@@ -107,6 +114,11 @@ Status CheckOptions(const FitOptions& o) {
           "alpha, lambda, regularization and samples per spacing must be "
           "finite and > 0");
     }
+  }
+  if (!(o.thinned_cells_per_spacing >= 0) ||
+      !std::isfinite(o.thinned_cells_per_spacing)) {
+    return InvalidArgumentError(
+        "the thinned cells per spacing must be finite and >= 0");
   }
   if (!(o.fairness >= 0) || !std::isfinite(o.fairness)) {
     return InvalidArgumentError("the fairness weight must be finite and >= 0");
@@ -242,6 +254,7 @@ RecordedFitOptions RecordFitOptions(const FitOptions& o) {
   r.regularization = o.regularization;
   r.fairness = o.fairness;
   r.samples_per_spacing = o.samples_per_spacing;
+  r.thinned_cells_per_spacing = o.thinned_cells_per_spacing;
   r.max_fold_rounds = o.max_fold_rounds;
   r.fallback_accepts_folds = o.fallback_accepts_folds;
   r.round_samples_per_knot = o.round_samples_per_knot;
@@ -283,6 +296,10 @@ struct SplineFitter::State {
   // smallest rms among those without folds (else the least folded).
   std::optional<SplineModel> best;
   Eigen::VectorXd best_vertex_errors;
+  // Whether the vertex errors (the latest round's, the best round's) are
+  // |F(u_i) - x_i| at every vertex, not a thinned round's cell values.
+  bool vertex_errors_exact = true;
+  bool best_vertex_errors_exact = true;
   bool finished = false;
   int estimated_rounds = kInitialRoundGuess;
   // The next round places knots only where the surface folds.
@@ -352,14 +369,30 @@ struct SplineFitter::State {
       stats.reached_target = false;
       result.model.statistics = std::move(stats);
       result.vertex_errors_percent = best_vertex_errors;
+      vertex_errors_exact = best_vertex_errors_exact;
     }
     RoundStatistics& kept = result.model.statistics.final_result;
     const bool kept_unfolded = kept.folded_area_percent == 0;
     const Stopwatch clock;
     SDCB_ASSIGN_OR_RETURN(const SphericalSpline surface,
                           SurfaceFromModel(result.model));
-    SDCB_ASSIGN_OR_RETURN(const SurfaceDeviation dense,
-                          Measure(surface, nullptr, true));
+    // A thinned round's vertex errors were its cells': F(u_i) at every
+    // vertex now, for the paper's measure and as candidates.
+    Eigen::MatrixX3d vertex_points;
+    if (!vertex_errors_exact) {
+      vertex_points = surface.EvaluateMany(u);
+      result.vertex_errors_percent =
+          100.0 * (vertex_points - mesh.vertices).rowwise().norm();
+      const Eigen::VectorXd& e = result.vertex_errors_percent;
+      kept.vertex_rmse_percent =
+          std::sqrt(e.squaredNorm() / std::max<Eigen::Index>(e.size(), 1));
+      kept.vertex_max_error_percent = e.size() > 0 ? e.maxCoeff() : 0;
+      vertex_errors_exact = true;
+    }
+    SDCB_ASSIGN_OR_RETURN(
+        const SurfaceDeviation dense,
+        Measure(surface, vertex_points.rows() > 0 ? &vertex_points : nullptr,
+                true));
     result.timings.measure += clock.Seconds();
     kept.rmse_percent = dense.rms_percent;
     kept.max_error_percent = dense.hausdorff_percent;
@@ -403,20 +436,58 @@ struct SplineFitter::State {
                                  RoundDetails* details) const;
   StatusOr<Eigen::MatrixX3d> Solve(const Problem& problem) const;
   // `vertex_points`: F(u_i) per vertex, or null (final measurement only).
+  // `mesh_to_surface` false: the surface -> mesh half only (a round of
+  // thinned samples bounds the other half at its rows).
   StatusOr<SurfaceDeviation> Measure(const SphericalSpline& surface,
                                      const Eigen::MatrixX3d* vertex_points,
-                                     bool final_measurement) const;
+                                     bool final_measurement,
+                                     bool mesh_to_surface = true) const;
   // The round's rms with the mesh -> surface half estimated by the residuals'
-  // components along the mesh's vertex normals (the distance to first order,
-  // without the tangential part by which the parametric bound overstates it).
-  double EstimatedRms(const SurfaceDeviation& deviation,
-                      const Eigen::MatrixX3d& residuals) const {
+  // components along the mesh's normals (the distance to first order,
+  // without the tangential part by which the parametric bound overstates
+  // it), at mesh samples of the given normals and area weights.
+  static double EstimatedRms(const SurfaceDeviation& deviation,
+                             const Eigen::MatrixX3d& residuals,
+                             const Eigen::MatrixX3d& normals,
+                             const Eigen::VectorXd& weights) {
     const Eigen::VectorXd normal_part =
-        100.0 * residuals.cwiseProduct(vertex_normal).rowwise().sum();
-    const double ms = vertex_area.dot(normal_part.cwiseAbs2()) /
-                      std::max(vertex_area.sum(), 1e-300);
+        100.0 * residuals.cwiseProduct(normals).rowwise().sum();
+    const double ms =
+        weights.dot(normal_part.cwiseAbs2()) / std::max(weights.sum(), 1e-300);
     const double s2m = deviation.surface_to_mesh_rms_percent;
     return std::sqrt(0.5 * (s2m * s2m + ms));
+  }
+  // The mesh's unit normal at each row of thinned samples: the vertex's, or
+  // the triangle's for a point inside one.
+  Eigen::MatrixX3d RowNormals(const FitSamples& samples) const {
+    Eigen::MatrixX3d normals(samples.points.rows(), 3);
+    for (Eigen::Index r = 0; r < samples.points.rows(); ++r) {
+      if (samples.row_vertex[r] >= 0) {
+        normals.row(r) = vertex_normal.row(samples.row_vertex[r]);
+        continue;
+      }
+      const int f = samples.triangle[r];
+      const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
+      const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
+      const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      const double length = n.norm();
+      normals.row(r) =
+          (length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::Zero())
+              .transpose();
+    }
+    return normals;
+  }
+  // Per vertex: the parametric residual of the row kept for its cell
+  // (thinned samples), percent.
+  static Eigen::VectorXd CellVertexErrors(const FitSamples& samples,
+                                          const Eigen::MatrixX3d& fitted) {
+    Eigen::VectorXd out(samples.vertex_row.size());
+    for (size_t v = 0; v < samples.vertex_row.size(); ++v) {
+      const int r = samples.vertex_row[v];
+      out[v] = 100.0 * (fitted.row(r) - samples.targets.row(r)).norm();
+    }
+    return out;
   }
   void NextDensity(const Problem& problem, const Eigen::MatrixX3d& fitted,
                    const Eigen::VectorXd& vertex_errors,
@@ -571,6 +642,12 @@ StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
   // rows per control point), far below what a fan's needles ask (2,000).
   sample_options.max_pieces = kMaxPiecesPerControlPoint *
                               static_cast<int64_t>(configurations.sets.size());
+  if (o.thinned_cells_per_spacing > 0) {
+    sample_options.thinned_cells_per_spacing = o.thinned_cells_per_spacing;
+    sample_options.thin_above_vertices =
+        kThinAboveVerticesPerControlPoint *
+        static_cast<int64_t>(configurations.sets.size());
+  }
   // The basis and the samples do not depend on each other: the samples are
   // built meanwhile, on the threads the basis's sequential parts (merging
   // the splines' recursions) leave idle. The same results.
@@ -591,14 +668,19 @@ StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
           ? BuildChartHessianRows(basis, bending.points, o.basis_form)
           : ChartHessianRows{};
   details->data_samples = static_cast<int>(samples.points.rows());
+  details->unthinned_samples = static_cast<int>(samples.unthinned_rows);
   details->split_triangles = samples.split_triangles;
-  // Samples, and input vertices (the first rows), in each basis function's
-  // support.
+  // Samples, and input vertices (the first rows, or the thinned rows that
+  // are vertices), in each basis function's support.
   std::vector<int> per_column(basis.size(), 0), vertices(basis.size(), 0);
-  const int vertex_nonzeros = data.outerIndexPtr()[samples.num_vertices];
-  for (int k = 0; k < data.nonZeros(); ++k) {
-    ++per_column[data.innerIndexPtr()[k]];
-    if (k < vertex_nonzeros) ++vertices[data.innerIndexPtr()[k]];
+  for (Eigen::Index r = 0; r < data.rows(); ++r) {
+    const bool vertex = r < samples.num_vertices ||
+                        (samples.thinned && samples.row_vertex[r] >= 0);
+    for (int k = data.outerIndexPtr()[r]; k < data.outerIndexPtr()[r + 1];
+         ++k) {
+      ++per_column[data.innerIndexPtr()[k]];
+      if (vertex) ++vertices[data.innerIndexPtr()[k]];
+    }
   }
   if (!per_column.empty()) {
     details->min_samples_per_basis =
@@ -639,7 +721,7 @@ StatusOr<Eigen::MatrixX3d> SplineFitter::State::Solve(const Problem& p) const {
 
 StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
     const SphericalSpline& surface, const Eigen::MatrixX3d* vertex_points,
-    bool final_measurement) const {
+    bool final_measurement, bool mesh_to_surface) const {
   // Rounds: a lattice with round_samples_per_knot samples per knot, mesh ->
   // surface bounded by |F(u_i) - x_i|. The final one: at least
   // final_surface_samples, and the closest points on the spline.
@@ -651,6 +733,7 @@ StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
                         : per_knot;
   measure.closest_points = final_measurement;
   measure.search_all_vertices = false;
+  measure.mesh_to_surface = mesh_to_surface;
   return MeasureSurfaceDeviation(surface, mesh, measure, vertex_points,
                                  &*mesh_distance);
 }
@@ -664,11 +747,13 @@ void SplineFitter::State::NextDensity(const Problem& p,
   // distance of the surface samples nearest to it on the sphere. A folded
   // sample counts as the largest error: knots go there. In a round after the
   // target was met, only there.
-  const Eigen::Index nv = mesh.vertices.rows();
+  const Eigen::Index first = p.samples.num_vertices;
   Eigen::VectorXd error = vertex_errors;
   for (size_t r = 0; r < p.samples.triangle.size(); ++r) {
+    if (p.samples.triangle[r] < 0) continue;  // a thinned vertex row
     const double e =
-        100.0 * (fitted.row(nv + r) - p.samples.targets.row(nv + r)).norm();
+        100.0 *
+        (fitted.row(first + r) - p.samples.targets.row(first + r)).norm();
     for (int k = 0; k < 3; ++k) {
       const int v = mesh.faces(p.samples.triangle[r], k);
       error[v] = std::max(error[v], e);
@@ -808,9 +893,26 @@ Status SplineFitter::State::RunRound() {
                         SphericalSpline::Create(std::move(problem.basis),
                                                 control_points, o.basis_form));
   const Eigen::Index nv = mesh.vertices.rows();
-  const Eigen::MatrixX3d vertex_points = fitted.topRows(nv);
-  SDCB_ASSIGN_OR_RETURN(SurfaceDeviation deviation,
-                        Measure(surface, &vertex_points, false));
+  const FitSamples& samples = problem.samples;
+  // F(u_i) at every vertex: the first rows of unthinned samples; for thinned
+  // ones evaluated only for a round measured densely (below).
+  Eigen::MatrixX3d vertex_points;
+  SurfaceDeviation deviation;
+  if (!samples.thinned) {
+    vertex_points = fitted.topRows(nv);
+    SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, &vertex_points, false));
+    details.estimated_rmse_percent = EstimatedRms(
+        deviation, vertex_points - mesh.vertices, vertex_normal, vertex_area);
+  } else {
+    // The mesh -> surface half bounded by the parametric residual at the
+    // kept rows, each standing for its cell's area.
+    SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, nullptr, false, false));
+    const Eigen::MatrixX3d residuals = fitted - samples.targets;
+    SetMeshToSurface(100.0 * residuals.rowwise().norm(), samples.weights,
+                     &deviation);
+    details.estimated_rmse_percent = EstimatedRms(
+        deviation, residuals, RowNormals(samples), samples.weights);
+  }
   // A round's own measurement bounds the mesh -> surface half by the
   // parametric residual, which overstates it where the map shears (up to
   // 1.3 times on CGAL's meshes): the targets are judged on the final
@@ -818,11 +920,10 @@ Status SplineFitter::State::RunRound() {
   // first-order estimate (within 0.90-1.21 of the dense rms on them,
   // docs/FITTING.md), meets the target.
   details.round_rmse_percent = deviation.rms_percent;
-  details.estimated_rmse_percent =
-      EstimatedRms(deviation, vertex_points - mesh.vertices);
   if (std::min(deviation.rms_percent, details.estimated_rmse_percent) <=
           o.rmse_percent &&
       deviation.folded_area_percent == 0) {
+    if (samples.thinned) vertex_points = surface.EvaluateMany(u);
     SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, &vertex_points, true));
     details.closest_points = true;
   }
@@ -833,9 +934,14 @@ Status SplineFitter::State::RunRound() {
   details.surface_samples = deviation.surface_samples;
   details.timings.measure = stage.Seconds();
 
-  // The round's statistics; the vertex errors are the paper's measure.
+  // The round's statistics; the vertex errors are the paper's measure,
+  // |F(u_i) - x_i|, where F(u_i) is known; a round of thinned samples that
+  // was not measured densely gives each vertex its cell's kept row's.
   const Eigen::VectorXd vertex_errors =
-      100.0 * (vertex_points - mesh.vertices).rowwise().norm();
+      vertex_points.rows() == nv
+          ? Eigen::VectorXd(100.0 *
+                            (vertex_points - mesh.vertices).rowwise().norm())
+          : CellVertexErrors(samples, fitted);
   RoundStatistics rs;
   rs.round = round;
   rs.knots = static_cast<int>(knots.rows());
@@ -850,6 +956,7 @@ Status SplineFitter::State::RunRound() {
   model.configurations = std::move(configurations);
   model.control_points = control_points;
   result.vertex_errors_percent = vertex_errors;
+  vertex_errors_exact = vertex_points.rows() == nv;
   stats.rounds.push_back(rs);
   stats.final_result = rs;
   details.timings.total = round_clock.Seconds();
@@ -863,6 +970,7 @@ Status SplineFitter::State::RunRound() {
   if (!best || Better(rs, best->statistics.final_result)) {
     best = model;
     best_vertex_errors = vertex_errors;
+    best_vertex_errors_exact = vertex_errors_exact;
   }
 
   // 6. Stop, or go on. Met the target but folded: the next rounds put fewer

@@ -85,6 +85,10 @@ struct FitOptions {
   double fairness = 0.0;
   // Samples of the data term per knot spacing (core/fit/fit_samples.h).
   double samples_per_spacing = 2.0;
+  // A round with more than eight mesh vertices per control point (a mesh
+  // far denser than its knots) thins its data term to this many cells per
+  // knot spacing, one row kept per cell (core/fit/fit_samples.h); 0 = never.
+  double thinned_cells_per_spacing = 4.0;
   // When a round meets the RMSE target but its surface folds, up to this
   // many rounds follow that place a quarter of knots_per_round, only where
   // it folds.
@@ -141,6 +145,7 @@ struct RoundDetails {
   int cvt_iterations = 0;
   double min_knot_separation = 0;  // radians
   int data_samples = 0;            // rows of the data term
+  int unthinned_samples = 0;       // rows before thinning (data_samples if not)
   int split_triangles = 0;         // mesh triangles with interior samples
   int min_samples_per_basis = 0;   // fewest data samples in one support
   int min_vertices_per_basis = 0;  // fewest input vertices in one support

@@ -154,6 +154,23 @@ double ClosestOnSpline(const SphericalSpline& surface, const Eigen::Vector3d& x,
 
 }  // namespace
 
+void SetMeshToSurface(const Eigen::VectorXd& distance_percent,
+                      const Eigen::VectorXd& weights, SurfaceDeviation* d) {
+  const double area = weights.sum();
+  d->mesh_samples = distance_percent.size();
+  d->vertex_distance_percent.resize(0);
+  d->mesh_to_surface_rms_percent =
+      area > 0 ? std::sqrt(weights.dot(distance_percent.cwiseAbs2()) / area)
+               : 0;
+  d->mesh_to_surface_max_percent =
+      distance_percent.size() > 0 ? distance_percent.maxCoeff() : 0;
+  d->rms_percent = std::sqrt(
+      0.5 * (d->surface_to_mesh_rms_percent * d->surface_to_mesh_rms_percent +
+             d->mesh_to_surface_rms_percent * d->mesh_to_surface_rms_percent));
+  d->hausdorff_percent =
+      std::max(d->surface_to_mesh_max_percent, d->mesh_to_surface_max_percent);
+}
+
 StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     const SphericalSpline& surface, const TriangleMesh& mesh,
     const DeviationOptions& options, const Eigen::MatrixX3d* vertex_candidates,
@@ -166,7 +183,8 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   }
   if ((vertex_candidates &&
        vertex_candidates->rows() != mesh.vertices.rows()) ||
-      (!vertex_candidates && !options.closest_points)) {
+      (!vertex_candidates && !options.closest_points &&
+       options.mesh_to_surface)) {
     return InvalidArgumentError(
         "surface deviation: one candidate point per mesh vertex is needed");
   }
@@ -214,7 +232,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   // construction is sequential.
   std::optional<StatusOr<MeshDistance>> image_distance_or;
   tbb::task_group image_tree;
-  if (options.closest_points) {
+  if (options.closest_points && options.mesh_to_surface) {
     image_tree.run(
         [&] { image_distance_or.emplace(MeshDistance::Create(image)); });
   }
@@ -267,6 +285,11 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
       area > 0 ? std::sqrt(sum_squares / area) : 0;
   out.folded_area_percent = area > 0 ? 100.0 * folded_area / area : 0;
   image_tree.wait();
+  if (!options.mesh_to_surface) {
+    out.rms_percent = out.surface_to_mesh_rms_percent;
+    out.hausdorff_percent = out.surface_to_mesh_max_percent;
+    return out;
+  }
 
   // Mesh -> surface at the vertices.
   const Eigen::Index nv = mesh.vertices.rows();

@@ -61,6 +61,10 @@ struct DeviationOptions {
   // 0.04662 % instead of 0.04648 %, same maximum; per-vertex distances
   // below the rms stay the (pessimistic) first ones.
   bool search_all_vertices = true;
+  // false: the surface -> mesh half only (the mesh -> surface figures stay
+  // 0 and the two-sided ones are the surface -> mesh ones until
+  // SetMeshToSurface gives the other half).
+  bool mesh_to_surface = true;
 };
 
 struct SurfaceDeviation {
@@ -104,6 +108,13 @@ struct SurfaceDeviation {
   // ComputeDelaunayConfigurations(surface.knots(), 0).sets.
   std::vector<int> surface_sample_knot_triangle;
 };
+
+// Sets the mesh -> surface half of `deviation` to the distances (percent)
+// at mesh samples of the given area weights, and the two-sided figures from
+// both halves; vertex_distance_percent is left empty.
+void SetMeshToSurface(const Eigen::VectorXd& distance_percent,
+                      const Eigen::VectorXd& weights,
+                      SurfaceDeviation* deviation);
 
 // Measures `surface` against `mesh` (both in the same frame).
 // `vertex_candidates` (optional, #V by 3): a point of the spline for every

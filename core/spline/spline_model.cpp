@@ -64,7 +64,7 @@ Status ValidateStatistics(const FitStatistics& s) {
   const RecordedFitOptions& o = s.options;
   for (double v :
        {o.rmse_percent, o.lambda, o.alpha, o.regularization, o.fairness,
-        o.samples_per_spacing}) {
+        o.samples_per_spacing, o.thinned_cells_per_spacing}) {
     if (!std::isfinite(v)) {
       return InvalidArgumentError("a recorded fit option is not finite");
     }

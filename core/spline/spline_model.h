@@ -89,6 +89,7 @@ struct RecordedFitOptions {
   int round_samples_per_knot = 0;
   int final_surface_samples = 0;
   bool fallback_accepts_folds = false;
+  double thinned_cells_per_spacing = 0.0;  // 0: the rows were never thinned
 };
 
 // How the fit went, without wall-clock times (they would make the model's

@@ -324,7 +324,8 @@ inline ::testing::AssertionResult BitIdentical(const SplineModel& a,
       oa.max_fold_rounds != ob.max_fold_rounds ||
       oa.fallback_accepts_folds != ob.fallback_accepts_folds ||
       oa.round_samples_per_knot != ob.round_samples_per_knot ||
-      oa.final_surface_samples != ob.final_surface_samples) {
+      oa.final_surface_samples != ob.final_surface_samples ||
+      !SameBits(oa.thinned_cells_per_spacing, ob.thinned_cells_per_spacing)) {
     return fail("options");
   }
   if (a.basis_form != b.basis_form) return fail("basis form");

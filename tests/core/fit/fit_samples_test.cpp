@@ -7,7 +7,10 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <map>
+#include <tuple>
 
+#include "sdcb/core/mesh/icosphere.h"
 #include "testing/fan_mesh.h"
 
 namespace sdcb {
@@ -129,6 +132,124 @@ TEST(FitSamplesTest, SameSamplesForAnyThreadCountAtTheBudget) {
     EXPECT_EQ(sequential.triangle, parallel.triangle) << budget;
     EXPECT_EQ(sequential.split_triangles, parallel.split_triangles) << budget;
   }
+}
+
+// An ellipsoid with axes (1, 0.7, 0.4) meshed by an icosphere of 10,242
+// vertices, parameterized by the icosphere's own vertices (a bijection).
+struct DenseEllipsoid {
+  TriangleMesh mesh;
+  Eigen::MatrixX3d sphere;
+};
+DenseEllipsoid MakeDenseEllipsoid() {
+  DenseEllipsoid e;
+  e.mesh = MakeIcosphere(5);
+  e.sphere = e.mesh.vertices.rowwise().normalized();
+  e.mesh.vertices = e.sphere * Eigen::Vector3d(1.0, 0.7, 0.4).asDiagonal();
+  return e;
+}
+
+// A mesh far denser than its knots (10,242 vertices, 60 knots) thinned to
+// the knots' density: far fewer rows; each kept row is one of the full
+// quadrature's rows, bit for bit (a point of the mesh with its own sphere
+// point, not an average); the weights still add up to the area; every
+// vertex's cell row lies within its cell of the vertex; and the rows still
+// integrate a smooth function of the surface like the full quadrature.
+TEST(FitSamplesTest, ThinnedRowsAreRowsOfTheFullQuadratureAtTheKnotsDensity) {
+  const DenseEllipsoid e = MakeDenseEllipsoid();
+  const Eigen::MatrixX3d knots = FibonacciPoints(60);
+  const FitSamples full = BuildFitSamples(e.mesh, e.sphere, knots);
+  ASSERT_FALSE(full.thinned);
+  FitSampleOptions options;
+  options.thin_above_vertices = 1;
+  const FitSamples thin = BuildFitSamples(e.mesh, e.sphere, knots, options);
+  ASSERT_TRUE(thin.thinned);
+  EXPECT_EQ(thin.unthinned_rows, full.points.rows());
+  EXPECT_EQ(thin.num_vertices, 0);
+  const Eigen::Index rows = thin.points.rows();
+  EXPECT_LT(rows, full.points.rows() / 3);
+  EXPECT_GT(rows, 16 * knots.rows());  // about 4 x 4 cells per knot
+
+  // Kept rows are full rows: the same point and target, bit for bit, and
+  // the vertex (or triangle) they are.
+  std::map<std::tuple<double, double, double>, Eigen::Index> full_row;
+  for (Eigen::Index r = 0; r < full.points.rows(); ++r) {
+    full_row[{full.points(r, 0), full.points(r, 1), full.points(r, 2)}] = r;
+  }
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    const auto it = full_row.find(
+        {thin.points(r, 0), thin.points(r, 1), thin.points(r, 2)});
+    ASSERT_NE(it, full_row.end()) << r;
+    const Eigen::Index f = it->second;
+    EXPECT_EQ(thin.points.row(r), full.points.row(f));
+    EXPECT_EQ(thin.targets.row(r), full.targets.row(f));
+    if (f < full.num_vertices) {
+      EXPECT_EQ(thin.row_vertex[r], f);
+      EXPECT_EQ(thin.triangle[r], -1);
+    } else {
+      EXPECT_EQ(thin.row_vertex[r], -1);
+      EXPECT_EQ(thin.triangle[r], full.triangle[f - full.num_vertices]);
+    }
+  }
+  EXPECT_NEAR(thin.weights.sum(), full.weights.sum(),
+              1e-12 * full.weights.sum());
+
+  // A vertex's cell row: within a cell's diagonal (sqrt 2 h, h = a knot's
+  // spacing over 4, at most the largest spacing) of the vertex on the
+  // sphere.
+  const double largest_cell = KnotSpacing(knots).maxCoeff() / 4.0;
+  ASSERT_EQ(thin.vertex_row.size(), static_cast<size_t>(e.mesh.num_vertices()));
+  for (int v = 0; v < e.mesh.num_vertices(); ++v) {
+    const int r = thin.vertex_row[v];
+    ASSERT_GE(r, 0);
+    ASSERT_LT(r, rows);
+    EXPECT_LE((thin.points.row(r) - e.sphere.row(v)).norm(),
+              1.5 * std::sqrt(2.0) * largest_cell)
+        << v;
+  }
+
+  // The integral of z^2 over the surface, by each quadrature.
+  auto integral = [](const FitSamples& q) {
+    return q.weights.dot(q.targets.col(2).cwiseAbs2());
+  };
+  EXPECT_NEAR(integral(thin), integral(full), 0.02 * integral(full));
+}
+
+// Thinning decides by sorted cells, not by the threads' order: the same
+// rows for 1 and 4 threads.
+TEST(FitSamplesTest, ThinnedSamplesAreTheSameForAnyThreadCount) {
+  const DenseEllipsoid e = MakeDenseEllipsoid();
+  const Eigen::MatrixX3d knots = FibonacciPoints(60);
+  auto build = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                              threads);
+    FitSampleOptions options;
+    options.thin_above_vertices = 1;
+    return BuildFitSamples(e.mesh, e.sphere, knots, options);
+  };
+  const FitSamples one = build(1), four = build(4);
+  EXPECT_EQ(one.points, four.points);
+  EXPECT_EQ(one.targets, four.targets);
+  EXPECT_EQ(one.weights, four.weights);
+  EXPECT_EQ(one.triangle, four.triangle);
+  EXPECT_EQ(one.row_vertex, four.row_vertex);
+  EXPECT_EQ(one.vertex_row, four.vertex_row);
+}
+
+// Vertices not above the threshold, or cells that would keep most rows: no
+// thinning, the full quadrature.
+TEST(FitSamplesTest, NoThinningWhenItWouldKeepMostRows) {
+  const DenseEllipsoid e = MakeDenseEllipsoid();
+  const Eigen::MatrixX3d knots = FibonacciPoints(60);
+  const FitSamples full = BuildFitSamples(e.mesh, e.sphere, knots);
+  FitSampleOptions options;
+  options.thin_above_vertices = e.mesh.num_vertices();  // not above
+  EXPECT_FALSE(BuildFitSamples(e.mesh, e.sphere, knots, options).thinned);
+  options.thin_above_vertices = 1;
+  options.thinned_cells_per_spacing = 200.0;  // cells finer than the mesh
+  const FitSamples fine = BuildFitSamples(e.mesh, e.sphere, knots, options);
+  EXPECT_FALSE(fine.thinned);
+  EXPECT_EQ(fine.points, full.points);
+  EXPECT_EQ(fine.weights, full.weights);
 }
 
 }  // namespace
