@@ -478,6 +478,30 @@ struct SplineFitter::State {
     }
     return normals;
   }
+  // F(u_i) at every vertex: the fitted value of the vertices that are kept
+  // rows of thinned `samples`, the spline evaluated at the others.
+  Eigen::MatrixX3d VertexPoints(const SphericalSpline& surface,
+                                const FitSamples& samples,
+                                const Eigen::MatrixX3d& fitted) const {
+    const Eigen::Index nv = mesh.vertices.rows();
+    Eigen::MatrixX3d out(nv, 3);
+    std::vector<char> known(nv, 0);
+    for (size_t r = 0; r < samples.row_vertex.size(); ++r) {
+      const int v = samples.row_vertex[r];
+      if (v < 0) continue;
+      out.row(v) = fitted.row(r);
+      known[v] = 1;
+    }
+    std::vector<Eigen::Index> rest;
+    for (Eigen::Index v = 0; v < nv; ++v) {
+      if (!known[v]) rest.push_back(v);
+    }
+    Eigen::MatrixX3d points(rest.size(), 3);
+    for (size_t i = 0; i < rest.size(); ++i) points.row(i) = u.row(rest[i]);
+    const Eigen::MatrixX3d values = surface.EvaluateMany(points);
+    for (size_t i = 0; i < rest.size(); ++i) out.row(rest[i]) = values.row(i);
+    return out;
+  }
   // Per vertex: the parametric residual of the row kept for its cell
   // (thinned samples), percent.
   static Eigen::VectorXd CellVertexErrors(const FitSamples& samples,
@@ -923,7 +947,9 @@ Status SplineFitter::State::RunRound() {
   if (std::min(deviation.rms_percent, details.estimated_rmse_percent) <=
           o.rmse_percent &&
       deviation.folded_area_percent == 0) {
-    if (samples.thinned) vertex_points = surface.EvaluateMany(u);
+    if (samples.thinned) {
+      vertex_points = VertexPoints(surface, samples, fitted);
+    }
     SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, &vertex_points, true));
     details.closest_points = true;
   }
