@@ -560,7 +560,10 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
       s.vertex_normal.row(s.mesh.faces(f, k)) += n.transpose();
     }
   }
-  s.vertex_normal.rowwise().normalize();
+  for (Eigen::Index v = 0; v < s.vertex_normal.rows(); ++v) {
+    const double length = s.vertex_normal.row(v).norm();
+    if (length > 0) s.vertex_normal.row(v) /= length;  // else left zero
+  }
 
   // 1. Spherical parameterization (Sec. 4.3).
   s.Report(FitStage::kParameterization, 0, 0);
