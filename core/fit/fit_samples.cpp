@@ -339,14 +339,8 @@ bool Thin(const TriangleMesh& mesh, const Eigen::MatrixX3d& knots,
   const Eigen::Index nv = out->num_vertices, rows = out->points.rows();
   // Mesh normals: of the triangle for a point inside it, area-weighted over
   // the incident triangles for a vertex.
-  Eigen::MatrixX3d vertex_normal = Eigen::MatrixX3d::Zero(nv, 3);
-  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
-    const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
-    const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
-    const Eigen::RowVector3d n = (b - a).cross(c - a).transpose();
-    for (int k = 0; k < 3; ++k) vertex_normal.row(mesh.faces(f, k)) += n;
-  }
+  const Eigen::MatrixX3d vertex_normal = VertexNormals(mesh);
+  Eigen::MatrixX3d normal(rows, 3);
   // Each row's cell: (knot, grid row, grid column, normal bin).
   std::vector<std::array<int64_t, 4>> key(rows);
   const double per_spacing = options.thinned_cells_per_spacing;
@@ -354,18 +348,21 @@ bool Thin(const TriangleMesh& mesh, const Eigen::MatrixX3d& knots,
       tbb::blocked_range<Eigen::Index>(0, rows, 1024),
       [&](const tbb::blocked_range<Eigen::Index>& range) {
         for (Eigen::Index r = range.begin(); r < range.end(); ++r) {
-          Eigen::Vector3d normal;
+          Eigen::Vector3d n = Eigen::Vector3d::Zero();
           if (r < nv) {
-            normal = vertex_normal.row(r).transpose();
+            n = vertex_normal.row(r).transpose();
           } else {
             const int f = out->triangle[r - nv];
             const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
             const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
             const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
-            normal = (b - a).cross(c - a);
+            const Eigen::Vector3d cross = (b - a).cross(c - a);
+            const double length = cross.norm();
+            if (length > 0) n = cross / length;
           }
+          normal.row(r) = n.transpose();
           key[r] = CellKey(out->points.row(r).transpose(), knots, spacing,
-                           knot_tree, per_spacing, NormalBin(normal));
+                           knot_tree, per_spacing, NormalBin(n));
         }
       });
   std::vector<Eigen::Index> order(rows);
@@ -425,12 +422,14 @@ bool Thin(const TriangleMesh& mesh, const Eigen::MatrixX3d& knots,
   thinned.weights.resize(n);
   thinned.triangle.assign(n, -1);
   thinned.row_vertex.assign(n, -1);
+  thinned.row_normal.resize(n, 3);
   for (Eigen::Index i = 0; i < n; ++i) {
     const auto& [row, weight] = kept[by_row[i]];
     row_of_cell[by_row[i]] = static_cast<int>(i);
     thinned.points.row(i) = out->points.row(row);
     thinned.targets.row(i) = out->targets.row(row);
     thinned.weights[i] = weight;
+    thinned.row_normal.row(i) = normal.row(row);
     if (row < nv) {
       thinned.row_vertex[i] = static_cast<int>(row);
     } else {

@@ -65,8 +65,9 @@ struct FitSamples {
   //
   // Thinned (FitSampleOptions::thin_above_vertices): num_vertices is 0, every
   // row is a cell's kept row; row_vertex[r] is the mesh vertex row r is, or
-  // -1 for a point inside triangle[r] (which is -1 for a vertex), and
-  // vertex_row[v] the row kept for mesh vertex v's cell.
+  // -1 for a point inside triangle[r] (which is -1 for a vertex),
+  // row_normal its unit mesh normal (the vertex's, VertexNormals, or the
+  // triangle's), and vertex_row[v] the row kept for mesh vertex v's cell.
   Eigen::MatrixX3d points;
   Eigen::MatrixX3d targets;
   Eigen::VectorXd weights;
@@ -74,6 +75,7 @@ struct FitSamples {
   Eigen::Index num_vertices = 0;
   bool thinned = false;
   std::vector<int> row_vertex;      // thinned: per row
+  Eigen::MatrixX3d row_normal;      // thinned: per row
   std::vector<int> vertex_row;      // thinned: per mesh vertex
   Eigen::Index unthinned_rows = 0;  // rows before thinning
   int split_triangles = 0;          // triangles split into pieces

@@ -457,27 +457,6 @@ struct SplineFitter::State {
     const double s2m = deviation.surface_to_mesh_rms_percent;
     return std::sqrt(0.5 * (s2m * s2m + ms));
   }
-  // The mesh's unit normal at each row of thinned samples: the vertex's, or
-  // the triangle's for a point inside one.
-  Eigen::MatrixX3d RowNormals(const FitSamples& samples) const {
-    Eigen::MatrixX3d normals(samples.points.rows(), 3);
-    for (Eigen::Index r = 0; r < samples.points.rows(); ++r) {
-      if (samples.row_vertex[r] >= 0) {
-        normals.row(r) = vertex_normal.row(samples.row_vertex[r]);
-        continue;
-      }
-      const int f = samples.triangle[r];
-      const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
-      const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
-      const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
-      const Eigen::Vector3d n = (b - a).cross(c - a);
-      const double length = n.norm();
-      normals.row(r) =
-          (length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::Zero())
-              .transpose();
-    }
-    return normals;
-  }
   // F(u_i) at every vertex: the fitted value of the vertices that are kept
   // rows of thinned `samples`, the spline evaluated at the others.
   Eigen::MatrixX3d VertexPoints(const SphericalSpline& surface,
@@ -547,23 +526,14 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   model.source.hash = HashTriangleMesh(mesh);
   model.statistics.options = RecordFitOptions(o);
   model.statistics.error_measure = ErrorMeasure::kDenseTwoSided;
-  s.vertex_area = Eigen::VectorXd::Zero(s.mesh.vertices.rows());
-  s.vertex_normal = Eigen::MatrixX3d::Zero(s.mesh.vertices.rows(), 3);
   for (Eigen::Index f = 0; f < s.mesh.faces.rows(); ++f) {
     const Eigen::Vector3d a = s.mesh.vertices.row(s.mesh.faces(f, 0));
     const Eigen::Vector3d b = s.mesh.vertices.row(s.mesh.faces(f, 1));
     const Eigen::Vector3d c = s.mesh.vertices.row(s.mesh.faces(f, 2));
-    const Eigen::Vector3d n = 0.5 * (b - a).cross(c - a);
-    s.mesh_area += n.norm();
-    for (int k = 0; k < 3; ++k) {
-      s.vertex_area[s.mesh.faces(f, k)] += n.norm() / 3.0;
-      s.vertex_normal.row(s.mesh.faces(f, k)) += n.transpose();
-    }
+    s.mesh_area += 0.5 * (b - a).cross(c - a).norm();
   }
-  for (Eigen::Index v = 0; v < s.vertex_normal.rows(); ++v) {
-    const double length = s.vertex_normal.row(v).norm();
-    if (length > 0) s.vertex_normal.row(v) /= length;  // else left zero
-  }
+  s.vertex_area = VertexAreas(s.mesh);
+  s.vertex_normal = VertexNormals(s.mesh);
 
   // 1. Spherical parameterization (Sec. 4.3).
   s.Report(FitStage::kParameterization, 0, 0);
@@ -937,8 +907,8 @@ Status SplineFitter::State::RunRound() {
     const Eigen::MatrixX3d residuals = fitted - samples.targets;
     SetMeshToSurface(100.0 * residuals.rowwise().norm(), samples.weights,
                      &deviation);
-    details.estimated_rmse_percent = EstimatedRms(
-        deviation, residuals, RowNormals(samples), samples.weights);
+    details.estimated_rmse_percent =
+        EstimatedRms(deviation, residuals, samples.row_normal, samples.weights);
   }
   // A round's own measurement bounds the mesh -> surface half by the
   // parametric residual, which overstates it where the map shears (up to

@@ -101,19 +101,6 @@ Eigen::Vector3d Barycentric(const Eigen::Vector3d& q, const Eigen::Vector3d& a,
   return Eigen::Vector3d(1.0 - v - w, v, w);
 }
 
-// A third of the area of each incident triangle, per vertex.
-Eigen::VectorXd VertexAreas(const TriangleMesh& mesh) {
-  Eigen::VectorXd area = Eigen::VectorXd::Zero(mesh.vertices.rows());
-  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
-    const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
-    const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
-    const double t = 0.5 * (b - a).cross(c - a).norm();
-    for (int k = 0; k < 3; ++k) area[mesh.faces(f, k)] += t / 3;
-  }
-  return area;
-}
-
 // The distance from x to the spline, searched from the sphere point p by
 // Gauss-Newton steps in the tangent chart with step halving. Returns the
 // smallest |F(p) - x| seen (an upper bound of the true distance).
@@ -152,6 +139,16 @@ double ClosestOnSpline(const SphericalSpline& surface, const Eigen::Vector3d& x,
   return best;
 }
 
+// The two-sided figures from the two halves: the root of the mean of the
+// mean squares, and the larger maximum.
+void CombineHalves(SurfaceDeviation* d) {
+  d->rms_percent = std::sqrt(
+      0.5 * (d->surface_to_mesh_rms_percent * d->surface_to_mesh_rms_percent +
+             d->mesh_to_surface_rms_percent * d->mesh_to_surface_rms_percent));
+  d->hausdorff_percent =
+      std::max(d->surface_to_mesh_max_percent, d->mesh_to_surface_max_percent);
+}
+
 }  // namespace
 
 void SetMeshToSurface(const Eigen::VectorXd& distance_percent,
@@ -164,11 +161,7 @@ void SetMeshToSurface(const Eigen::VectorXd& distance_percent,
                : 0;
   d->mesh_to_surface_max_percent =
       distance_percent.size() > 0 ? distance_percent.maxCoeff() : 0;
-  d->rms_percent = std::sqrt(
-      0.5 * (d->surface_to_mesh_rms_percent * d->surface_to_mesh_rms_percent +
-             d->mesh_to_surface_rms_percent * d->mesh_to_surface_rms_percent));
-  d->hausdorff_percent =
-      std::max(d->surface_to_mesh_max_percent, d->mesh_to_surface_max_percent);
+  CombineHalves(d);
 }
 
 StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
@@ -295,6 +288,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   const Eigen::Index nv = mesh.vertices.rows();
   Eigen::VectorXd distance(nv);
   std::vector<char> refined(nv, 0);
+  const Eigen::VectorXd vertex_area = VertexAreas(mesh);
   if (!options.closest_points) {
     for (Eigen::Index i = 0; i < nv; ++i) {
       distance[i] = to_percent *
@@ -339,11 +333,10 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     // Then a search on the spline itself where the spline point is farther
     // than the lattice image suggests (and, unless all are searched, the
     // vertex is at or above the mesh -> surface rms so far).
-    const Eigen::VectorXd area = VertexAreas(mesh);
     const double floor = options.search_all_vertices
                              ? 0.0
-                             : std::sqrt(area.dot(distance.cwiseAbs2()) /
-                                         std::max(area.sum(), 1e-300));
+                             : std::sqrt(vertex_area.dot(distance.cwiseAbs2()) /
+                                         std::max(vertex_area.sum(), 1e-300));
     surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
       const double d = distance[i];
       if (d < floor ||
@@ -361,19 +354,13 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   out.mesh_samples = nv;
   out.vertex_distance_percent = distance;
   for (char r : refined) out.refined_vertices += r;
-  const Eigen::VectorXd vertex_area = VertexAreas(mesh);
   const double mesh_area = vertex_area.sum();
   out.mesh_to_surface_rms_percent =
       mesh_area > 0
           ? std::sqrt(vertex_area.dot(distance.cwiseAbs2()) / mesh_area)
           : 0;
   out.mesh_to_surface_max_percent = nv > 0 ? distance.maxCoeff() : 0;
-  out.rms_percent = std::sqrt(
-      0.5 *
-      (out.surface_to_mesh_rms_percent * out.surface_to_mesh_rms_percent +
-       out.mesh_to_surface_rms_percent * out.mesh_to_surface_rms_percent));
-  out.hausdorff_percent = std::max(out.surface_to_mesh_max_percent,
-                                   out.mesh_to_surface_max_percent);
+  CombineHalves(&out);
   return out;
 }
 

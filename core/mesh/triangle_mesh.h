@@ -23,6 +23,14 @@ struct TriangleMesh {
 // kInvalidInput naming the first face that refers to a vertex out of range.
 Status CheckFaceIndices(const TriangleMesh& mesh);
 
+// Per vertex: a third of the area of each incident triangle (summed in face
+// order).
+Eigen::VectorXd VertexAreas(const TriangleMesh& mesh);
+
+// Per vertex: the unit vector of the sum of its triangles' area-weighted
+// normals (right-hand rule over the corner order); zero where that sum is.
+Eigen::MatrixX3d VertexNormals(const TriangleMesh& mesh);
+
 }  // namespace sdcb
 
 #endif  // SDCB_CORE_MESH_TRIANGLE_MESH_H_
