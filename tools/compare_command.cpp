@@ -1,4 +1,5 @@
-// sdcb compare MODEL.sdcb MESH [--json FILE] [--samples N] [--quiet]
+// sdcb compare MODEL.sdcb MESH [--json FILE] [--samples N] [--mesh-samples N]
+//              [--quiet]
 // The two-sided distance between a model's surface and any mesh
 // (core/fit/surface_deviation.h), in percent of the mesh's largest
 // bounding-box side.
@@ -16,8 +17,10 @@
 
 namespace sdcb::cli {
 
+constexpr int kDefaultMeshSamples = 100000;
+
 int RunCompare(const std::vector<std::string>& argv) {
-  const Args args(argv, {"json", "samples"}, {"quiet"});
+  const Args args(argv, {"json", "samples", "mesh-samples"}, {"quiet"});
   args.RequirePositionals(
       2, "MODEL and MESH (usage: sdcb compare MODEL.sdcb MESH [--json FILE])");
   const std::string& model_path = args.positionals()[0];
@@ -25,6 +28,10 @@ int RunCompare(const std::vector<std::string>& argv) {
   DeviationOptions options;
   options.min_surface_samples =
       args.GetInt("samples", options.min_surface_samples, 1000, 100000000);
+  // The mesh's side as densely as the surface's by default: at its vertices
+  // alone, the inside of large triangles would go unmeasured.
+  options.min_mesh_samples =
+      args.GetInt("mesh-samples", kDefaultMeshSamples, 0, 100000000);
 
   StatusOr<SplineModel> model = ReadSdcbFile(model_path);
   if (!model.ok()) return ReportError(model.status());

@@ -56,9 +56,12 @@ commands:
                              in the input's coordinates (+ unit normal).
                              A zero direction, or a model whose values are
                              not finite there, is an error: nothing written.
-  compare MODEL.sdcb MESH [--json FILE] [--samples N]
+  compare MODEL.sdcb MESH [--json FILE] [--samples N] [--mesh-samples N]
                              Two-sided distance between the surface and a
-                             mesh (dense samples of both), folded area.
+                             mesh (dense samples of both: N surface samples,
+                             default 100000, and the mesh midpoint-
+                             subdivided to N mesh samples, default 100000,
+                             0: its vertices), folded area.
 
   export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb} [--tolerance PCT]
       [--angle DEG] [--uniform N] [--draco [--qp BITS] [--cl LEVEL]]

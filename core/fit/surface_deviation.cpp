@@ -169,10 +169,17 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     const DeviationOptions& options, const Eigen::MatrixX3d* vertex_candidates,
     const MeshDistance* mesh_distance) {
   if (!(options.length_unit > 0) || !std::isfinite(options.length_unit) ||
-      options.min_surface_samples < 1 || options.closest_point_iterations < 0) {
+      options.min_surface_samples < 1 || options.closest_point_iterations < 0 ||
+      options.min_mesh_samples < 0) {
     return InvalidArgumentError(
-        "surface deviation: the length unit must be > 0, the sample count "
-        ">= 1 and the iterations >= 0");
+        "surface deviation: the length unit must be > 0, the sample counts "
+        ">= 1 (mesh samples >= 0) and the iterations >= 0");
+  }
+  if (!options.closest_points && options.mesh_to_surface &&
+      options.min_mesh_samples > mesh.vertices.rows()) {
+    return InvalidArgumentError(
+        "surface deviation: without closest points the mesh side is measured "
+        "at the vertices' candidates only");
   }
   if ((vertex_candidates &&
        vertex_candidates->rows() != mesh.vertices.rows()) ||
@@ -284,15 +291,29 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     return out;
   }
 
-  // Mesh -> surface at the vertices.
-  const Eigen::Index nv = mesh.vertices.rows();
+  // Mesh -> surface at the vertices, or at those of the mesh subdivided
+  // until it has min_mesh_samples (its first rows are the mesh's vertices).
+  constexpr int kMaxSubdivisionLevels = 12;
+  TriangleMesh subdivided;
+  int levels = 0;
+  for (Eigen::Index count = mesh.vertices.rows(), faces = mesh.faces.rows();
+       count < options.min_mesh_samples && levels < kMaxSubdivisionLevels;
+       ++levels) {
+    count += 3 * faces / 2;  // a midpoint per edge of a closed mesh
+    faces *= 4;
+  }
+  if (levels > 0) subdivided = MidpointSubdivided(mesh, levels);
+  const TriangleMesh& samples = levels > 0 ? subdivided : mesh;
+  const Eigen::Index nv = samples.vertices.rows();
+  const Eigen::Index mesh_vertices = mesh.vertices.rows();
   Eigen::VectorXd distance(nv);
   std::vector<char> refined(nv, 0);
-  const Eigen::VectorXd vertex_area = VertexAreas(mesh);
+  const Eigen::VectorXd vertex_area = VertexAreas(samples);
   if (!options.closest_points) {
     for (Eigen::Index i = 0; i < nv; ++i) {
-      distance[i] = to_percent *
-                    (vertex_candidates->row(i) - mesh.vertices.row(i)).norm();
+      distance[i] =
+          to_percent *
+          (vertex_candidates->row(i) - samples.vertices.row(i)).norm();
     }
   } else {
     SDCB_ASSIGN_OR_RETURN(const MeshDistance to_image,
@@ -308,7 +329,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
         [&](const tbb::blocked_range<Eigen::Index>& range) {
           for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
             const MeshDistance::Closest c =
-                to_image.Find(mesh.vertices.row(i).transpose());
+                to_image.Find(samples.vertices.row(i).transpose());
             const Eigen::Vector3d bary = Barycentric(
                 c.point, image.vertices.row(lattice.triangles(c.face, 0)),
                 image.vertices.row(lattice.triangles(c.face, 1)),
@@ -323,9 +344,9 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
           }
         });
     surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
-      const Eigen::Vector3d x = mesh.vertices.row(i).transpose();
+      const Eigen::Vector3d x = samples.vertices.row(i).transpose();
       double d = (surface.Evaluate(start.row(i).transpose()) - x).norm();
-      if (vertex_candidates) {
+      if (vertex_candidates && i < mesh_vertices) {
         d = std::min(d, (vertex_candidates->row(i).transpose() - x).norm());
       }
       distance[i] = d;
@@ -343,16 +364,16 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
           d <= kRefineRatio * image_distance[i] + 1e-9 * options.length_unit) {
         return;
       }
-      distance[i] =
-          std::min(d, ClosestOnSpline(surface, mesh.vertices.row(i).transpose(),
-                                      start.row(i).transpose(),
-                                      options.closest_point_iterations));
+      distance[i] = std::min(
+          d, ClosestOnSpline(surface, samples.vertices.row(i).transpose(),
+                             start.row(i).transpose(),
+                             options.closest_point_iterations));
       refined[i] = 1;
     });
     distance *= to_percent;
   }
   out.mesh_samples = nv;
-  out.vertex_distance_percent = distance;
+  out.vertex_distance_percent = distance.head(mesh_vertices);
   for (char r : refined) out.refined_vertices += r;
   const double mesh_area = vertex_area.sum();
   out.mesh_to_surface_rms_percent =

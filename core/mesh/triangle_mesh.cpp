@@ -1,7 +1,11 @@
 #include "sdcb/core/mesh/triangle_mesh.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cstdint>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
 namespace sdcb {
 
@@ -47,6 +51,45 @@ Eigen::MatrixX3d VertexNormals(const TriangleMesh& mesh) {
     if (length > 0) normal.row(v) /= length;
   }
   return normal;
+}
+
+TriangleMesh MidpointSubdivided(const TriangleMesh& mesh, int levels) {
+  TriangleMesh out = mesh;
+  for (int level = 0; level < levels; ++level) {
+    const Eigen::Index nv = out.vertices.rows(), nf = out.faces.rows();
+    // A closed mesh has 3F/2 edges; an open one at most 3F.
+    std::vector<Eigen::RowVector3d> added;
+    added.reserve(static_cast<size_t>(3 * nf / 2 + 1));
+    std::unordered_map<uint64_t, int> midpoint;
+    midpoint.reserve(static_cast<size_t>(3 * nf));
+    auto middle = [&](int a, int b) {
+      const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) |
+                           static_cast<uint32_t>(std::max(a, b));
+      const auto [it, inserted] =
+          midpoint.emplace(key, static_cast<int>(nv + added.size()));
+      if (inserted) {
+        added.push_back(0.5 * (out.vertices.row(a) + out.vertices.row(b)));
+      }
+      return it->second;
+    };
+    Eigen::MatrixX3i faces(4 * nf, 3);
+    for (Eigen::Index f = 0; f < nf; ++f) {
+      const int a = out.faces(f, 0), b = out.faces(f, 1), c = out.faces(f, 2);
+      const int ab = middle(a, b), bc = middle(b, c), ca = middle(c, a);
+      faces.row(4 * f) << a, ab, ca;
+      faces.row(4 * f + 1) << ab, b, bc;
+      faces.row(4 * f + 2) << ca, bc, c;
+      faces.row(4 * f + 3) << ab, bc, ca;
+    }
+    Eigen::MatrixX3d vertices(nv + static_cast<Eigen::Index>(added.size()), 3);
+    vertices.topRows(nv) = out.vertices;
+    for (size_t i = 0; i < added.size(); ++i) {
+      vertices.row(nv + static_cast<Eigen::Index>(i)) = added[i];
+    }
+    out.vertices = std::move(vertices);
+    out.faces = std::move(faces);
+  }
+  return out;
 }
 
 }  // namespace sdcb

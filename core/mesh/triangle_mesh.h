@@ -31,6 +31,12 @@ Eigen::VectorXd VertexAreas(const TriangleMesh& mesh);
 // normals (right-hand rule over the corner order); zero where that sum is.
 Eigen::MatrixX3d VertexNormals(const TriangleMesh& mesh);
 
+// `mesh` with every triangle split 1-to-4 at its edges' midpoints, `levels`
+// times: the same surface, point for point. Rows 0..#V-1 are the input's
+// vertices; each new vertex follows in the order its edge is first met in
+// face order, and an edge shared by two faces gets one midpoint.
+TriangleMesh MidpointSubdivided(const TriangleMesh& mesh, int levels);
+
 }  // namespace sdcb
 
 #endif  // SDCB_CORE_MESH_TRIANGLE_MESH_H_

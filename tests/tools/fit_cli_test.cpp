@@ -196,16 +196,28 @@ TEST(FitCliTest, EvalAtTheStoredParametersReproducesTheReportedErrors) {
               1e-7);
 }
 
-// `sdcb compare` measures the fitted model against its mesh as the fit's
-// final measurement did (same method, its own lattice and closest points),
-// and the numbers are consistent with each other.
+// `sdcb compare --mesh-samples 0` measures the fitted model against its mesh
+// as the fit's final measurement did (same method, its own lattice and
+// closest points), and the numbers are consistent with each other; by
+// default it also measures inside the mesh's triangles, a superset of the
+// vertices.
 TEST(FitCliTest, CompareAgreesWithTheFitReport) {
   const std::string dir = FreshTestDir();
   const std::string model = FitBlobby(dir, "3");
-  const RunResult r =
-      RunSdcb({"compare", model, MeshPath("blobby.off"), "--json", "-"}, dir);
+  const RunResult r = RunSdcb({"compare", model, MeshPath("blobby.off"),
+                               "--mesh-samples", "0", "--json", "-"},
+                              dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto c = nlohmann::json::parse(r.out);
+  const RunResult dense_run =
+      RunSdcb({"compare", model, MeshPath("blobby.off"), "--json", "-"}, dir);
+  ASSERT_EQ(dense_run.exit_code, 0) << dense_run.err;
+  const auto dense = nlohmann::json::parse(dense_run.out);
+  EXPECT_GE(dense["mesh_samples"].get<int>(), 100000);
+  EXPECT_GE(dense["mesh_to_surface_max_percent"].get<double>(),
+            c["mesh_to_surface_max_percent"].get<double>());
+  EXPECT_EQ(dense["surface_to_mesh_max_percent"].get<double>(),
+            c["surface_to_mesh_max_percent"].get<double>());
   const auto report = nlohmann::json::parse(ReadBytes(dir + "/report.json"));
   ASSERT_EQ(report["reached_target"], true);
   const double fit_rms = report["final"]["rmse_percent"].get<double>();
