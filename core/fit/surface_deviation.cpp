@@ -295,15 +295,14 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   // until it has min_mesh_samples (its first rows are the mesh's vertices).
   constexpr int kMaxSubdivisionLevels = 12;
   TriangleMesh subdivided;
-  int levels = 0;
-  for (Eigen::Index count = mesh.vertices.rows(), faces = mesh.faces.rows();
-       count < options.min_mesh_samples && levels < kMaxSubdivisionLevels;
-       ++levels) {
-    count += 3 * faces / 2;  // a midpoint per edge of a closed mesh
-    faces *= 4;
+  const TriangleMesh* sample_mesh = &mesh;
+  for (int level = 0; sample_mesh->vertices.rows() < options.min_mesh_samples &&
+                      level < kMaxSubdivisionLevels;
+       ++level) {
+    subdivided = MidpointSubdivided(*sample_mesh, 1);
+    sample_mesh = &subdivided;
   }
-  if (levels > 0) subdivided = MidpointSubdivided(mesh, levels);
-  const TriangleMesh& samples = levels > 0 ? subdivided : mesh;
+  const TriangleMesh& samples = *sample_mesh;
   const Eigen::Index nv = samples.vertices.rows();
   const Eigen::Index mesh_vertices = mesh.vertices.rows();
   Eigen::VectorXd distance(nv);

@@ -1,6 +1,7 @@
-// A CAD-style fan for tests and benchmarks: a double cone, two fans of n
-// triangles around the poles (0, 0, +-1) over a ring of n vertices on the
-// equator (the shape of a tessellated cylinder cap; hub valence n).
+// Small meshes for tests and benchmarks: a CAD-style fan, a double cone, two
+// fans of n triangles around the poles (0, 0, +-1) over a ring of n vertices
+// on the equator (the shape of a tessellated cylinder cap; hub valence n);
+// and the regular tetrahedron.
 #ifndef SDCB_TESTS_TESTING_FAN_MESH_H_
 #define SDCB_TESTS_TESTING_FAN_MESH_H_
 
@@ -9,6 +10,17 @@
 #include "sdcb/core/mesh/triangle_mesh.h"
 
 namespace sdcb::testing {
+
+// Corners (+-1, +-1, +-1) with an even number of minus signs, faces
+// counter-clockwise seen from outside; edge 2 sqrt 2.
+inline TriangleMesh RegularTetrahedron() {
+  TriangleMesh m;
+  m.vertices.resize(4, 3);
+  m.vertices << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;
+  m.faces.resize(4, 3);
+  m.faces << 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2;
+  return m;
+}
 
 // n + 2 vertices (the poles first), 2n faces, closed, genus 0, oriented
 // outward.

@@ -6,17 +6,12 @@
 
 #include <cmath>
 
+#include "testing/fan_mesh.h"
+
 namespace sdcb {
 namespace {
 
-TriangleMesh Tetrahedron() {
-  TriangleMesh m;
-  m.vertices.resize(4, 3);
-  m.vertices << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;
-  m.faces.resize(4, 3);
-  m.faces << 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2;
-  return m;
-}
+TriangleMesh Tetrahedron() { return testing::RegularTetrahedron(); }
 
 // An (nu x nv) grid on a torus, triangulated, consistently oriented.
 TriangleMesh Torus(int nu, int nv) {

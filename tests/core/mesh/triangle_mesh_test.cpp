@@ -14,20 +14,12 @@
 #include <utility>
 
 #include "sdcb/core/mesh/icosphere.h"
+#include "testing/fan_mesh.h"
 
 namespace sdcb {
 namespace {
 
-// Corners (+-1, +-1, +-1) with an even number of minus signs, faces
-// counter-clockwise seen from outside; edge 2 sqrt 2.
-TriangleMesh RegularTetrahedron() {
-  TriangleMesh m;
-  m.vertices.resize(4, 3);
-  m.vertices << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;
-  m.faces.resize(4, 3);
-  m.faces << 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2;
-  return m;
-}
+using testing::RegularTetrahedron;
 
 TEST(TriangleMeshTest, RegularTetrahedronAreasAndNormalsInClosedForm) {
   const TriangleMesh m = RegularTetrahedron();
