@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
 #include <mutex>
 #include <thread>
@@ -19,6 +20,9 @@ namespace {
 std::mutex g_mutex;
 std::vector<std::string> g_prefixes;
 bool g_run_ended = false;  // EndRunBeforeAnyInterrupt was called
+// Set by the signal thread as soon as its wait returns, before it takes
+// the lock: a signal it has taken is no longer pending.
+std::atomic<bool> g_signal_taken{false};
 
 sigset_t HandledSignals() {
   sigset_t set;
@@ -38,6 +42,7 @@ void WaitForInterrupt() {
   int signal_number = 0;
   while (sigwait(&set, &signal_number) != 0) {
   }
+  g_signal_taken.store(true);
   std::unique_lock<std::mutex> lock(g_mutex);
   if (g_run_ended) return;  // the run is complete: it ends as it would have
   for (const std::string& prefix : g_prefixes) RemoveFilesStartingWith(prefix);
@@ -78,6 +83,19 @@ void InstallInterruptCleanup() {
 }
 
 void EndRunBeforeAnyInterrupt() {
+  // A signal sent while the run was still going ends the process by it,
+  // even when the signal thread has not been scheduled yet (a loaded
+  // machine): it is still pending then, or already taken.
+  sigset_t pending;
+  sigemptyset(&pending);
+  sigpending(&pending);
+  bool interrupted = g_signal_taken.load();
+  for (int s : {SIGINT, SIGTERM, SIGHUP}) {
+    interrupted = interrupted || sigismember(&pending, s) == 1;
+  }
+  if (interrupted) {
+    for (;;) pause();  // the signal thread ends the process
+  }
   std::lock_guard<std::mutex> lock(g_mutex);
   g_run_ended = true;
 }

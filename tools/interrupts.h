@@ -14,9 +14,10 @@ namespace sdcb::cli {
 // for them. Call first thing in main(), before any other thread exists.
 void InstallInterruptCleanup();
 
-// Called when the run is over, before main returns: an interrupt being
-// handled then ends the process by its signal (this blocks until it does);
-// one handled later leaves the finished run's exit status alone.
+// Called when the run is over, before main returns: an interrupt sent
+// before then (pending, or being handled) ends the process by its signal
+// (this blocks until it does); one sent later leaves the finished run's
+// exit status alone.
 void EndRunBeforeAnyInterrupt();
 
 // Registers `output_path`: when the process is interrupted, files starting
