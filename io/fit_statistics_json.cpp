@@ -133,7 +133,8 @@ json FitStatisticsToJson(const FitStatistics& s) {
                 {"max_fold_rounds", o.max_fold_rounds},
                 {"fallback_accepts_folds", o.fallback_accepts_folds},
                 {"round_samples_per_knot", o.round_samples_per_knot},
-                {"final_surface_samples", o.final_surface_samples}}},
+                {"final_surface_samples", o.final_surface_samples},
+                {"final_mesh_samples", o.final_mesh_samples}}},
               {"error_measure", ErrorMeasureName(s.error_measure)},
               {"reached_target", s.reached_target}};
 }
@@ -188,6 +189,8 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
                                    &so.round_samples_per_knot, GetInt));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "final_surface_samples", ow,
                                    &so.final_surface_samples, GetInt));
+  SDCB_RETURN_IF_ERROR(GetOptional(*o, "final_mesh_samples", ow,
+                                   &so.final_mesh_samples, GetInt));
 
   // Version 1 measured at the vertices and did not store the outcome.
   s.error_measure = ErrorMeasure::kVertices;
@@ -262,6 +265,9 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
                        {"min_samples_per_basis", d.min_samples_per_basis},
                        {"surface_samples", d.surface_samples},
                        {"closest_points", d.closest_points},
+                       {"mesh_samples", d.mesh_samples},
+                       {"mesh_to_surface_max_bound_percent",
+                        d.mesh_to_surface_max_bound_percent},
                        {"round_rmse_percent", d.round_rmse_percent},
                        {"estimated_rmse_percent", d.estimated_rmse_percent}});
   }

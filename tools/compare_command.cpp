@@ -30,7 +30,7 @@ int RunCompare(const std::vector<std::string>& argv) {
       args.GetInt("samples", options.min_surface_samples, 1000, 100000000);
   // The mesh's side as densely as the surface's by default: at its vertices
   // alone, the inside of large triangles would go unmeasured.
-  options.min_mesh_samples =
+  options.mesh_samples =
       args.GetInt("mesh-samples", kDefaultMeshSamples, 0, 100000000);
 
   StatusOr<SplineModel> model = ReadSdcbFile(model_path);
@@ -63,9 +63,12 @@ int RunCompare(const std::vector<std::string>& argv) {
     j["surface_to_mesh_max_percent"] = d->surface_to_mesh_max_percent;
     j["mesh_to_surface_rms_percent"] = d->mesh_to_surface_rms_percent;
     j["mesh_to_surface_max_percent"] = d->mesh_to_surface_max_percent;
+    j["mesh_to_surface_max_bound_percent"] =
+        d->mesh_to_surface_max_bound_percent;
     j["folded_area_percent"] = d->folded_area_percent;
     j["surface_samples"] = d->surface_samples;
     j["mesh_samples"] = d->mesh_samples;
+    j["mesh_sample_spacing_percent"] = d->mesh_sample_spacing_percent;
     const Status s = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
     if (!s.ok()) return ReportError(s);
   }
@@ -75,9 +78,12 @@ int RunCompare(const std::vector<std::string>& argv) {
     std::printf("  surface -> mesh   rms %.5f%%  max %.5f%%  (%lld samples)\n",
                 d->surface_to_mesh_rms_percent, d->surface_to_mesh_max_percent,
                 static_cast<long long>(d->surface_samples));
-    std::printf("  mesh -> surface   rms %.5f%%  max %.5f%%  (%lld samples)\n",
-                d->mesh_to_surface_rms_percent, d->mesh_to_surface_max_percent,
-                static_cast<long long>(d->mesh_samples));
+    std::printf(
+        "  mesh -> surface   rms %.5f%%  max %.5f%%  (%lld samples; at most "
+        "%.5f%% anywhere)\n",
+        d->mesh_to_surface_rms_percent, d->mesh_to_surface_max_percent,
+        static_cast<long long>(d->mesh_samples),
+        d->mesh_to_surface_max_bound_percent);
     std::printf("  two-sided         rms %.5f%%  Hausdorff %.5f%%\n",
                 d->rms_percent, d->hausdorff_percent);
     std::printf("  folded area       %.4f%%\n", d->folded_area_percent);

@@ -96,10 +96,10 @@ Status CheckOptions(const FitOptions& o) {
   if (o.knots_per_round < 1 || o.initial_knots < 0 || o.max_rounds < 1 ||
       o.max_control_points < 1 || o.threads < 0 ||
       o.round_samples_per_knot < 1 || o.final_surface_samples < 1 ||
-      o.max_fold_rounds < 0) {
+      o.max_fold_rounds < 0 || o.final_mesh_samples < 0) {
     return InvalidArgumentError(
         "knots per round, rounds, control points and sample counts must be "
-        "positive, threads >= 0");
+        "positive (final mesh samples >= 0), threads >= 0");
   }
   if (!std::isfinite(o.max_error_percent)) {
     return InvalidArgumentError("the max-error target must be finite");
@@ -259,6 +259,7 @@ RecordedFitOptions RecordFitOptions(const FitOptions& o) {
   r.fallback_accepts_folds = o.fallback_accepts_folds;
   r.round_samples_per_knot = o.round_samples_per_knot;
   r.final_surface_samples = o.final_surface_samples;
+  r.final_mesh_samples = o.final_mesh_samples;
   return r;
 }
 
@@ -284,7 +285,6 @@ struct SplineFitter::State {
   double mesh_area = 0;
   // Per vertex: a third of its triangles' area, and the unit normal of their
   // area-weighted sum (the rounds' estimate of the dense measurement).
-  Eigen::VectorXd vertex_area;
   Eigen::MatrixX3d vertex_normal;
   std::unique_ptr<PointKdTree> parameter_tree;
   // The mesh's AABB tree, built once for every round's measurement.
@@ -292,19 +292,25 @@ struct SplineFitter::State {
   SphericalDensity density;  // of the next round's knots
 
   FitResult result;
-  // The candidate to return if the target is missed: the round with the
-  // smallest rms among those without folds (else the least folded).
-  std::optional<SplineModel> best;
-  Eigen::VectorXd best_vertex_errors;
-  // Whether the vertex errors (the latest round's, the best round's) are
-  // |F(u_i) - x_i| at every vertex, not a thinned round's cell values.
+  // A round kept to be returned if the target is missed.
+  struct Candidate {
+    SplineModel model;
+    Eigen::VectorXd vertex_errors;
+    bool vertex_errors_exact = true;
+  };
+  // The round with the smallest rms among those without folds in their
+  // round's measurement (IsBetterFallback), and among all rounds.
+  std::optional<Candidate> best;
+  std::optional<Candidate> most_accurate;
+  // Whether the latest round's vertex errors are |F(u_i) - x_i| at every
+  // vertex, not a thinned round's cell values.
   bool vertex_errors_exact = true;
-  bool best_vertex_errors_exact = true;
   bool finished = false;
   int estimated_rounds = kInitialRoundGuess;
   // The next round places knots only where the surface folds.
   bool fold_round = false;
   int fold_rounds = 0;
+  int fold_rounds_in_a_row = 0;
   double folds_when_fold_rounds_began = 0.0;
 
   template <typename F>
@@ -354,25 +360,82 @@ struct SplineFitter::State {
   // Ends the fit. A fit that missed its target returns its best round (see
   // IsBetterFallback), measured again as a reached one is: densely, with the
   // closest points (the rounds' own measurements are coarser and see about a
-  // third of the small folds).
+  // third of the small folds). A round kept for having no folds in its
+  // round's measurement that folds when measured densely has no claim over
+  // a more accurate round: the most accurate is measured too, and returned
+  // when its rms is smaller.
   Status Finish(bool reached, std::string shortfall) {
     finished = true;
     result.model.statistics.reached_target = reached;
     if (reached) return Status::Ok();
     result.shortfall = std::move(shortfall);
-    const bool earlier = best && Better(best->statistics.final_result,
-                                        result.model.statistics.final_result);
-    if (earlier) {
-      FitStatistics stats = std::move(result.model.statistics);
-      result.model = std::move(*best);
-      stats.final_result = result.model.statistics.final_result;
-      stats.reached_target = false;
-      result.model.statistics = std::move(stats);
-      result.vertex_errors_percent = best_vertex_errors;
-      vertex_errors_exact = best_vertex_errors_exact;
+    const int last = result.model.statistics.final_result.round;
+    if (best && Better(best->model.statistics.final_result,
+                       result.model.statistics.final_result)) {
+      Return(*best);
     }
+    const bool kept_unfolded =
+        result.model.statistics.final_result.folded_area_percent == 0;
+    SDCB_RETURN_IF_ERROR(MeasureReturned());
+    if (result.model.statistics.reached_target) return Status::Ok();
+    const RoundStatistics kept = result.model.statistics.final_result;
+    std::string why =
+        kept_unfolded && !options.fallback_accepts_folds
+            ? "the most accurate without folds in its round's measurement"
+            : "the most accurate";
+    if (kept_unfolded && kept.folded_area_percent > 0 && most_accurate &&
+        most_accurate->model.statistics.final_result.round != kept.round) {
+      const Candidate other = ReturnedCandidate();
+      Return(*most_accurate);
+      SDCB_RETURN_IF_ERROR(MeasureReturned());
+      if (result.model.statistics.reached_target) return Status::Ok();
+      if (result.model.statistics.final_result.rmse_percent <
+          kept.rmse_percent) {
+        why = "the most accurate (round " + std::to_string(kept.round) +
+              ", without folds in its round's measurement, folds " +
+              ShortPercent(kept.folded_area_percent) +
+              " % of its area when measured densely)";
+      } else {
+        Return(other);
+      }
+    }
+    const RoundStatistics& returned = result.model.statistics.final_result;
+    if (returned.round != last) {
+      result.shortfall += "; returned round " + std::to_string(returned.round) +
+                          " instead, " + why;
+    }
+    result.shortfall +=
+        " (returned surface, measured densely: rms " +
+        ShortPercent(returned.rmse_percent) + " %, max " +
+        ShortPercent(returned.max_error_percent) + " %" +
+        (returned.folded_area_percent > 0
+             ? ", folded " + ShortPercent(returned.folded_area_percent) +
+                   " % of its area"
+             : std::string()) +
+        ")";
+    return Status::Ok();
+  }
+
+  // The returned round as a candidate (its model with the fit's statistics).
+  Candidate ReturnedCandidate() const {
+    return {result.model, result.vertex_errors_percent, vertex_errors_exact};
+  }
+
+  // Returns `c`'s round: its model and vertex errors, with the statistics of
+  // the fit (every round) and `c`'s round as the final one.
+  void Return(const Candidate& c) {
+    FitStatistics stats = std::move(result.model.statistics);
+    result.model = c.model;
+    stats.final_result = c.model.statistics.final_result;
+    result.model.statistics = std::move(stats);
+    result.vertex_errors_percent = c.vertex_errors;
+    vertex_errors_exact = c.vertex_errors_exact;
+  }
+
+  // The returned round measured as a reached one is (its final statistics
+  // become the dense measurement's); reached when that meets the target.
+  Status MeasureReturned() {
     RoundStatistics& kept = result.model.statistics.final_result;
-    const bool kept_unfolded = kept.folded_area_percent == 0;
     const Stopwatch clock;
     SDCB_ASSIGN_OR_RETURN(const SphericalSpline surface,
                           SurfaceFromModel(result.model));
@@ -399,30 +462,13 @@ struct SplineFitter::State {
     kept.folded_area_percent = dense.folded_area_percent;
     // The rounds' mesh -> surface bound (the parametric residual) can keep a
     // round from the final measurement that it would pass (the 8-vertex
-    // beam: its rounds said 0.31 % rms, densely it is 0.072 %). Measured as
+    // beam: its rounds said 0.31 % rms, densely it is 0.022 %). Measured as
     // a reached round is, it has reached.
     if (MeetsTarget(kept.rmse_percent, kept.max_error_percent,
                     kept.folded_area_percent)) {
       result.model.statistics.reached_target = true;
       result.shortfall.clear();
-      return Status::Ok();
     }
-    if (earlier) {
-      result.shortfall +=
-          "; returned round " + std::to_string(kept.round) + " instead, " +
-          (kept_unfolded && !options.fallback_accepts_folds
-               ? "the most accurate without folds in its round's measurement"
-               : "the most accurate");
-    }
-    result.shortfall +=
-        " (returned surface, measured densely: rms " +
-        ShortPercent(kept.rmse_percent) + " %, max " +
-        ShortPercent(kept.max_error_percent) + " %" +
-        (kept.folded_area_percent > 0
-             ? ", folded " + ShortPercent(kept.folded_area_percent) +
-                   " % of its area"
-             : std::string()) +
-        ")";
     return Status::Ok();
   }
 
@@ -456,6 +502,24 @@ struct SplineFitter::State {
         weights.dot(normal_part.cwiseAbs2()) / std::max(weights.sum(), 1e-300);
     const double s2m = deviation.surface_to_mesh_rms_percent;
     return std::sqrt(0.5 * (s2m * s2m + ms));
+  }
+  // The unit mesh normal at every row of `samples`: a vertex's
+  // (VertexNormals), or the triangle's of a point inside one.
+  Eigen::MatrixX3d RowNormals(const FitSamples& samples) const {
+    if (samples.thinned) return samples.row_normal;
+    const Eigen::Index nv = samples.num_vertices;
+    Eigen::MatrixX3d normals(samples.points.rows(), 3);
+    normals.topRows(nv) = vertex_normal;
+    for (size_t r = 0; r < samples.triangle.size(); ++r) {
+      const Eigen::RowVector3i t = mesh.faces.row(samples.triangle[r]);
+      const Eigen::Vector3d a = mesh.vertices.row(t[0]);
+      const Eigen::Vector3d b = mesh.vertices.row(t[1]);
+      const Eigen::Vector3d c = mesh.vertices.row(t[2]);
+      Eigen::Vector3d n = (b - a).cross(c - a);
+      if (n.norm() > 0) n.normalize();  // zero for a degenerate triangle
+      normals.row(nv + static_cast<Eigen::Index>(r)) = n.transpose();
+    }
+    return normals;
   }
   // F(u_i) at every vertex: the fitted value of the vertices that are kept
   // rows of thinned `samples`, the spline evaluated at the others.
@@ -532,7 +596,6 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
     const Eigen::Vector3d c = s.mesh.vertices.row(s.mesh.faces(f, 2));
     s.mesh_area += 0.5 * (b - a).cross(c - a).norm();
   }
-  s.vertex_area = VertexAreas(s.mesh);
   s.vertex_normal = VertexNormals(s.mesh);
 
   // 1. Spherical parameterization (Sec. 4.3).
@@ -721,7 +784,8 @@ StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
     bool final_measurement, bool mesh_to_surface) const {
   // Rounds: a lattice with round_samples_per_knot samples per knot, mesh ->
   // surface bounded by |F(u_i) - x_i|. The final one: at least
-  // final_surface_samples, and the closest points on the spline.
+  // final_surface_samples, and the closest points on the spline from the
+  // mesh's vertices and about final_mesh_samples points of its triangles.
   DeviationOptions measure;
   const int per_knot =
       options.round_samples_per_knot * static_cast<int>(surface.knots().rows());
@@ -729,6 +793,7 @@ StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
       final_measurement ? std::max(options.final_surface_samples, per_knot)
                         : per_knot;
   measure.closest_points = final_measurement;
+  measure.mesh_samples = final_measurement ? options.final_mesh_samples : 0;
   measure.search_all_vertices = false;
   measure.mesh_to_surface = mesh_to_surface;
   return MeasureSurfaceDeviation(surface, mesh, measure, vertex_points,
@@ -894,22 +959,17 @@ Status SplineFitter::State::RunRound() {
   // F(u_i) at every vertex: the first rows of unthinned samples; for thinned
   // ones evaluated only for a round measured densely (below).
   Eigen::MatrixX3d vertex_points;
-  SurfaceDeviation deviation;
-  if (!samples.thinned) {
-    vertex_points = fitted.topRows(nv);
-    SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, &vertex_points, false));
-    details.estimated_rmse_percent = EstimatedRms(
-        deviation, vertex_points - mesh.vertices, vertex_normal, vertex_area);
-  } else {
-    // The mesh -> surface half bounded by the parametric residual at the
-    // kept rows, each standing for its cell's area.
-    SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, nullptr, false, false));
-    const Eigen::MatrixX3d residuals = fitted - samples.targets;
-    SetMeshToSurface(100.0 * residuals.rowwise().norm(), samples.weights,
-                     &deviation);
-    details.estimated_rmse_percent =
-        EstimatedRms(deviation, residuals, samples.row_normal, samples.weights);
-  }
+  if (!samples.thinned) vertex_points = fitted.topRows(nv);
+  // The mesh -> surface half bounded by the parametric residual at the rows
+  // of the data term (the vertices and the points inside split triangles,
+  // or a thinned data term's kept rows), each standing for its area.
+  SDCB_ASSIGN_OR_RETURN(SurfaceDeviation deviation,
+                        Measure(surface, nullptr, false, false));
+  const Eigen::MatrixX3d residuals = fitted - samples.targets;
+  SetMeshToSurface(100.0 * residuals.rowwise().norm(), samples.weights,
+                   &deviation);
+  details.estimated_rmse_percent =
+      EstimatedRms(deviation, residuals, RowNormals(samples), samples.weights);
   // A round's own measurement bounds the mesh -> surface half by the
   // parametric residual, which overstates it where the map shears (up to
   // 1.3 times on CGAL's meshes): the targets are judged on the final
@@ -925,6 +985,9 @@ Status SplineFitter::State::RunRound() {
     }
     SDCB_ASSIGN_OR_RETURN(deviation, Measure(surface, &vertex_points, true));
     details.closest_points = true;
+    details.mesh_samples = deviation.mesh_samples;
+    details.mesh_to_surface_max_bound_percent =
+        deviation.mesh_to_surface_max_bound_percent;
   }
   const bool reached =
       details.closest_points &&
@@ -966,10 +1029,13 @@ Status SplineFitter::State::RunRound() {
   t.solve += details.timings.solve;
   t.measure += details.timings.measure;
   result.round_details.push_back(details);
-  if (!best || Better(rs, best->statistics.final_result)) {
-    best = model;
-    best_vertex_errors = vertex_errors;
-    best_vertex_errors_exact = vertex_errors_exact;
+  if (!best || Better(rs, best->model.statistics.final_result)) {
+    best = Candidate{model, vertex_errors, vertex_errors_exact};
+  }
+  if (!most_accurate ||
+      IsBetterFallback(rs, most_accurate->model.statistics.final_result,
+                       /*accept_folds=*/true)) {
+    most_accurate = Candidate{model, vertex_errors, vertex_errors_exact};
   }
 
   // 6. Stop, or go on. Met the target but folded: the next rounds put fewer
@@ -982,23 +1048,30 @@ Status SplineFitter::State::RunRound() {
   const std::string folds_left =
       "the surface still folds (narrow creases or thin parts the spline "
       "cannot follow yet)";
-  if (only_folds && fold_rounds == 0) {
+  if (only_folds && fold_rounds_in_a_row == 0) {
     folds_when_fold_rounds_began = rs.folded_area_percent;
   }
-  if (only_folds &&
-      (fold_rounds >= o.max_fold_rounds ||
-       (fold_rounds >= kFoldRoundsToShrink &&
-        rs.folded_area_percent > kFoldShrink * folds_when_fold_rounds_began))) {
+  if (only_folds && fold_rounds >= o.max_fold_rounds) {
     return Finish(false, folds_left);
   }
+  // Fold rounds that have not shrunk the folds give way to an ordinary
+  // round (knots where the error is, and where it folds).
+  const bool folds_stay =
+      fold_rounds_in_a_row >= kFoldRoundsToShrink &&
+      rs.folded_area_percent > kFoldShrink * folds_when_fold_rounds_began;
   if (round + 1 == o.max_rounds) {
     return Finish(false, only_folds
                              ? folds_left
                              : "the target was not reached within " +
                                    std::to_string(o.max_rounds) + " rounds");
   }
-  fold_round = only_folds;
-  if (only_folds) ++fold_rounds;
+  fold_round = only_folds && !folds_stay;
+  if (fold_round) {
+    ++fold_rounds;
+    ++fold_rounds_in_a_row;
+  } else {
+    fold_rounds_in_a_row = 0;
+  }
   // A fit whose error falls too slowly to reach the target within the
   // rounds left (judged after six rounds) stops now rather than later.
   const int needed = EstimateRounds();

@@ -103,6 +103,9 @@ struct FitOptions {
   // at least this many for the returned model.
   int round_samples_per_knot = 12;
   int final_surface_samples = 100000;
+  // ... and the mesh's side of it inside the triangles too, at about this
+  // many points (DeviationOptions::mesh_samples); 0 = at the vertices only.
+  int final_mesh_samples = 100000;
   // Worker threads of the fit's own TBB arena; 0 = as many as the calling
   // context allows. The results do not depend on it, and the process-wide
   // TBB settings of the program are never changed.
@@ -153,6 +156,12 @@ struct RoundDetails {
   // parametric bound |F(u_i) - x_i| unless `closest_points`).
   int64_t surface_samples = 0;
   bool closest_points = false;
+  // With closest_points: the mesh samples (the vertices, points inside the
+  // triangles, and those the bound added), and an upper bound of the true
+  // mesh -> surface maximum anywhere on the mesh
+  // (SurfaceDeviation::mesh_to_surface_max_bound_percent); 0 otherwise.
+  int64_t mesh_samples = 0;
+  double mesh_to_surface_max_bound_percent = 0;
   // The round's own rms (its lattice and the parametric bound), before the
   // dense measurement replaced it (closest_points) or not.
   double round_rmse_percent = 0;

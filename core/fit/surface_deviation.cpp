@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -25,6 +26,24 @@ constexpr double kInset = 1e-6;
 // A spline point farther than this times the distance to the lattice's image
 // starts a closest-point search on the spline.
 constexpr double kRefineRatio = 1.01;
+// The mesh's side is split for at most this many times the samples asked.
+constexpr int64_t kMaxSampleRatio = 8;
+// The mesh -> surface maximum is refined until no piece of the mesh can hold
+// a distance more than this (relative) above it, in at most kMaxBoundRounds
+// rounds that measure at most max(kMinBoundSamples, mesh samples /
+// kBoundSampleDivisor) more points in all.
+constexpr double kBoundTolerance = 0.01;
+constexpr int kMaxBoundRounds = 40;
+constexpr int64_t kMinBoundSamples = 5000;
+constexpr int64_t kBoundSampleDivisor = 10;
+
+// The longest edge for which splitting a mesh of `area` by longest-edge
+// bisection gives about `samples` vertices when its triangles are coarser:
+// about 3 area / h^2 (measured at 100,000: 91K to 105K on blobby, bunny00,
+// bear, fandisk, retinal and geosphere).
+double MeshSampleSpacing(double area, int64_t samples) {
+  return std::sqrt(3.0 * area / static_cast<double>(samples));
+}
 
 struct Lattice {
   Eigen::MatrixX3d points;
@@ -139,6 +158,182 @@ double ClosestOnSpline(const SphericalSpline& surface, const Eigen::Vector3d& x,
   return best;
 }
 
+// The distance from points of the mesh to the spline (length units), each
+// the distance to a point of the spline found (never below the true one).
+struct SplineDistance {
+  const SphericalSpline& surface;
+  const Lattice& lattice;
+  const TriangleMesh& image;  // F at the lattice's points
+  const MeshDistance& to_image;
+  const DeviationOptions& options;
+
+  // For points[first..]: first the spline point of the lattice image's
+  // closest point (or candidates' row, when closer), then Gauss-Newton
+  // steps on the spline where that is farther than the image suggests and,
+  // with `floor_weights` (area weights of those points), at or above the
+  // weighted rms of those first distances. Adds the searched points to
+  // `searched`.
+  std::vector<double> Distances(const std::vector<Eigen::Vector3d>& points,
+                                size_t first,
+                                const Eigen::MatrixX3d* candidates,
+                                const Eigen::VectorXd* floor_weights,
+                                int64_t* searched) const {
+    const Eigen::Index n = static_cast<Eigen::Index>(points.size() - first);
+    // The sphere points, then the spline there in the basis's locality
+    // order (several times faster than point order; each result the same).
+    Eigen::MatrixX3d start(n, 3);
+    Eigen::VectorXd image_distance(n);
+    tbb::parallel_for(
+        tbb::blocked_range<Eigen::Index>(0, n, 64),
+        [&](const tbb::blocked_range<Eigen::Index>& range) {
+          for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
+            const MeshDistance::Closest c = to_image.Find(points[first + i]);
+            const Eigen::Vector3d bary = Barycentric(
+                c.point, image.vertices.row(lattice.triangles(c.face, 0)),
+                image.vertices.row(lattice.triangles(c.face, 1)),
+                image.vertices.row(lattice.triangles(c.face, 2)));
+            Eigen::Vector3d p = Eigen::Vector3d::Zero();
+            for (int k = 0; k < 3; ++k) {
+              p += bary[k] *
+                   lattice.points.row(lattice.triangles(c.face, k)).transpose();
+            }
+            start.row(i) = p.normalized().transpose();
+            image_distance[i] = c.distance;
+          }
+        });
+    Eigen::VectorXd distance(n);
+    surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
+      const Eigen::Vector3d& x = points[first + i];
+      double d = (surface.Evaluate(start.row(i).transpose()) - x).norm();
+      const Eigen::Index row = static_cast<Eigen::Index>(first) + i;
+      if (candidates && row < candidates->rows()) {
+        d = std::min(d, (candidates->row(row).transpose() - x).norm());
+      }
+      distance[i] = d;
+    });
+    const double floor =
+        floor_weights ? std::sqrt(floor_weights->dot(distance.cwiseAbs2()) /
+                                  std::max(floor_weights->sum(), 1e-300))
+                      : 0.0;
+    std::vector<char> refined(n, 0);
+    surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
+      const double d = distance[i];
+      if (d < floor ||
+          d <= kRefineRatio * image_distance[i] + 1e-9 * options.length_unit) {
+        return;
+      }
+      distance[i] =
+          std::min(d, ClosestOnSpline(surface, points[first + i],
+                                      start.row(i).transpose(),
+                                      options.closest_point_iterations));
+      refined[i] = 1;
+    });
+    for (char r : refined) *searched += r;
+    return std::vector<double>(distance.data(), distance.data() + n);
+  }
+};
+
+// The mesh's side as pieces, triangles of points of the mesh that cover it
+// exactly, with the distance to the spline at every point.
+class MeshSamples {
+ public:
+  explicit MeshSamples(const TriangleMesh& pieces) {
+    points.resize(static_cast<size_t>(pieces.vertices.rows()));
+    for (Eigen::Index i = 0; i < pieces.vertices.rows(); ++i) {
+      points[static_cast<size_t>(i)] = pieces.vertices.row(i).transpose();
+    }
+    distance.assign(points.size(), 0.0);
+    pieces_.resize(static_cast<size_t>(pieces.faces.rows()));
+    radius_.resize(pieces_.size());
+    for (size_t f = 0; f < pieces_.size(); ++f) {
+      pieces_[f] = pieces.faces.row(static_cast<Eigen::Index>(f)).transpose();
+      radius_[f] = Radius(pieces_[f]);
+    }
+  }
+
+  Eigen::Index num_points() const {
+    return static_cast<Eigen::Index>(points.size());
+  }
+
+  // A third of each piece's area to each of its corners.
+  Eigen::VectorXd Weights() const {
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(num_points());
+    for (const Eigen::Vector3i& t : pieces_) {
+      const double a = 0.5 * (points[t[1]] - points[t[0]])
+                                 .cross(points[t[2]] - points[t[0]])
+                                 .norm();
+      for (int k = 0; k < 3; ++k) w[t[k]] += a / 3;
+    }
+    return w;
+  }
+
+  // The largest distance to the spline that a point of the piece can have.
+  double Bound(size_t f) const {
+    const Eigen::Vector3i& t = pieces_[f];
+    return std::max({distance[t[0]], distance[t[1]], distance[t[2]]}) +
+           radius_[f];
+  }
+  double MaxBound() const {
+    double bound = 0.0;
+    for (size_t f = 0; f < pieces_.size(); ++f) {
+      bound = std::max(bound, Bound(f));
+    }
+    return bound;
+  }
+
+  // Halves every piece whose bound exceeds `goal` at its longest edge (one
+  // new point per edge, shared by the pieces that halve it), the largest
+  // bounds first while there are fewer than `max_points` points; the new
+  // points' distances are to be appended. false when no piece is halved.
+  bool HalvePiecesAbove(double goal, Eigen::Index max_points) {
+    std::vector<std::pair<double, size_t>> above;
+    for (size_t f = 0; f < pieces_.size(); ++f) {
+      const double bound = Bound(f);
+      if (bound > goal) above.emplace_back(-bound, f);
+    }
+    std::sort(above.begin(), above.end());
+    const size_t room = static_cast<size_t>(
+        std::max<Eigen::Index>(max_points - num_points(), 0));
+    if (above.size() > room) above.resize(room);
+    if (above.empty()) return false;
+    for (const auto& [negative_bound, f] : above) {
+      const Eigen::Vector3i t = pieces_[f];
+      int longest = 0;
+      for (int k = 1; k < 3; ++k) {
+        if ((points[t[(k + 1) % 3]] - points[t[k]]).squaredNorm() >
+            (points[t[(longest + 1) % 3]] - points[t[longest]]).squaredNorm()) {
+          longest = k;
+        }
+      }
+      const int a = t[longest], b = t[(longest + 1) % 3],
+                c = t[(longest + 2) % 3];
+      const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) |
+                           static_cast<uint32_t>(std::max(a, b));
+      const auto [it, inserted] =
+          midpoint_.emplace(key, static_cast<int>(points.size()));
+      if (inserted) points.push_back(0.5 * (points[a] + points[b]));
+      const int m = it->second;
+      pieces_[f] = Eigen::Vector3i(a, m, c);
+      radius_[f] = Radius(pieces_[f]);
+      pieces_.emplace_back(m, b, c);
+      radius_.push_back(Radius(pieces_.back()));
+    }
+    return true;
+  }
+
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> distance;  // length units, one per point
+
+ private:
+  double Radius(const Eigen::Vector3i& t) const {
+    return CoveringRadius(points[t[0]], points[t[1]], points[t[2]]);
+  }
+
+  std::vector<Eigen::Vector3i> pieces_;
+  std::vector<double> radius_;  // CoveringRadius of each piece
+  std::unordered_map<uint64_t, int> midpoint_;
+};
+
 // The two-sided figures from the two halves: the root of the mean of the
 // mean squares, and the larger maximum.
 void CombineHalves(SurfaceDeviation* d) {
@@ -156,6 +351,11 @@ void SetMeshToSurface(const Eigen::VectorXd& distance_percent,
   const double area = weights.sum();
   d->mesh_samples = distance_percent.size();
   d->vertex_distance_percent.resize(0);
+  d->mesh_sample_points.resize(0, 3);
+  d->mesh_sample_distance_percent.resize(0);
+  d->mesh_sample_weight.resize(0);
+  d->mesh_to_surface_max_bound_percent = 0;
+  d->mesh_sample_spacing_percent = 0;
   d->mesh_to_surface_rms_percent =
       area > 0 ? std::sqrt(weights.dot(distance_percent.cwiseAbs2()) / area)
                : 0;
@@ -170,13 +370,13 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     const MeshDistance* mesh_distance) {
   if (!(options.length_unit > 0) || !std::isfinite(options.length_unit) ||
       options.min_surface_samples < 1 || options.closest_point_iterations < 0 ||
-      options.min_mesh_samples < 0) {
+      options.mesh_samples < 0) {
     return InvalidArgumentError(
         "surface deviation: the length unit must be > 0, the sample counts "
         ">= 1 (mesh samples >= 0) and the iterations >= 0");
   }
   if (!options.closest_points && options.mesh_to_surface &&
-      options.min_mesh_samples > mesh.vertices.rows()) {
+      options.mesh_samples > 0) {
     return InvalidArgumentError(
         "surface deviation: without closest points the mesh side is measured "
         "at the vertices' candidates only");
@@ -291,95 +491,89 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     return out;
   }
 
-  // Mesh -> surface at the vertices, or at those of the mesh subdivided
-  // until it has min_mesh_samples (its first rows are the mesh's vertices).
-  constexpr int kMaxSubdivisionLevels = 12;
-  TriangleMesh subdivided;
+  // Mesh -> surface at the vertices, and with mesh_samples at those of
+  // the mesh split until its edges are no longer than the spacing of that
+  // many points spread evenly over it (its first rows are the mesh's
+  // vertices); a mesh of long needles would ask for many more: then the
+  // spacing doubles until it has at most kMaxSampleRatio times as many.
+  std::optional<TriangleMesh> split;
   const TriangleMesh* sample_mesh = &mesh;
-  for (int level = 0; sample_mesh->vertices.rows() < options.min_mesh_samples &&
-                      level < kMaxSubdivisionLevels;
-       ++level) {
-    subdivided = MidpointSubdivided(*sample_mesh, 1);
-    sample_mesh = &subdivided;
+  if (options.mesh_samples > 0) {
+    const double area = VertexAreas(mesh).sum();
+    double spacing = MeshSampleSpacing(area, options.mesh_samples);
+    while (!(split = SplitToEdgeLength(
+                 mesh, spacing,
+                 std::max<int64_t>(mesh.vertices.rows(),
+                                   kMaxSampleRatio * options.mesh_samples)))) {
+      spacing *= 2;
+    }
+    out.mesh_sample_spacing_percent = to_percent * spacing;
+    sample_mesh = &*split;
   }
-  const TriangleMesh& samples = *sample_mesh;
-  const Eigen::Index nv = samples.vertices.rows();
+  MeshSamples samples(*sample_mesh);
   const Eigen::Index mesh_vertices = mesh.vertices.rows();
-  Eigen::VectorXd distance(nv);
-  std::vector<char> refined(nv, 0);
-  const Eigen::VectorXd vertex_area = VertexAreas(samples);
   if (!options.closest_points) {
-    for (Eigen::Index i = 0; i < nv; ++i) {
-      distance[i] =
-          to_percent *
-          (vertex_candidates->row(i) - samples.vertices.row(i)).norm();
+    for (Eigen::Index i = 0; i < samples.num_points(); ++i) {
+      samples.distance[i] =
+          (vertex_candidates->row(i) - samples.points[i].transpose()).norm();
     }
   } else {
     SDCB_ASSIGN_OR_RETURN(const MeshDistance to_image,
                           std::move(*image_distance_or));
-    // First the spline point of the lattice image's closest point (and the
-    // candidate), for every vertex: the sphere points, then the spline there
-    // in the basis's locality order (several times faster than vertex
-    // order; each vertex's result is the same).
-    Eigen::MatrixX3d start(nv, 3);
-    Eigen::VectorXd image_distance(nv);
-    tbb::parallel_for(
-        tbb::blocked_range<Eigen::Index>(0, nv, 64),
-        [&](const tbb::blocked_range<Eigen::Index>& range) {
-          for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
-            const MeshDistance::Closest c =
-                to_image.Find(samples.vertices.row(i).transpose());
-            const Eigen::Vector3d bary = Barycentric(
-                c.point, image.vertices.row(lattice.triangles(c.face, 0)),
-                image.vertices.row(lattice.triangles(c.face, 1)),
-                image.vertices.row(lattice.triangles(c.face, 2)));
-            Eigen::Vector3d p = Eigen::Vector3d::Zero();
-            for (int k = 0; k < 3; ++k) {
-              p += bary[k] *
-                   lattice.points.row(lattice.triangles(c.face, k)).transpose();
-            }
-            start.row(i) = p.normalized().transpose();
-            image_distance[i] = c.distance;
-          }
-        });
-    surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
-      const Eigen::Vector3d x = samples.vertices.row(i).transpose();
-      double d = (surface.Evaluate(start.row(i).transpose()) - x).norm();
-      if (vertex_candidates && i < mesh_vertices) {
-        d = std::min(d, (vertex_candidates->row(i).transpose() - x).norm());
+    const SplineDistance to_spline{surface, lattice, image, to_image, options};
+    // Unless all are searched, a search on the spline only from a point at
+    // or above the mesh -> surface rms of the first distances (below it a
+    // point barely moves the rms and cannot hold the maximum).
+    const Eigen::VectorXd first_weights = samples.Weights();
+    samples.distance = to_spline.Distances(
+        samples.points, 0, vertex_candidates,
+        options.search_all_vertices ? nullptr : &first_weights,
+        &out.refined_vertices);
+    // Where the bound of a piece exceeds the largest distance found by more
+    // than kBoundTolerance, the piece is halved and its new point measured,
+    // until none does (or kMaxBoundSamples more points were measured): the
+    // maximum then holds within that of an upper bound of the true one.
+    if (options.mesh_samples > 0) {
+      const int64_t budget = std::max<int64_t>(
+          kMinBoundSamples, options.mesh_samples / kBoundSampleDivisor);
+
+      for (int round = 0; round < kMaxBoundRounds; ++round) {
+        const double goal =
+            (1.0 + kBoundTolerance) *
+            *std::max_element(samples.distance.begin(), samples.distance.end());
+        const Eigen::Index before = samples.num_points();
+        if (!samples.HalvePiecesAbove(
+                goal, before + budget - out.mesh_bound_samples)) {
+          break;
+        }
+        out.mesh_bound_samples += samples.num_points() - before;
+        const std::vector<double> added = to_spline.Distances(
+            samples.points, before, nullptr, nullptr, &out.refined_vertices);
+        samples.distance.insert(samples.distance.end(), added.begin(),
+                                added.end());
       }
-      distance[i] = d;
-    });
-    // Then a search on the spline itself where the spline point is farther
-    // than the lattice image suggests (and, unless all are searched, the
-    // vertex is at or above the mesh -> surface rms so far).
-    const double floor = options.search_all_vertices
-                             ? 0.0
-                             : std::sqrt(vertex_area.dot(distance.cwiseAbs2()) /
-                                         std::max(vertex_area.sum(), 1e-300));
-    surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
-      const double d = distance[i];
-      if (d < floor ||
-          d <= kRefineRatio * image_distance[i] + 1e-9 * options.length_unit) {
-        return;
-      }
-      distance[i] = std::min(
-          d, ClosestOnSpline(surface, samples.vertices.row(i).transpose(),
-                             start.row(i).transpose(),
-                             options.closest_point_iterations));
-      refined[i] = 1;
-    });
-    distance *= to_percent;
+    }
   }
-  out.mesh_samples = nv;
-  out.vertex_distance_percent = distance.head(mesh_vertices);
-  for (char r : refined) out.refined_vertices += r;
-  const double mesh_area = vertex_area.sum();
+  const Eigen::VectorXd weights = samples.Weights();
+  const Eigen::Map<const Eigen::VectorXd> distance(
+      samples.distance.data(),
+      static_cast<Eigen::Index>(samples.distance.size()));
+  out.mesh_samples = samples.num_points();
+  out.vertex_distance_percent = to_percent * distance.head(mesh_vertices);
+  out.mesh_sample_points.resize(out.mesh_samples, 3);
+  for (Eigen::Index i = 0; i < out.mesh_samples; ++i) {
+    out.mesh_sample_points.row(i) = samples.points[i].transpose();
+  }
+  out.mesh_sample_distance_percent = to_percent * distance;
+  out.mesh_sample_weight = weights;
+  const double mesh_area = weights.sum();
   out.mesh_to_surface_rms_percent =
-      mesh_area > 0
-          ? std::sqrt(vertex_area.dot(distance.cwiseAbs2()) / mesh_area)
-          : 0;
-  out.mesh_to_surface_max_percent = nv > 0 ? distance.maxCoeff() : 0;
+      mesh_area > 0 ? to_percent * std::sqrt(weights.dot(distance.cwiseAbs2()) /
+                                             mesh_area)
+                    : 0;
+  out.mesh_to_surface_max_percent =
+      out.mesh_samples > 0 ? to_percent * distance.maxCoeff() : 0;
+  out.mesh_to_surface_max_bound_percent = to_percent * samples.MaxBound();
   CombineHalves(&out);
   return out;
 }

@@ -8,9 +8,10 @@
 //   DeviationOptions::min_surface_samples samples; the distance of F(p) to
 //   the mesh by CGAL's AABB tree (core/mesh/mesh_distance.h). Each sample
 //   stands for a third of the surface area of its lattice triangles' images.
-// - mesh -> surface: at every mesh vertex (and, with
-//   DeviationOptions::min_mesh_samples, at points inside its triangles), the
-//   closest point of the spline:
+// - mesh -> surface: at every mesh vertex and, with
+//   DeviationOptions::mesh_samples, at the vertices of the mesh split into
+//   pieces of about that spacing (SplitToEdgeLength), the closest point of
+//   the spline:
 //   the closest point y of the lattice's image (an AABB tree over it) gives
 //   the sphere point p_y of the same barycentric coordinates, and
 //   |x - F(p_y)| is a distance to a point of the spline. When that is
@@ -20,10 +21,21 @@
 //   spline improve it. Every spline point found bounds the true distance from
 //   above, so each sample's distance can only be pessimistic, never
 //   flattering (tested: within 1 % of brute force). Area-weighted over the
-//   mesh (a third of each incident triangle's area per sample). At the
+//   mesh (a third of each incident piece's area per sample). At the
 //   vertices alone the half misses the inside of large triangles, and its
 //   maximum and rms can then read low (blobby's fit: 0.239 % at its 2,027
-//   vertices, 0.351 % inside a triangle): min_mesh_samples measures there.
+//   vertices, 0.367 % inside a triangle): mesh_samples measures there.
+//   The distance to the spline changes no faster than the point moves, so
+//   inside a piece it is at most the largest of its corners' plus how far
+//   its points can be from the nearest corner (CoveringRadius): that bounds
+//   the true maximum over the whole mesh from above. Pieces whose bound
+//   exceeds the largest distance found by over 1 % are halved, their new
+//   points measured, the largest bounds first, until none is left (or
+//   max(5,000, mesh_samples / 10) points were added): the maximum found is
+//   then within 1 % of an upper bound of the true one. Where the distance
+//   is near its maximum over much of the mesh (a coarse polyhedron of a
+//   sphere: a maximum inside every face) those points run out first, and
+//   the bound stays looser (reported either way).
 // - folds: a surface sample is folded when the spline's normal there (du x
 //   dv, oriented as the sphere) points away from the mesh's normal at the
 //   closest point (negative dot product with the closest triangle's normal,
@@ -70,13 +82,15 @@ struct DeviationOptions {
   // 0 and the two-sided ones are the surface -> mesh ones until
   // SetMeshToSurface gives the other half).
   bool mesh_to_surface = true;
-  // Mesh -> surface samples at least: when the mesh has fewer vertices, the
-  // half is measured at the vertices of the mesh midpoint-subdivided until it
-  // has this many (MidpointSubdivided: points of the mesh's triangles, each
-  // standing for a third of its sub-triangles' area), so that the inside of
-  // large triangles is measured too. 0: at the mesh's vertices only (the
-  // fit's measurements, for now: docs/FITTING.md, "The mesh's side").
-  int64_t min_mesh_samples = 0;
+  // Mesh -> surface samples inside the triangles too: the mesh is split
+  // (SplitToEdgeLength) until no edge is longer than the spacing of this
+  // many points spread evenly over its area, and measured at the split
+  // mesh's vertices, each standing for a third of its pieces' area. So
+  // about this many samples on a coarse mesh, and a mesh already finer is
+  // measured at its vertices. Where long needles would ask for over 8
+  // times as many, the spacing doubles until they do not. 0: at the mesh's
+  // vertices only (the rounds' own measurements).
+  int64_t mesh_samples = 0;
 };
 
 struct SurfaceDeviation {
@@ -94,7 +108,20 @@ struct SurfaceDeviation {
   double folded_area_percent = 0.0;
   double surface_area = 0.0;  // of the lattice's image, in length units^2
   int64_t surface_samples = 0;
-  int64_t mesh_samples = 0;  // the vertices, or the subdivided mesh's
+  int64_t mesh_samples = 0;  // the vertices, or the split mesh's
+  // Of those, the points added where the bound asked for them.
+  int64_t mesh_bound_samples = 0;
+  // The longest edge the mesh's triangles were split to
+  // (DeviationOptions::mesh_samples), percent; 0 when measured at the
+  // vertices only.
+  double mesh_sample_spacing_percent = 0.0;
+  // An upper bound of the true mesh -> surface maximum over the whole mesh,
+  // not just its samples: every sample's distance is one to a point of the
+  // spline (never below the true one), and the distance to the spline
+  // changes no faster than the point moves, so inside a piece between
+  // samples it is at most the largest of its corners' plus the piece's
+  // CoveringRadius.
+  double mesh_to_surface_max_bound_percent = 0.0;
   int lattice_level = 0;
   // Largest distance between the spline and its lattice image measured at
   // the lattice triangles' centroids, percent.
@@ -104,6 +131,12 @@ struct SurfaceDeviation {
   // Mesh -> surface distance of every mesh vertex, percent (the input's
   // vertices, also when more samples were measured).
   Eigen::VectorXd vertex_distance_percent;
+  // Every mesh sample (the vertices first), its distance to the spline
+  // (percent) and the mesh area it stands for (length units^2; sums to the
+  // mesh's area). Empty where SetMeshToSurface gave the half.
+  Eigen::MatrixX3d mesh_sample_points;
+  Eigen::VectorXd mesh_sample_distance_percent;
+  Eigen::VectorXd mesh_sample_weight;
   // Every surface sample: its sphere point, its distance to the mesh
   // (percent) and whether it is folded.
   Eigen::MatrixX3d surface_sample_points;

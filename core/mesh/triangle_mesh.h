@@ -4,6 +4,8 @@
 #define SDCB_CORE_MESH_TRIANGLE_MESH_H_
 
 #include <Eigen/Core>
+#include <cstdint>
+#include <optional>
 
 #include "sdcb/core/common/status.h"
 
@@ -31,11 +33,30 @@ Eigen::VectorXd VertexAreas(const TriangleMesh& mesh);
 // normals (right-hand rule over the corner order); zero where that sum is.
 Eigen::MatrixX3d VertexNormals(const TriangleMesh& mesh);
 
-// `mesh` with every triangle split 1-to-4 at its edges' midpoints, `levels`
-// times: the same surface, point for point. Rows 0..#V-1 are the input's
-// vertices; each new vertex follows in the order its edge is first met in
-// face order, and an edge shared by two faces gets one midpoint.
-TriangleMesh MidpointSubdivided(const TriangleMesh& mesh, int levels);
+// How far a point of the triangle (a, b, c) can be from the nearest of its
+// corners, at most: the circumradius of a triangle without an obtuse angle
+// (its circumcentre is the farthest point, so this is exact), half the
+// longest edge otherwise (an upper bound). 0 for a degenerate triangle of
+// one point; half the longest edge for any other degenerate one.
+double CoveringRadius(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                      const Eigen::Vector3d& c);
+
+// `mesh` with every edge longer than `max_edge_length` split at its
+// midpoint, again and again, until none is: a triangle with one such edge
+// is cut in two, with three in four, and one with two (a needle, say) has
+// those two split all along and the strip between them cut across into
+// pieces as wide as it, so that a needle's pieces grow with its length, not
+// its length squared. The same surface, point for point; how an edge is
+// split depends on the edge alone, so both triangles of an edge split it
+// alike and the result is conforming (every edge of a closed mesh stays
+// shared by two faces). Rows 0..#V-1 are the input's vertices; the new
+// ones follow as they are made (faces in order, each split depth first);
+// faces keep their orientation. std::nullopt once the result would have
+// more than `max_vertices` vertices. A max_edge_length that is not > 0
+// splits nothing.
+std::optional<TriangleMesh> SplitToEdgeLength(const TriangleMesh& mesh,
+                                              double max_edge_length,
+                                              int64_t max_vertices);
 
 }  // namespace sdcb
 

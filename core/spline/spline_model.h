@@ -90,6 +90,9 @@ struct RecordedFitOptions {
   int final_surface_samples = 0;
   bool fallback_accepts_folds = false;
   double thinned_cells_per_spacing = 0.0;  // 0: the rows were never thinned
+  // Mesh samples of the final measurement (DeviationOptions::mesh_samples);
+  // 0 in files written while it measured the mesh at its vertices only.
+  int final_mesh_samples = 0;
 };
 
 // How the fit went, without wall-clock times (they would make the model's

@@ -244,13 +244,13 @@ TEST(AdaptiveFitTest, AHausdorffTargetKeepsTheRoundsGoing) {
 }
 
 // The 8-vertex beam: its rounds bound the mesh -> surface distance by the
-// vertices' parametric residual, which its corners keep far above the target
-// (0.39 % rms in the round that reaches it, where the surface is within
-// 0.09 %). The round's first-order estimate (the residuals along the mesh's
-// normals) meets the target, so that round is measured densely, and passes:
-// the fit ends there, and brute force at random surface points agrees with
-// what it reports. Before the estimate the fit went on until the knots ran
-// out of room (11 rounds, 7,909 control points instead of 8 and 7,109).
+// parametric residual at the rows of the data term, which its corners keep
+// above the target in round 4 (0.117 % rms, where the surface is within
+// 0.060 %). The round's first-order estimate (the residuals along the
+// mesh's normals, 0.076 %) meets the target, so that round is measured
+// densely (and misses the Hausdorff target there: 1.37 %); the fit ends when
+// a round passes, and brute force at random surface points agrees with what
+// it reports.
 TEST(AdaptiveFitTest, AFirstOrderEstimateSendsARoundToTheDenseMeasurement) {
   const TriangleMesh mesh = Load("beam.off");
   FitOptions options;
@@ -259,24 +259,32 @@ TEST(AdaptiveFitTest, AFirstOrderEstimateSendsARoundToTheDenseMeasurement) {
   ASSERT_TRUE(fit.ok()) << fit.status().message();
   const FitStatistics& s = fit->model.statistics;
   ASSERT_EQ(fit->round_details.size(), s.rounds.size());
-  const RoundDetails& last = fit->round_details.back();
-  EXPECT_GT(last.round_rmse_percent, 2 * 0.1);
-  EXPECT_LE(last.estimated_rmse_percent, 0.1);
-  EXPECT_TRUE(last.closest_points);
-  // Every earlier round missed the target both ways, or was measured
-  // densely and missed it there.
-  for (size_t r = 0; r + 1 < s.rounds.size(); ++r) {
+  int sent_by_the_estimate = 0;
+  for (size_t r = 0; r < s.rounds.size(); ++r) {
     const RoundDetails& d = fit->round_details[r];
-    EXPECT_TRUE(d.closest_points ||
-                std::min(d.round_rmse_percent, d.estimated_rmse_percent) > 0.1)
+    // Measured densely exactly when the bound or the estimate met the
+    // target (no round of the beam folds).
+    EXPECT_EQ(s.rounds[r].folded_area_percent, 0.0);
+    EXPECT_EQ(d.closest_points,
+              std::min(d.round_rmse_percent, d.estimated_rmse_percent) <= 0.1)
         << "round " << r;
+    if (d.closest_points && d.round_rmse_percent > 0.1) {
+      ++sent_by_the_estimate;
+      EXPECT_LE(d.estimated_rmse_percent, 0.1);
+      EXPECT_GT(d.mesh_samples, mesh.num_vertices());
+      EXPECT_GE(d.mesh_to_surface_max_bound_percent, 0.0);
+    }
   }
+  EXPECT_GE(sent_by_the_estimate, 1);
   EXPECT_TRUE(fit->reached_target()) << fit->shortfall;
   EXPECT_TRUE(fit->shortfall.empty());
   EXPECT_LE(s.final_result.rmse_percent, 0.1);
   EXPECT_LE(s.final_result.max_error_percent, 1.0);
   EXPECT_EQ(s.final_result.folded_area_percent, 0.0);
-  ExpectHonestSurfaceErrors(mesh, *fit, 3000);
+  // The beam's error is at its edges and corners, few of the random points:
+  // 3,000 of them estimate its rms 1.6 times too high (30,000: 1.05 times;
+  // 3 million: 0.0242 % against the lattice's 0.0240 %).
+  ExpectHonestSurfaceErrors(mesh, *fit, 30000);
 }
 
 // fandisk_large at 0.05 % (no Hausdorff limit) in three rounds: the last
@@ -332,38 +340,83 @@ TEST(AdaptiveFitTest, ADenseMeshIsFittedOnRowsTiedToItsKnots) {
   ExpectHonestSurfaceErrors(mesh, *fit, 2000);
 }
 
-// The cow at 0.3 % meets the rms in round 1 but folds over 0.55 % of its
-// area; the rounds that place knots at the folds stop after two when the
-// folded area has not halved (it was 0.45 % then), instead of running all
-// five.
-TEST(AdaptiveFitTest, FoldRoundsStopWhenTheFoldsDoNotShrink) {
+// The cow at 0.3 % meets the rms in round 1 but folds (0.49 % of its area by
+// the round's measurement). The rounds that place knots only at the folds
+// (25 each) give way to an ordinary round (100) when two of them have not
+// halved the folded area, and the fit ends once five of them have run and
+// the surface still folds. Each round's kind is checked against the rule
+// replayed over the rounds' statistics.
+TEST(AdaptiveFitTest, FoldRoundsGiveWayWhenTheFoldsDoNotShrink) {
   FitOptions options;
   options.rmse_percent = 0.3;
   auto fit = FitSphericalSpline(Load("cow.off"), options);
   ASSERT_TRUE(fit.ok()) << fit.status().message();
   const std::vector<RoundStatistics>& rounds = fit->model.statistics.rounds;
-  // The first round within the target that folds starts the fold rounds.
-  size_t began = 0;
-  while (began < rounds.size() && !(rounds[began].rmse_percent <= 0.3 &&
-                                    rounds[began].folded_area_percent > 0)) {
-    ++began;
-  }
-  ASSERT_LT(began, rounds.size());
-  const double start = rounds[began].folded_area_percent;
-  // Each later round is a fold round; the fit ends at the first one from
-  // the second on whose folds exceed half of `start` (or after five).
-  size_t expected_end = began + 5;
-  for (size_t r = began + 2; r < rounds.size(); ++r) {
-    if (rounds[r].rmse_percent <= 0.3 &&
-        rounds[r].folded_area_percent > 0.5 * start) {
+  int fold_rounds = 0, in_a_row = 0, ordinary_after_folds = 0;
+  double began = 0;
+  size_t expected_end = rounds.size();
+  for (size_t r = 0; r < rounds.size(); ++r) {
+    const bool only_folds =
+        rounds[r].rmse_percent <= 0.3 && rounds[r].folded_area_percent > 0;
+    if (only_folds && in_a_row == 0) began = rounds[r].folded_area_percent;
+    if (only_folds && fold_rounds >= options.max_fold_rounds) {
       expected_end = r;
       break;
     }
+    const bool stay =
+        in_a_row >= 2 && rounds[r].folded_area_percent > 0.5 * began;
+    const bool next_folds = only_folds && !stay;
+    if (r + 1 < rounds.size()) {
+      EXPECT_EQ(rounds[r + 1].knots - rounds[r].knots, next_folds ? 25 : 100)
+          << "round " << r + 1;
+    }
+    if (next_folds) {
+      ++fold_rounds;
+      ++in_a_row;
+    } else {
+      ordinary_after_folds += fold_rounds > 0 && r + 1 < rounds.size();
+      in_a_row = 0;
+    }
   }
   EXPECT_EQ(rounds.size() - 1, expected_end);
-  EXPECT_LT(rounds.size() - 1, began + 5);  // the rule, not the cap, ended it
+  EXPECT_EQ(fold_rounds, options.max_fold_rounds);
+  EXPECT_GE(ordinary_after_folds, 1);
   EXPECT_FALSE(fit->reached_target());
   EXPECT_NE(fit->shortfall.find("folds"), std::string::npos);
+}
+
+// The hand at 0.1 %: every round from round 2 on folds a little (0.001 to
+// 0.009 % of its area) at the narrow creases between its fingers, and round
+// 1 (1,405 control points, rms 0.15 %) is the only one whose own
+// measurement sees no fold. Measured densely it folds too (0.010 %), so it
+// has no claim over the more accurate rounds: the fit returns the most
+// accurate of all, not the coarse round.
+TEST(AdaptiveFitTest,
+     ARoundKeptForNotFoldingThatFoldsGivesWayToTheMostAccurate) {
+  const TriangleMesh mesh = Load("hand.off");
+  FitOptions options;
+  options.rmse_percent = 0.1;
+  auto fit = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  ASSERT_FALSE(fit->reached_target());
+  const std::vector<RoundStatistics>& rounds = fit->model.statistics.rounds;
+  const RoundStatistics& r = fit->model.statistics.final_result;
+  // A round without folds in its own measurement existed, and is not it.
+  const auto unfolded =
+      std::find_if(rounds.begin(), rounds.end(),
+                   [](const auto& x) { return x.folded_area_percent == 0; });
+  ASSERT_NE(unfolded, rounds.end());
+  EXPECT_NE(r.round, unfolded->round);
+  // The returned round is the most accurate by the rounds' statistics, and
+  // measured densely as the report says.
+  for (const RoundStatistics& other : rounds) {
+    EXPECT_LE(rounds[r.round].rmse_percent, other.rmse_percent) << other.round;
+  }
+  EXPECT_LT(r.rmse_percent, 0.1);
+  EXPECT_GT(r.folded_area_percent, 0.0);
+  EXPECT_NE(fit->shortfall.find("folds"), std::string::npos);
+  ExpectHonestVertexErrors(mesh, *fit);
+  ExpectHonestSurfaceErrors(mesh, *fit, 2000);
 }
 
 TEST(AdaptiveFitTest, WriteReadEvaluateIsBitIdentical) {
@@ -408,6 +461,7 @@ TEST(AdaptiveFitTest, AVersionOneModelStillReadsAndKeepsItsWord) {
   // Options version 1 did not record read as "not recorded".
   EXPECT_EQ(model->statistics.options.regularization, 0.0);
   EXPECT_EQ(model->statistics.options.knots_growth, 0.0);
+  EXPECT_EQ(model->statistics.options.final_mesh_samples, 0);
   EXPECT_EQ(model->statistics.options.degree, 4);
 }
 

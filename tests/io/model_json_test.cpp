@@ -104,6 +104,7 @@ TEST(ModelJsonTest, KeysAndValues) {
   EXPECT_EQ(st["options"].at("samples_per_spacing"), 3.0);
   EXPECT_EQ(st["options"].at("final_surface_samples"), 100000);
   EXPECT_EQ(st["options"].at("thinned_cells_per_spacing"), 2.5);
+  EXPECT_EQ(st["options"].at("final_mesh_samples"), 70000);
   EXPECT_EQ(st.at("options").at("degree"), 2);
   EXPECT_EQ(st["options"].at("rmse_percent"), 0.05);
   EXPECT_EQ(st["options"].at("knots_per_round"), 100);

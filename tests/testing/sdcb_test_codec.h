@@ -325,6 +325,7 @@ inline ::testing::AssertionResult BitIdentical(const SplineModel& a,
       oa.fallback_accepts_folds != ob.fallback_accepts_folds ||
       oa.round_samples_per_knot != ob.round_samples_per_knot ||
       oa.final_surface_samples != ob.final_surface_samples ||
+      oa.final_mesh_samples != ob.final_mesh_samples ||
       !SameBits(oa.thinned_cells_per_spacing, ob.thinned_cells_per_spacing)) {
     return fail("options");
   }

@@ -67,8 +67,8 @@ inline SplineModel MakeTestModel(int degree = 1, int num_knots = 7,
                          0.1 * r + std::numeric_limits<double>::denorm_min()});
   }
   st.final_result = st.rounds.back();
-  st.options = {degree, 0.05, 0.45, 100, 0.3, 7,  10,     5000, 0.2,
-                4.0,    12.5, -0.0, 3.0, 5,   12, 100000, true, 2.5};
+  st.options = {degree, 0.05, 0.45, 100, 0.3, 7,      10,   5000, 0.2,  4.0,
+                12.5,   -0.0, 3.0,  5,   12,  100000, true, 2.5,  70000};
   st.error_measure = ErrorMeasure::kDenseTwoSided;
   st.reached_target = true;
   m.source.num_vertices = num_parameters > 0 ? num_parameters : 1234;
