@@ -68,6 +68,7 @@ int RunCompare(const std::vector<std::string>& argv) {
     j["folded_area_percent"] = d->folded_area_percent;
     j["surface_samples"] = d->surface_samples;
     j["mesh_samples"] = d->mesh_samples;
+    j["mesh_bound_samples"] = d->mesh_bound_samples;
     j["mesh_sample_spacing_percent"] = d->mesh_sample_spacing_percent;
     const Status s = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
     if (!s.ok()) return ReportError(s);

@@ -34,13 +34,13 @@ constexpr int64_t kMaxSampleRatio = 8;
 // kBoundSampleDivisor) more points in all.
 constexpr double kBoundTolerance = 0.01;
 constexpr int kMaxBoundRounds = 40;
-constexpr int64_t kMinBoundSamples = 5000;
-constexpr int64_t kBoundSampleDivisor = 10;
+constexpr int64_t kMinBoundSamples = 10000;
+constexpr int64_t kBoundSampleDivisor = 5;
 
-// The longest edge for which splitting a mesh of `area` by longest-edge
-// bisection gives about `samples` vertices when its triangles are coarser:
-// about 3 area / h^2 (measured at 100,000: 91K to 105K on blobby, bunny00,
-// bear, fandisk, retinal and geosphere).
+// The longest edge for which splitting a mesh of `area` (SplitToEdgeLength)
+// gives about `samples` vertices when its triangles are coarser: about
+// 3 area / h^2 (measured at 100,000: 85K to 101K on blobby, bunny00, bear,
+// fandisk, retinal and geosphere, before the points the bound adds).
 double MeshSampleSpacing(double area, int64_t samples) {
   return std::sqrt(3.0 * area / static_cast<double>(samples));
 }

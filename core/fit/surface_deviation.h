@@ -31,7 +31,7 @@
 //   the true maximum over the whole mesh from above. Pieces whose bound
 //   exceeds the largest distance found by over 1 % are halved, their new
 //   points measured, the largest bounds first, until none is left (or
-//   max(5,000, mesh_samples / 10) points were added): the maximum found is
+//   max(10,000, mesh_samples / 5) points were added): the maximum found is
 //   then within 1 % of an upper bound of the true one. Where the distance
 //   is near its maximum over much of the mesh (a coarse polyhedron of a
 //   sphere: a maximum inside every face) those points run out first, and
