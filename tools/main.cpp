@@ -59,9 +59,10 @@ commands:
   compare MODEL.sdcb MESH [--json FILE] [--samples N] [--mesh-samples N]
                              Two-sided distance between the surface and a
                              mesh (dense samples of both: N surface samples,
-                             default 100000, and the mesh midpoint-
-                             subdivided to N mesh samples, default 100000,
-                             0: its vertices), folded area.
+                             default 100000, and the mesh split to about N
+                             mesh samples, default 100000, 0: its vertices;
+                             an upper bound of the mesh's side's maximum),
+                             folded area.
 
   export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb} [--tolerance PCT]
       [--angle DEG] [--uniform N] [--draco [--qp BITS] [--cl LEVEL]]
