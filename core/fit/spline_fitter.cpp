@@ -283,8 +283,8 @@ struct SplineFitter::State {
   TriangleMesh mesh;   // in the normalized frame
   Eigen::MatrixX3d u;  // the vertices' sphere parameters
   double mesh_area = 0;
-  // Per vertex: a third of its triangles' area, and the unit normal of their
-  // area-weighted sum (the rounds' estimate of the dense measurement).
+  // Per vertex: the unit normal of its triangles' area-weighted sum (the
+  // rounds' estimate of the dense measurement).
   Eigen::MatrixX3d vertex_normal;
   std::unique_ptr<PointKdTree> parameter_tree;
   // The mesh's AABB tree, built once for every round's measurement.
@@ -481,13 +481,12 @@ struct SplineFitter::State {
                                  const DelaunayConfigurations& knot_triangles,
                                  RoundDetails* details) const;
   StatusOr<Eigen::MatrixX3d> Solve(const Problem& problem) const;
-  // `vertex_points`: F(u_i) per vertex, or null (final measurement only).
-  // `mesh_to_surface` false: the surface -> mesh half only (a round of
-  // thinned samples bounds the other half at its rows).
+  // `final_measurement` false: the surface -> mesh half only (a round bounds
+  // the other half at its data rows). `vertex_points`: F(u_i) per vertex,
+  // candidates of the final measurement's closest points, or null.
   StatusOr<SurfaceDeviation> Measure(const SphericalSpline& surface,
                                      const Eigen::MatrixX3d* vertex_points,
-                                     bool final_measurement,
-                                     bool mesh_to_surface = true) const;
+                                     bool final_measurement) const;
   // The round's rms with the mesh -> surface half estimated by the residuals'
   // components along the mesh's normals (the distance to first order,
   // without the tangential part by which the parametric bound overstates
@@ -781,11 +780,12 @@ StatusOr<Eigen::MatrixX3d> SplineFitter::State::Solve(const Problem& p) const {
 
 StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
     const SphericalSpline& surface, const Eigen::MatrixX3d* vertex_points,
-    bool final_measurement, bool mesh_to_surface) const {
-  // Rounds: a lattice with round_samples_per_knot samples per knot, mesh ->
-  // surface bounded by |F(u_i) - x_i|. The final one: at least
-  // final_surface_samples, and the closest points on the spline from the
-  // mesh's vertices and about final_mesh_samples points of its triangles.
+    bool final_measurement) const {
+  // Rounds: surface -> mesh at a lattice with round_samples_per_knot
+  // samples per knot (the round bounds the other half at its data rows).
+  // The final one: at least final_surface_samples, and the closest points
+  // on the spline from the mesh's vertices and about final_mesh_samples
+  // points of its triangles.
   DeviationOptions measure;
   const int per_knot =
       options.round_samples_per_knot * static_cast<int>(surface.knots().rows());
@@ -795,7 +795,7 @@ StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
   measure.closest_points = final_measurement;
   measure.mesh_samples = final_measurement ? options.final_mesh_samples : 0;
   measure.search_all_vertices = false;
-  measure.mesh_to_surface = mesh_to_surface;
+  measure.mesh_to_surface = final_measurement;
   return MeasureSurfaceDeviation(surface, mesh, measure, vertex_points,
                                  &*mesh_distance);
 }
@@ -964,7 +964,7 @@ Status SplineFitter::State::RunRound() {
   // of the data term (the vertices and the points inside split triangles,
   // or a thinned data term's kept rows), each standing for its area.
   SDCB_ASSIGN_OR_RETURN(SurfaceDeviation deviation,
-                        Measure(surface, nullptr, false, false));
+                        Measure(surface, nullptr, false));
   const Eigen::MatrixX3d residuals = fitted - samples.targets;
   SetMeshToSurface(100.0 * residuals.rowwise().norm(), samples.weights,
                    &deviation);
