@@ -255,16 +255,18 @@ class MeshSamples {
     return static_cast<Eigen::Index>(points.size());
   }
 
-  // A third of each piece's area to each of its corners.
-  Eigen::VectorXd Weights() const {
-    Eigen::VectorXd w = Eigen::VectorXd::Zero(num_points());
-    for (const Eigen::Vector3i& t : pieces_) {
-      const double a = 0.5 * (points[t[1]] - points[t[0]])
-                                 .cross(points[t[2]] - points[t[0]])
-                                 .norm();
-      for (int k = 0; k < 3; ++k) w[t[k]] += a / 3;
+  // The points and the pieces as a mesh (the same surface as the input's).
+  TriangleMesh AsMesh() const {
+    TriangleMesh out;
+    out.vertices.resize(num_points(), 3);
+    for (Eigen::Index i = 0; i < num_points(); ++i) {
+      out.vertices.row(i) = points[static_cast<size_t>(i)].transpose();
     }
-    return w;
+    out.faces.resize(static_cast<Eigen::Index>(pieces_.size()), 3);
+    for (size_t f = 0; f < pieces_.size(); ++f) {
+      out.faces.row(static_cast<Eigen::Index>(f)) = pieces_[f].transpose();
+    }
+    return out;
   }
 
   // The largest distance to the spline that a point of the piece can have.
@@ -524,19 +526,18 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     // Unless all are searched, a search on the spline only from a point at
     // or above the mesh -> surface rms of the first distances (below it a
     // point barely moves the rms and cannot hold the maximum).
-    const Eigen::VectorXd first_weights = samples.Weights();
+    const Eigen::VectorXd first_weights = VertexAreas(*sample_mesh);
     samples.distance = to_spline.Distances(
         samples.points, 0, vertex_candidates,
         options.search_all_vertices ? nullptr : &first_weights,
         &out.refined_vertices);
     // Where the bound of a piece exceeds the largest distance found by more
     // than kBoundTolerance, the piece is halved and its new point measured,
-    // until none does (or kMaxBoundSamples more points were measured): the
-    // maximum then holds within that of an upper bound of the true one.
+    // until none does (or the budget of points is spent): the maximum then
+    // holds within that of an upper bound of the true one.
     if (options.mesh_samples > 0) {
       const int64_t budget = std::max<int64_t>(
           kMinBoundSamples, options.mesh_samples / kBoundSampleDivisor);
-
       for (int round = 0; round < kMaxBoundRounds; ++round) {
         const double goal =
             (1.0 + kBoundTolerance) *
@@ -554,16 +555,14 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
       }
     }
   }
-  const Eigen::VectorXd weights = samples.Weights();
+  const TriangleMesh pieces = samples.AsMesh();
+  const Eigen::VectorXd weights = VertexAreas(pieces);
   const Eigen::Map<const Eigen::VectorXd> distance(
       samples.distance.data(),
       static_cast<Eigen::Index>(samples.distance.size()));
   out.mesh_samples = samples.num_points();
   out.vertex_distance_percent = to_percent * distance.head(mesh_vertices);
-  out.mesh_sample_points.resize(out.mesh_samples, 3);
-  for (Eigen::Index i = 0; i < out.mesh_samples; ++i) {
-    out.mesh_sample_points.row(i) = samples.points[i].transpose();
-  }
+  out.mesh_sample_points = pieces.vertices;
   out.mesh_sample_distance_percent = to_percent * distance;
   out.mesh_sample_weight = weights;
   const double mesh_area = weights.sum();
