@@ -52,9 +52,6 @@ int main(int argc, char** argv) {
   sdcb::TessellationOptions options;
   options.tolerance = std::atof(argv[2]) / 100.0;
   for (int i = 3; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--no-simplify")) options.simplify = false;
-    if (!std::strcmp(argv[i], "--no-optimize")) options.optimize = false;
-    if (!std::strcmp(argv[i], "--no-relocate")) options.relocate = false;
   }
   const double eps = options.tolerance;
   const auto start = std::chrono::steady_clock::now();

@@ -304,9 +304,6 @@ int RunExport(const std::vector<std::string>& argv) {
     TessellationOptions options;
     options.tolerance = surface_tolerance;
     options.angle_degrees = angle;
-    options.optimize = !args.Has("no-optimize");
-    options.simplify = !args.Has("no-simplify");
-    options.relocate = !args.Has("no-relocate");
     StatusOr<Tessellation> adaptive = TessellateAdaptively(sampler, options);
     if (!adaptive.ok()) {
       return ReportError(adaptive.status().WithPrefix(model_path));

@@ -48,76 +48,29 @@ void ExpectSphereTriangulation(const SphereTriangulation& t) {
   EXPECT_NEAR(area, 4.0 * M_PI, 1e-9);
 }
 
-TEST(SphereTriangulationTest, IcosahedronIsASphere) {
-  const auto t = SphereTriangulation::Icosahedron([](int, int) { return 1.0; });
-  EXPECT_EQ(t.num_vertices(), 12);
-  EXPECT_EQ(t.num_faces(), 20);
-  ExpectSphereTriangulation(t);
-}
-
-TEST(SphereTriangulationTest, RandomBisectionsStayConforming) {
-  // Domain lengths scaled by a random factor in [1, 1.5] per edge (fixed
-  // per edge: a surface metric), random faces: long LEPP paths.
-  std::mt19937 rng(3);
-  SphereTriangulation* current = nullptr;
-  const auto length = [&](int a, int b) {
-    return (current->vertex(a) - current->vertex(b)).norm() *
-           std::uniform_real_distribution<>(1.0, 1.5)(rng);
-  };
-  SphereTriangulation t = SphereTriangulation::Icosahedron([](int a, int b) {
-    return 1.0 + 0.01 * std::min(a, b) + 0.001 * std::max(a, b);
-  });
-  current = &t;
-  int created = 0;
-  for (int step = 0; step < 2000; ++step) {
-    std::vector<int> alive;
-    for (int f = 0; f < t.num_face_slots(); ++f) {
-      if (t.alive(f)) alive.push_back(f);
+// The corner table against a brute-force scan of the faces: every alive
+// half-edge's twin runs the other way and is its twin's twin; Star(v) lists
+// exactly the faces with corner v, faces[i] = (v, ring[i], ring[i + 1]);
+// HalfEdge finds the only face with that directed edge.
+void ExpectConsistentAdjacency(const SphereTriangulation& t) {
+  std::map<std::pair<int, int>, int> owner;
+  for (int f = 0; f < t.num_face_slots(); ++f) {
+    if (!t.alive(f)) continue;
+    for (int e = 0; e < 3; ++e) {
+      const int h = 3 * f + e;
+      owner[{t.Origin(h), t.Target(h)}] = h;
+      const int g = t.Twin(h);
+      ASSERT_GE(g, 0);
+      ASSERT_TRUE(t.alive(g / 3));
+      EXPECT_EQ(t.Twin(g), h);
+      EXPECT_EQ(t.Origin(g), t.Target(h));
+      EXPECT_EQ(t.Target(g), t.Origin(h));
     }
-    const int f = alive[rng() % alive.size()];
-    const int before = t.num_vertices();
-    t.Bisect(f, length, [&](int v) {
-      EXPECT_GE(v, before);
-      ++created;
-    });
-    EXPECT_FALSE(t.alive(f));
   }
-  EXPECT_EQ(t.num_vertices(), 12 + created);
-  ExpectSphereTriangulation(t);
-  // Each split adds one vertex and two faces.
-  EXPECT_EQ(t.num_faces(), 20 + 2 * created);
-}
-
-TEST(SphereTriangulationTest, RandomEdgeSplitsStayConforming) {
-  // Any edge (not only longest ones) split at its midpoint, mixed with
-  // collapses: still a sphere, two faces more per split.
-  std::mt19937 rng(5);
-  const auto length = [](int a, int b) { return 1.0; };
-  SphereTriangulation t = SphereTriangulation::Icosahedron(length);
-  int created = 0;
-  for (int step = 0; step < 1500; ++step) {
-    const std::vector<std::array<int, 2>> edges = t.Edges();
-    const auto [a, b] = edges[rng() % edges.size()];
-    const int before_faces = t.num_faces();
-    const int before = t.num_vertices();
-    int added = -1;
-    t.SplitEdge(a, b, length, [&](int v) {
-      added = v;
-      ++created;
-    });
-    ASSERT_EQ(added, before);
-    EXPECT_FALSE(t.HasEdge(a, b));
-    EXPECT_TRUE(t.HasEdge(a, added) && t.HasEdge(added, b));
-    EXPECT_NEAR(t.vertex(added).norm(), 1.0, 1e-15);
-    EXPECT_EQ(t.num_faces(), before_faces + 2);
-  }
-  EXPECT_EQ(t.num_vertices(), 12 + created);
-  ExpectSphereTriangulation(t);
-  // Star and FaceOf against a brute-force scan of the faces: Star(v)[i] is
-  // the face (v, ring[i], ring[i + 1]), the only face with that directed
-  // edge.
+  std::vector<int> star, ring;
   for (int v = 0; v < t.num_vertices(); ++v) {
-    const std::vector<int> ring = t.Ring(v), star = t.Star(v);
+    if (!t.vertex_alive(v)) continue;
+    t.Star(v, &star, &ring);
     ASSERT_EQ(star.size(), ring.size());
     int faces_of_v = 0;
     for (int f = 0; f < t.num_face_slots(); ++f) {
@@ -128,26 +81,141 @@ TEST(SphereTriangulationTest, RandomEdgeSplitsStayConforming) {
     EXPECT_EQ(faces_of_v, static_cast<int>(star.size()));
     const int n = static_cast<int>(ring.size());
     for (int i = 0; i < n; ++i) {
-      const int x = ring[i], y = ring[(i + 1) % n];
-      int found = -1;
-      for (int f = 0; f < t.num_face_slots(); ++f) {
-        if (!t.alive(f)) continue;
-        const auto& face = t.face(f);
-        for (int k = 0; k < 3; ++k) {
-          if (face[k] == v && face[(k + 1) % 3] == x &&
-              face[(k + 2) % 3] == y) {
-            found = f;
-          }
-        }
-      }
-      EXPECT_EQ(star[i], found);
-      EXPECT_EQ(t.FaceOf(v, x), found);
-      EXPECT_TRUE(SphereTriangulation::IsPositive(t.vertex(v), t.vertex(x),
-                                                  t.vertex(y)));
-      EXPECT_FALSE(SphereTriangulation::IsPositive(t.vertex(v), t.vertex(y),
-                                                   t.vertex(x)));
+      const int h = t.HalfEdge(v, ring[i]);
+      ASSERT_GE(h, 0);
+      EXPECT_EQ(h, owner.at({v, ring[i]}));
+      EXPECT_EQ(h / 3, star[i]);
+      EXPECT_EQ(t.Apex(h), ring[(i + 1) % n]);
     }
   }
+}
+
+TEST(SphereTriangulationTest, IcosphereIsASphere) {
+  for (int level : {0, 2}) {
+    const SphereTriangulation t = SphereTriangulation::Icosphere(level);
+    EXPECT_EQ(t.num_vertices(), 10 * (1 << (2 * level)) + 2);
+    EXPECT_EQ(t.num_faces(), 20 * (1 << (2 * level)));
+    ExpectSphereTriangulation(t);
+    ExpectConsistentAdjacency(t);
+  }
+}
+
+TEST(SphereTriangulationTest, FromFacesRefusesOpenOrInconsistentFaces) {
+  const SphereTriangulation ico = SphereTriangulation::Icosphere(0);
+  Eigen::MatrixX3d directions(12, 3);
+  for (int v = 0; v < 12; ++v) directions.row(v) = ico.vertex(v);
+  Eigen::MatrixX3i faces = ico.Faces();
+  EXPECT_TRUE(SphereTriangulation::FromFaces(directions, faces).ok());
+  Eigen::MatrixX3i open = faces.topRows(19);  // a hole
+  EXPECT_FALSE(SphereTriangulation::FromFaces(directions, open).ok());
+  Eigen::MatrixX3i flipped = faces;  // one face turned over
+  std::swap(flipped(3, 0), flipped(3, 1));
+  EXPECT_FALSE(SphereTriangulation::FromFaces(directions, flipped).ok());
+  Eigen::MatrixX3i bad = faces;
+  bad(0, 0) = 12;  // no such vertex
+  EXPECT_FALSE(SphereTriangulation::FromFaces(directions, bad).ok());
+}
+
+TEST(SphereTriangulationTest, RandomSplitsCollapsesAndFlipsStayASphere) {
+  // Random edges split at their midpoints, random vertices collapsed into a
+  // random neighbour where the preview allows it, random edges flipped:
+  // after each step the corner table matches the faces, and the result is
+  // a triangulation of the sphere. Each split adds a vertex and two faces;
+  // each collapse removes a vertex and two faces.
+  std::mt19937 rng(5);
+  SphereTriangulation t = SphereTriangulation::Icosphere(1);
+  int vertices = t.num_vertices(), faces = t.num_faces();
+  int splits = 0, collapses = 0, flips = 0;
+  std::vector<SphereTriangulation::Face> preview;
+  std::vector<int> slots, ring;
+  for (int step = 0; step < 3000; ++step) {
+    std::vector<int> alive;
+    for (int f = 0; f < t.num_face_slots(); ++f) {
+      if (t.alive(f)) alive.push_back(f);
+    }
+    const int h = 3 * alive[rng() % alive.size()] + int(rng() % 3);
+    const int kind = step < 600 ? 0 : int(rng() % 3);
+    if (kind == 0) {
+      const int a = t.Origin(h), b = t.Target(h);
+      const int m =
+          t.SplitEdge(h, (t.vertex(a) + t.vertex(b)).normalized());
+      EXPECT_EQ(m, vertices);
+      EXPECT_LT(t.HalfEdge(a, b), 0);
+      EXPECT_GE(t.HalfEdge(a, m), 0);
+      EXPECT_GE(t.HalfEdge(m, b), 0);
+      ++vertices;
+      faces += 2;
+      ++splits;
+    } else if (kind == 1) {
+      const int v = t.Origin(h);
+      t.Star(v, nullptr, &ring);
+      const int w = ring[rng() % ring.size()];
+      if (!t.PreviewCollapse(v, w, &preview, &slots)) continue;
+      EXPECT_EQ(preview.size(), ring.size() - 2);
+      t.Collapse(v, w);
+      EXPECT_FALSE(t.vertex_alive(v));
+      // The slots hold the previewed faces (up to rotation).
+      for (size_t i = 0; i < slots.size(); ++i) {
+        auto face = t.face(slots[i]);
+        auto expected = preview[i];
+        std::rotate(face.begin(),
+                    std::find(face.begin(), face.end(), expected[0]),
+                    face.end());
+        EXPECT_EQ(face, expected);
+      }
+      faces -= 2;
+      ++collapses;
+    } else {
+      std::array<SphereTriangulation::Face, 2> flipped;
+      if (!t.PreviewFlip(h, &flipped)) continue;
+      const int f = h / 3, g = t.Twin(h) / 3;
+      t.Flip(h);
+      EXPECT_EQ(t.face(f), flipped[0]);
+      EXPECT_EQ(t.face(g), flipped[1]);
+      ++flips;
+    }
+    EXPECT_EQ(t.num_faces(), faces);
+    if (step % 250 == 0) ExpectConsistentAdjacency(t);
+  }
+  EXPECT_GT(collapses, 100);
+  EXPECT_GT(flips, 100);
+  EXPECT_EQ(static_cast<int>(t.AliveVertices().size()),
+            12 + 30 + splits - collapses);
+  ExpectSphereTriangulation(t);
+  ExpectConsistentAdjacency(t);
+}
+
+TEST(SphereTriangulationTest, CollapseKeepsTheLinkCondition) {
+  // On the icosahedron every vertex has valence 5; collapsing one into a
+  // neighbour is valid (their two common neighbours are the edge's apexes).
+  // Collapsing on the octahedron-like pinch of a valence-3 vertex next to
+  // another is refused.
+  SphereTriangulation t = SphereTriangulation::Icosphere(0);
+  std::vector<SphereTriangulation::Face> preview;
+  std::vector<int> slots, ring;
+  t.Star(0, nullptr, &ring);
+  ASSERT_TRUE(t.PreviewCollapse(0, ring[0], &preview, &slots));
+  t.Collapse(0, ring[0]);
+  ExpectSphereTriangulation(t);
+  // Collapse until refused everywhere: never below a tetrahedron.
+  bool any = true;
+  while (any) {
+    any = false;
+    for (int v : t.AliveVertices()) {
+      t.Star(v, nullptr, &ring);
+      for (int w : ring) {
+        if (t.PreviewCollapse(v, w, &preview, &slots)) {
+          t.Collapse(v, w);
+          any = true;
+          break;
+        }
+      }
+      if (any) break;
+    }
+  }
+  EXPECT_GE(t.num_faces(), 4);
+  ExpectSphereTriangulation(t);
+  ExpectConsistentAdjacency(t);
 }
 
 }  // namespace

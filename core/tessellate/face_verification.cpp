@@ -1,0 +1,361 @@
+#include "sdcb/core/tessellate/face_verification.h"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+#include <cstdio>
+#include <cstdlib>
+#include <cstdio>
+#include <cstdlib>
+
+namespace sdcb {
+namespace {
+
+// Faces measured near the threshold, or whose lattice image is stretched,
+// are measured again at a finer order, up to this one.
+constexpr int kMaxOrder = 24;
+constexpr double kRecheckFraction = 0.7;
+constexpr double kMaxStretch = 1.2;
+constexpr double kRecheckRefinement = 2.5;
+
+// A face's barycentric lattice of order m: the weights (i, j, k) / m,
+// i + j + k = m, corners first (not evaluated: they are the face's
+// vertices), and the pairs of adjacent points.
+struct Lattice {
+  explicit Lattice(int m) {
+    const auto index = [m](int i, int j) {
+      return i * (m + 1) - i * (i - 1) / 2 + j;  // row-major over i
+    };
+    std::vector<Eigen::Vector3d> all;
+    for (int i = 0; i <= m; ++i)
+      for (int j = 0; i + j <= m; ++j) {
+        all.emplace_back(double(i) / m, double(j) / m, double(m - i - j) / m);
+      }
+    // Corners (i = m), (j = m), (k = m) as -1, -2, -3; others renumbered.
+    std::vector<int> renumber(all.size());
+    for (int i = 0; i <= m; ++i)
+      for (int j = 0; i + j <= m; ++j) {
+        const int x = index(i, j);
+        if (i == m) {
+          renumber[x] = -1;
+        } else if (j == m) {
+          renumber[x] = -2;
+        } else if (i + j == 0) {
+          renumber[x] = -3;
+        } else {
+          renumber[x] = static_cast<int>(weights.size());
+          weights.push_back(all[x]);
+        }
+      }
+    for (int i = 0; i <= m; ++i)
+      for (int j = 0; i + j < m; ++j) {
+        const int x = renumber[index(i, j)], y = renumber[index(i + 1, j)],
+                  z = renumber[index(i, j + 1)];
+        edges.push_back({x, y});
+        edges.push_back({x, z});
+        edges.push_back({y, z});
+      }
+  }
+  std::vector<Eigen::Vector3d> weights;       // points other than corners
+  std::vector<std::array<int, 2>> edges;      // corner c as -1 - c
+};
+
+// What the lattice of a face measured.
+struct LatticeMeasure {
+  double distance = 0.0;
+  double angle = 0.0;  // radians
+  bool angle_ok = true;
+  // The largest ratio of a lattice edge's image to the same edge of the
+  // flat triangle's lattice (1 where the surface is affine over the face).
+  double stretch = 1.0;
+};
+
+// Measures faces[i] on its lattice of order orders[i] (one batch).
+std::vector<LatticeMeasure> MeasureLattices(const SurfaceSampler& surface,
+                                            const SampledFaces& faces,
+                                            const std::vector<int>& which,
+                                            const std::vector<int>& orders,
+                                            double threshold,
+                                            int64_t* evaluations) {
+  const SurfaceSamples& samples = faces.samples();
+  const SphereTriangulation& pattern = samples.pattern;
+  const bool with_normals = faces.tests_angle();
+  std::vector<std::unique_ptr<Lattice>> lattices(kMaxOrder + 1);
+  std::vector<Eigen::Index> offset(which.size() + 1, 0);
+  for (size_t i = 0; i < which.size(); ++i) {
+    auto& l = lattices[orders[i]];
+    if (!l) l = std::make_unique<Lattice>(orders[i]);
+    offset[i + 1] = offset[i] + static_cast<Eigen::Index>(l->weights.size());
+  }
+  Eigen::MatrixX3d directions(offset.back(), 3), points, normals;
+  tbb::parallel_for(size_t{0}, which.size(), [&](size_t i) {
+    const auto& t = pattern.face(which[i]);
+    const Lattice& l = *lattices[orders[i]];
+    for (size_t k = 0; k < l.weights.size(); ++k) {
+      const Eigen::Vector3d& w = l.weights[k];
+      directions.row(offset[i] + k) =
+          (w[0] * pattern.vertex(t[0]) + w[1] * pattern.vertex(t[1]) +
+           w[2] * pattern.vertex(t[2]))
+              .normalized()
+              .transpose();
+    }
+  });
+  surface.Sample(directions, &points, with_normals ? &normals : nullptr);
+  *evaluations += directions.rows();
+  std::vector<LatticeMeasure> out(which.size());
+  tbb::parallel_for(size_t{0}, which.size(), [&](size_t i) {
+    const auto& t = pattern.face(which[i]);
+    const Lattice& l = *lattices[orders[i]];
+    LatticeMeasure& m = out[i];
+    Eigen::Index worst = -1;
+    m.distance = faces.MeasurePoints(which[i], points,
+                                     with_normals ? &normals : nullptr,
+                                     offset[i], offset[i + 1] - offset[i],
+                                     threshold, &m.angle_ok, &m.angle, &worst);
+    const auto image = [&](int x) -> Eigen::Vector3d {
+      return x < 0 ? samples.positions[t[-1 - x]]
+                   : Eigen::Vector3d(points.row(offset[i] + x).transpose());
+    };
+    const auto flat = [&](int x) -> Eigen::Vector3d {
+      if (x < 0) return samples.positions[t[-1 - x]];
+      const Eigen::Vector3d& w = l.weights[x];
+      return w[0] * samples.positions[t[0]] + w[1] * samples.positions[t[1]] +
+             w[2] * samples.positions[t[2]];
+    };
+    double stretch2 = 1.0;
+    for (const auto& [x, y] : l.edges) {
+      const double along = (flat(x) - flat(y)).squaredNorm();
+      const double imaged = (image(x) - image(y)).squaredNorm();
+      if (imaged > stretch2 * along) {
+        stretch2 = along > 0.0 ? imaged / along : 1e300;
+      }
+    }
+    m.stretch = std::sqrt(stretch2);
+  });
+  return out;
+}
+
+double ShortestDomainEdge(const SphereTriangulation& pattern, int f) {
+  const auto& t = pattern.face(f);
+  double s = 4.0;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d& a = pattern.vertex(t[i]);
+    const Eigen::Vector3d& b = pattern.vertex(t[(i + 1) % 3]);
+    s = std::min(s, std::atan2(a.cross(b).norm(), a.dot(b)));
+  }
+  return s;
+}
+
+}  // namespace
+
+Status VerifyFaces(const SurfaceSampler& surface,
+                   const VerificationOptions& options, SampledFaces* faces,
+                   VerificationResult* result) {
+  if (options.lattice < 2 || options.lattice > 16) {
+    return InvalidArgumentError("the lattice order must be in [2, 16]");
+  }
+  SurfaceSamples& samples = faces->samples();
+  SphereTriangulation& pattern = samples.pattern;
+  std::vector<double> lattice_error(pattern.num_face_slots(), 0.0);
+  std::vector<double> face_angle(pattern.num_face_slots(), 0.0);
+  std::vector<char> settled(pattern.num_face_slots(), 0);  // too small
+  std::vector<char> was_flipped(pattern.num_face_slots(), 0);
+  std::vector<int> pending;
+  for (int f = 0; f < pattern.num_face_slots(); ++f) {
+    if (pattern.alive(f)) pending.push_back(f);
+  }
+  // Flips that repair a face are measured on the lattice too.
+  faces->SetLattice(&surface, options.lattice);
+  struct NoLattice {
+    SampledFaces* faces;
+    ~NoLattice() { faces->SetLattice(nullptr, 0); }
+  } no_lattice{faces};
+  while (!pending.empty()) {
+    const Eigen::Index n = static_cast<Eigen::Index>(pending.size());
+    std::vector<LatticeMeasure> measured =
+        MeasureLattices(surface, *faces, pending,
+                        std::vector<int>(pending.size(), options.lattice),
+                        options.threshold, &result->evaluations);
+    // Where the lattice may miss the maximum: measured again, finer.
+    std::vector<int> again, orders;
+    std::vector<size_t> again_index;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const LatticeMeasure& m = measured[i];
+      if (!m.angle_ok || !(m.distance <= options.threshold)) continue;
+      if (m.distance > kRecheckFraction * options.threshold ||
+          m.stretch > kMaxStretch) {
+        again.push_back(pending[i]);
+        again_index.push_back(i);
+        orders.push_back(std::min<int>(
+            kMaxOrder,
+            static_cast<int>(std::ceil(
+                options.lattice *
+                std::min(10.0, std::max(kRecheckRefinement, m.stretch))))));
+      }
+    }
+    if (!again.empty()) {
+      const std::vector<LatticeMeasure> finer =
+          MeasureLattices(surface, *faces, again, orders, options.threshold,
+                          &result->evaluations);
+      for (size_t j = 0; j < again.size(); ++j) {
+        LatticeMeasure& m = measured[again_index[j]];
+        m.distance = std::max(m.distance, finer[j].distance);
+        m.angle = std::max(m.angle, finer[j].angle);
+        m.angle_ok = m.angle_ok && finer[j].angle_ok;
+      }
+    }
+    std::vector<char> failed(n, 0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const int f = pending[i];
+      lattice_error[f] = measured[i].distance;
+      face_angle[f] = measured[i].angle;
+      failed[i] = !measured[i].angle_ok ||
+                  !(measured[i].distance <= options.threshold) ||
+                  !(faces->error(f) <= options.threshold);
+    }
+
+    if (getenv("DBG")) {
+      int nf = 0, na = 0, ns = 0, nl = 0;
+      for (Eigen::Index i = 0; i < n; ++i) if (failed[i]) { ++nf; const int f = pending[i];
+        if (faces->error(f) > options.threshold) ++ns; else if (lattice_error[f] > options.threshold) ++nl; else ++na; }
+      fprintf(stderr, "verify %ld: %d fail: samples %d lattice %d angle/orient %d\n", (long)n, nf, ns, nl, na);
+    }
+    // Each failing face has its longest image edge split at the domain
+    // midpoint, with the face across it (each face at most once per round);
+    // the midpoints are evaluated in one batch and the two faces' samples
+    // redistributed among the four.
+    std::vector<char> touched(pattern.num_face_slots(), 0);
+    std::vector<int> next, changed, midpoints;
+    std::vector<FaceChange> changes;
+    int64_t splits = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const int f = pending[i];
+      if (!failed[i] || !pattern.alive(f)) continue;
+      if (touched[f]) {
+        next.push_back(f);
+        continue;
+      }
+      if (ShortestDomainEdge(pattern, f) < options.min_edge_radians) {
+        settled[f] = 1;
+        continue;
+      }
+      // A flip of one of its edges whose two faces pass (their samples and
+      // lattices) repairs it without new faces.
+      // Once per face: a flip that passed on the base lattice may fail the
+      // finer one, and flipping back would never end.
+      bool flipped = false;
+      for (int e = 0; e < 3 && !flipped && !was_flipped[f]; ++e) {
+        const int h = 3 * f + e;
+        const int g = pattern.Twin(h) / 3;
+        std::array<SphereTriangulation::Face, 2> two;
+        if (touched[g] || was_flipped[g] || !pattern.PreviewFlip(h, &two)) {
+          continue;
+        }
+        FaceChange change;
+        change.faces.assign(two.begin(), two.end());
+        change.slots = {f, g};
+        change.old_faces = {f, g};
+        ChangeResult checked;
+        if (!faces->Evaluate(change, options.threshold, &checked)) continue;
+        pattern.Flip(h);
+        faces->Apply(change, &checked);
+        touched[f] = touched[g] = 1;
+        was_flipped[f] = was_flipped[g] = 1;
+        changed.push_back(f);
+        changed.push_back(g);
+        flipped = true;
+      }
+      if (flipped) continue;
+      const auto t = pattern.face(f);
+      int edge = 0;
+      double longest2 = -1.0;
+      for (int e = 0; e < 3; ++e) {
+        const double l2 =
+            (samples.positions[t[(e + 1) % 3]] - samples.positions[t[e]])
+                .squaredNorm();
+        if (l2 > longest2) {
+          longest2 = l2;
+          edge = 3 * f + e;
+        }
+      }
+      const int g = pattern.Twin(edge) / 3;
+      if (touched[g]) {
+        next.push_back(f);
+        continue;
+      }
+      const int a = pattern.Origin(edge), b = pattern.Target(edge);
+      const int m =
+          pattern.SplitEdge(edge, (pattern.vertex(a) + pattern.vertex(b)).normalized());
+      midpoints.push_back(m);
+      FaceChange change;
+      change.old_faces = {f, g};
+      change.slots = {f, g, pattern.num_face_slots() - 2,
+                      pattern.num_face_slots() - 1};
+      ++splits;
+      touched.resize(pattern.num_face_slots(), 0);
+      was_flipped.resize(pattern.num_face_slots(), 0);
+      faces->Resize();  // a flip later in the round reads the new slots
+      for (int x : change.slots) {
+        touched[x] = 1;
+        was_flipped[x] = 0;
+        changed.push_back(x);
+      }
+      changes.push_back(std::move(change));
+    }
+    if (pattern.num_faces() > options.max_faces) {
+      return InvalidInputError("the tolerance needs more than " +
+                               std::to_string(options.max_faces) +
+                               " triangles");
+    }
+    // The midpoints are the newest vertices: one batch.
+    if (!midpoints.empty()) {
+      EvaluateNewVertices(surface, midpoints.front(), &samples);
+    }
+    faces->Resize();
+    lattice_error.resize(pattern.num_face_slots(), 0.0);
+    face_angle.resize(pattern.num_face_slots(), 0.0);
+    settled.resize(pattern.num_face_slots(), 0);
+    was_flipped.resize(pattern.num_face_slots(), 0);
+    for (FaceChange& change : changes) {
+      for (int x : change.slots) change.faces.push_back(pattern.face(x));
+      faces->Reassign(change);
+    }
+    // The split faces and their neighbours (whose triangles across changed)
+    // are measured again.
+    for (int x : changed) {
+      settled[x] = 0;
+      next.push_back(x);
+      for (int e = 0; e < 3; ++e) next.push_back(pattern.Twin(3 * x + e) / 3);
+    }
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    next.erase(std::remove_if(next.begin(), next.end(),
+                              [&](int f) {
+                                return !pattern.alive(f) || settled[f];
+                              }),
+               next.end());
+    result->splits += splits;
+    if (options.progress) options.progress(n, splits);
+    pending = std::move(next);
+  }
+  result->max_distance = 0.0;
+  result->max_angle = 0.0;
+  result->uncertified_faces = 0;
+  for (int f = 0; f < pattern.num_face_slots(); ++f) {
+    if (!pattern.alive(f)) continue;
+    result->max_distance = std::max(
+        {result->max_distance, lattice_error[f], faces->error(f)});
+    result->max_angle = std::max(result->max_angle, face_angle[f]);
+    if (settled[f]) ++result->uncertified_faces;
+  }
+  return Status::Ok();
+}
+
+}  // namespace sdcb

@@ -1,0 +1,185 @@
+#include "sdcb/core/tessellate/surface_samples.h"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+namespace sdcb {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double DomainAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+}  // namespace
+
+double PredictedFlatError(const Eigen::Vector3d& pa, const Eigen::Vector3d& pb,
+                          const Eigen::Vector3d& pc, const Eigen::Vector3d& na,
+                          const Eigen::Vector3d& nb,
+                          const Eigen::Vector3d& nc) {
+  const double qab = std::abs((nb - na).dot(pb - pa));
+  const double qbc = std::abs((nc - nb).dot(pc - pb));
+  const double qca = std::abs((na - nc).dot(pa - pc));
+  return std::max({qab, qbc, qca}) / 6.0;
+}
+
+void EvaluateNewVertices(const SurfaceSampler& surface, int first,
+                         SurfaceSamples* samples) {
+  const int n = samples->pattern.num_vertices();
+  if (n <= first) return;
+  Eigen::MatrixX3d directions(n - first, 3), positions, normals;
+  for (int v = first; v < n; ++v) {
+    directions.row(v - first) = samples->pattern.vertex(v).transpose();
+  }
+  surface.Sample(directions, &positions, &normals);
+  samples->positions.resize(n);
+  samples->normals.resize(n);
+  for (int v = first; v < n; ++v) {
+    samples->positions[v] = positions.row(v - first).transpose();
+    samples->normals[v] = normals.row(v - first).transpose();
+  }
+  samples->evaluations += n - first;
+}
+
+StatusOr<SurfaceSamples> SampleSurface(const SurfaceSampler& surface,
+                                       const SurfaceSampleOptions& options) {
+  if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance)) {
+    return InvalidArgumentError("the tolerance must be positive");
+  }
+  SurfaceSamples s;
+  s.pattern = SphereTriangulation::Icosphere(options.initial_level);
+  EvaluateNewVertices(surface, 0, &s);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (const Eigen::Vector3d& p : s.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  s.size = (hi - lo).maxCoeff();
+  if (!std::isfinite(s.size)) {
+    return InvalidInputError("the surface has a non-finite point");
+  }
+  const double max_length =
+      options.length_factor * std::sqrt(options.tolerance * s.size);
+  const double max_error = options.error_fraction * options.tolerance;
+  const bool test_angle = options.angle_degrees < 180.0;
+  const double angle_length = options.angle_length_factor * options.tolerance;
+  const double min_cos =
+      std::cos(options.angle_degrees / options.angle_divisions * kPi / 180.0);
+
+  // Whether face f fails (see the header). Faces whose image is within the
+  // error share of a point are left: at a singular point of the surface
+  // (its normals turning over within any neighbourhood) no split would make
+  // them pass.
+  const auto fails = [&](int f) {
+    const SphereTriangulation::Face& t = s.pattern.face(f);
+    double longest2 = 0.0, q = 0.0, least_cos = 1.0;
+    for (int e = 0; e < 3; ++e) {
+      const int a = t[e], b = t[(e + 1) % 3];
+      const Eigen::Vector3d d = s.positions[b] - s.positions[a];
+      longest2 = std::max(longest2, d.squaredNorm());
+      if (s.normals[a].isZero(0.0) || s.normals[b].isZero(0.0)) continue;
+      const double c = s.normals[a].dot(s.normals[b]);
+      least_cos = std::min(least_cos, c);
+      // Across a fold or a cusp (normals turned over) the quadratic
+      // prediction means nothing; the size criterion still holds there.
+      if (c > 0.0) q = std::max(q, std::abs((s.normals[b] - s.normals[a]).dot(d)));
+    }
+    if (longest2 > max_length * max_length) return true;
+    if (longest2 <= max_error * max_error) return false;
+    // The angular test applies to faces larger than the tolerance only.
+    return q > 6.0 * max_error ||
+           (test_angle && least_cos < min_cos &&
+            longest2 > angle_length * angle_length);
+  };
+  // Domain edges order the bisections (longest first, ties by vertex
+  // index): Rivara's longest-edge bisection, which keeps the domain faces
+  // well shaped and ends. (Image lengths would not: near a singular point
+  // of the surface they drive the domain faces into needles.)
+  const auto longer = [&](int a, int b, int c, int d) {
+    const double lab = (s.pattern.vertex(a) - s.pattern.vertex(b)).squaredNorm();
+    const double lcd = (s.pattern.vertex(c) - s.pattern.vertex(d)).squaredNorm();
+    if (lab != lcd) return lab > lcd;
+    return std::make_pair(std::min(a, b), std::max(a, b)) >
+           std::make_pair(std::min(c, d), std::max(c, d));
+  };
+  const auto longest_half_edge = [&](int f) {
+    const SphereTriangulation::Face& t = s.pattern.face(f);
+    int best = 0;
+    for (int e = 1; e < 3; ++e) {
+      if (longer(t[e], t[(e + 1) % 3], t[best], t[(best + 1) % 3])) best = e;
+    }
+    return 3 * f + best;
+  };
+  const auto split = [&](int h, std::vector<int>* touched) {
+    const int a = s.pattern.Origin(h), b = s.pattern.Target(h);
+    touched->push_back(h / 3);
+    touched->push_back(s.pattern.Twin(h) / 3);
+    s.pattern.SplitEdge(
+        h, (s.pattern.vertex(a) + s.pattern.vertex(b)).normalized());
+  };
+  // LEPP: walks from f across longest edges until two faces share their
+  // longest edge, splits it, and starts again until f itself is split.
+  constexpr int kMaxPath = 64;
+  const auto bisect = [&](int f0, std::vector<int>* touched) {
+    const SphereTriangulation::Face original = s.pattern.face(f0);
+    while (s.pattern.alive(f0) && s.pattern.face(f0) == original) {
+      int h = longest_half_edge(f0);
+      for (int depth = 0; depth < kMaxPath; ++depth) {
+        const int t = s.pattern.Twin(h);
+        const int next = longest_half_edge(t / 3);
+        if (next == t) break;
+        h = next;
+      }
+      const int a = s.pattern.Origin(h), b = s.pattern.Target(h);
+      if (DomainAngle(s.pattern.vertex(a), s.pattern.vertex(b)) <
+          options.min_edge_radians) {
+        return;
+      }
+      split(h, touched);
+    }
+  };
+
+  std::vector<int> pending(s.pattern.num_face_slots());
+  for (int f = 0; f < s.pattern.num_face_slots(); ++f) pending[f] = f;
+  std::vector<char> failing;
+  while (!pending.empty()) {
+    failing.assign(pending.size(), 0);
+    tbb::parallel_for(size_t{0}, pending.size(), [&](size_t i) {
+      failing[i] = s.pattern.alive(pending[i]) && fails(pending[i]);
+    });
+    const int first_vertex = s.pattern.num_vertices();
+    const int first_face = s.pattern.num_face_slots();
+    std::vector<int> touched;
+    for (size_t i = 0; i < pending.size(); ++i) {
+      // A split earlier in this round may have split this face already.
+      const SphereTriangulation::Face& t = s.pattern.face(pending[i]);
+      if (failing[i] && s.pattern.alive(pending[i]) &&
+          std::max({t[0], t[1], t[2]}) < first_vertex) {
+        bisect(pending[i], &touched);
+      }
+    }
+    if (s.pattern.num_vertices() > options.max_vertices) {
+      return InvalidInputError("the tolerance needs more than " +
+                               std::to_string(options.max_vertices) +
+                               " surface samples");
+    }
+    EvaluateNewVertices(surface, first_vertex, &s);
+    for (int f = first_face; f < s.pattern.num_face_slots(); ++f) {
+      touched.push_back(f);
+    }
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    pending = std::move(touched);
+    if (options.progress) options.progress(s.pattern.num_vertices());
+  }
+  return s;
+}
+
+}  // namespace sdcb
