@@ -29,7 +29,7 @@ constexpr double kSimplificationShare = 0.96;
 constexpr double kVerificationShare = 1.0;
 // Samples per face: the pattern's faces are predicted within this fraction
 // of the tolerance.
-constexpr double kSampleErrorFraction = 1.0 / 16.0;
+constexpr double kSampleErrorFraction = 1.0 / 8.0;
 
 }  // namespace
 
@@ -84,6 +84,7 @@ StatusOr<Tessellation> TessellateAdaptively(
   VerificationOptions verification;
   verification.threshold = kVerificationShare * options.tolerance;
   verification.lattice = options.lattice;
+  verification.angle_length = sampling.angle_length_factor * options.tolerance;
   verification.min_edge_radians = options.min_edge_radians;
   verification.max_faces = options.max_faces;
   int64_t measured = 0;

@@ -5,15 +5,10 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
-#include <array>
 #include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
-#include <cstdio>
-#include <cstdlib>
-#include <cstdio>
-#include <cstdlib>
 
 namespace sdcb {
 namespace {
@@ -63,8 +58,8 @@ struct Lattice {
         edges.push_back({y, z});
       }
   }
-  std::vector<Eigen::Vector3d> weights;       // points other than corners
-  std::vector<std::array<int, 2>> edges;      // corner c as -1 - c
+  std::vector<Eigen::Vector3d> weights;   // points other than corners
+  std::vector<std::array<int, 2>> edges;  // corner c as -1 - c
 };
 
 // What the lattice of a face measured.
@@ -115,10 +110,9 @@ std::vector<LatticeMeasure> MeasureLattices(const SurfaceSampler& surface,
     const Lattice& l = *lattices[orders[i]];
     LatticeMeasure& m = out[i];
     Eigen::Index worst = -1;
-    m.distance = faces.MeasurePoints(which[i], points,
-                                     with_normals ? &normals : nullptr,
-                                     offset[i], offset[i + 1] - offset[i],
-                                     threshold, &m.angle_ok, &m.angle, &worst);
+    m.distance = faces.MeasurePoints(
+        which[i], points, with_normals ? &normals : nullptr, offset[i],
+        offset[i + 1] - offset[i], threshold, &m.angle_ok, &m.angle, &worst);
     const auto image = [&](int x) -> Eigen::Vector3d {
       return x < 0 ? samples.positions[t[-1 - x]]
                    : Eigen::Vector3d(points.row(offset[i] + x).transpose());
@@ -140,6 +134,42 @@ std::vector<LatticeMeasure> MeasureLattices(const SurfaceSampler& surface,
     m.stretch = std::sqrt(stretch2);
   });
   return out;
+}
+
+double LongestImageEdge(const SurfaceSamples& samples,
+                        const SphereTriangulation::Face& t) {
+  double longest2 = 0.0;
+  for (int e = 0; e < 3; ++e) {
+    longest2 = std::max(
+        longest2, (samples.positions[t[(e + 1) % 3]] - samples.positions[t[e]])
+                      .squaredNorm());
+  }
+  return std::sqrt(longest2);
+}
+
+enum : char { kPassed, kDistanceFailed, kAngleFailed };
+
+// The half-edge of face f to split: the longest image edge for a distance
+// failure (the chord that misses the surface); the longest domain edge for
+// an angular one (the normals turn with the domain: bisecting it shrinks
+// the face's image below the angular test's length wherever they never
+// settle, as at a cusp).
+int SplitEdgeOf(const SurfaceSamples& samples, int f, bool in_domain) {
+  const SphereTriangulation& pattern = samples.pattern;
+  const auto& t = pattern.face(f);
+  int edge = 3 * f;
+  double longest2 = -1.0;
+  for (int e = 0; e < 3; ++e) {
+    const int a = t[e], b = t[(e + 1) % 3];
+    const double l2 =
+        in_domain ? (pattern.vertex(b) - pattern.vertex(a)).squaredNorm()
+                  : (samples.positions[b] - samples.positions[a]).squaredNorm();
+    if (l2 > longest2) {
+      longest2 = l2;
+      edge = 3 * f + e;
+    }
+  }
+  return edge;
 }
 
 double ShortestDomainEdge(const SphereTriangulation& pattern, int f) {
@@ -211,22 +241,25 @@ Status VerifyFaces(const SurfaceSampler& surface,
         m.angle_ok = m.angle_ok && finer[j].angle_ok;
       }
     }
-    std::vector<char> failed(n, 0);
+    std::vector<char> failed(n, kPassed);
     for (Eigen::Index i = 0; i < n; ++i) {
       const int f = pending[i];
       lattice_error[f] = measured[i].distance;
       face_angle[f] = measured[i].angle;
-      failed[i] = !measured[i].angle_ok ||
-                  !(measured[i].distance <= options.threshold) ||
-                  !(faces->error(f) <= options.threshold);
+      // The angular test, as the samples' rule, holds on faces whose
+      // image is longer than angle_length: below it no split can follow
+      // the normal into a cusp or a fold's edge.
+      const bool angle_ok =
+          measured[i].angle_ok ||
+          LongestImageEdge(samples, pattern.face(f)) <= options.angle_length;
+      if (!(measured[i].distance <= options.threshold) ||
+          !(faces->error(f) <= options.threshold)) {
+        failed[i] = kDistanceFailed;
+      } else if (!angle_ok) {
+        failed[i] = kAngleFailed;
+      }
     }
 
-    if (getenv("DBG")) {
-      int nf = 0, na = 0, ns = 0, nl = 0;
-      for (Eigen::Index i = 0; i < n; ++i) if (failed[i]) { ++nf; const int f = pending[i];
-        if (faces->error(f) > options.threshold) ++ns; else if (lattice_error[f] > options.threshold) ++nl; else ++na; }
-      fprintf(stderr, "verify %ld: %d fail: samples %d lattice %d angle/orient %d\n", (long)n, nf, ns, nl, na);
-    }
     // Each failing face has its longest image edge split at the domain
     // midpoint, with the face across it (each face at most once per round);
     // the midpoints are evaluated in one batch and the two faces' samples
@@ -273,26 +306,15 @@ Status VerifyFaces(const SurfaceSampler& surface,
         flipped = true;
       }
       if (flipped) continue;
-      const auto t = pattern.face(f);
-      int edge = 0;
-      double longest2 = -1.0;
-      for (int e = 0; e < 3; ++e) {
-        const double l2 =
-            (samples.positions[t[(e + 1) % 3]] - samples.positions[t[e]])
-                .squaredNorm();
-        if (l2 > longest2) {
-          longest2 = l2;
-          edge = 3 * f + e;
-        }
-      }
+      const int edge = SplitEdgeOf(samples, f, failed[i] == kAngleFailed);
       const int g = pattern.Twin(edge) / 3;
       if (touched[g]) {
         next.push_back(f);
         continue;
       }
       const int a = pattern.Origin(edge), b = pattern.Target(edge);
-      const int m =
-          pattern.SplitEdge(edge, (pattern.vertex(a) + pattern.vertex(b)).normalized());
+      const int m = pattern.SplitEdge(
+          edge, (pattern.vertex(a) + pattern.vertex(b)).normalized());
       midpoints.push_back(m);
       FaceChange change;
       change.old_faces = {f, g};
@@ -336,11 +358,10 @@ Status VerifyFaces(const SurfaceSampler& surface,
     }
     std::sort(next.begin(), next.end());
     next.erase(std::unique(next.begin(), next.end()), next.end());
-    next.erase(std::remove_if(next.begin(), next.end(),
-                              [&](int f) {
-                                return !pattern.alive(f) || settled[f];
-                              }),
-               next.end());
+    next.erase(
+        std::remove_if(next.begin(), next.end(),
+                       [&](int f) { return !pattern.alive(f) || settled[f]; }),
+        next.end());
     result->splits += splits;
     if (options.progress) options.progress(n, splits);
     pending = std::move(next);
@@ -350,8 +371,8 @@ Status VerifyFaces(const SurfaceSampler& surface,
   result->uncertified_faces = 0;
   for (int f = 0; f < pattern.num_face_slots(); ++f) {
     if (!pattern.alive(f)) continue;
-    result->max_distance = std::max(
-        {result->max_distance, lattice_error[f], faces->error(f)});
+    result->max_distance =
+        std::max({result->max_distance, lattice_error[f], faces->error(f)});
     result->max_angle = std::max(result->max_angle, face_angle[f]);
     if (settled[f]) ++result->uncertified_faces;
   }

@@ -93,9 +93,9 @@ bool SampledFaces::MakeGeometry(const SphereTriangulation::Face& t,
   g->change = nullptr;
   const Eigen::Vector3d cross = (g->pb - g->pa).cross(g->pc - g->pa);
   const double area2 = cross.norm();
-  const double longest = std::sqrt(std::max({(g->pa - g->pb).squaredNorm(),
-                                             (g->pb - g->pc).squaredNorm(),
-                                             (g->pc - g->pa).squaredNorm()}));
+  const double longest = std::sqrt(
+      std::max({(g->pa - g->pb).squaredNorm(), (g->pb - g->pc).squaredNorm(),
+                (g->pc - g->pa).squaredNorm()}));
   g->angular = test_angle_ && longest > options_.tolerance;
   if (!(area2 > 0.0)) {
     g->normal.setZero();
@@ -293,9 +293,9 @@ bool SampledFaces::Measure(const FaceChange& change, double threshold,
   for (int f : change.old_faces) {
     for (int e = 0; e < 3; ++e) {
       const int g = pattern.Twin(3 * f + e) / 3;
-      if (leans_[g] && std::find(change.old_faces.begin(),
-                                 change.old_faces.end(),
-                                 g) == change.old_faces.end()) {
+      if (leans_[g] &&
+          std::find(change.old_faces.begin(), change.old_faces.end(), g) ==
+              change.old_faces.end()) {
         result->outer.push_back(g);
       }
     }
@@ -330,7 +330,8 @@ double SampledFaces::MeasurePoints(int f, const Eigen::MatrixX3d& points,
                                    const Eigen::MatrixX3d* normals,
                                    Eigen::Index first, Eigen::Index count,
                                    double threshold, bool* angle_ok,
-                                   double* angle, Eigen::Index* worst_row) const {
+                                   double* angle,
+                                   Eigen::Index* worst_row) const {
   const SphereTriangulation::Face& t = samples_->pattern.face(f);
   Geometry g;
   const bool ok = MakeGeometry(t, &g);
@@ -356,8 +357,7 @@ double SampledFaces::MeasurePoints(int f, const Eigen::MatrixX3d& points,
       n = normals->row(k).transpose();
       see(n);
     }
-    const double d =
-        Distance(g, q, normals ? &n : nullptr, threshold, &leaned);
+    const double d = Distance(g, q, normals ? &n : nullptr, threshold, &leaned);
     if (std::isinf(d) && g.angular) {
       *angle_ok = false;
       if (!angle_failed) *worst_row = k;

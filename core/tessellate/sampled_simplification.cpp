@@ -10,17 +10,14 @@
 #include <numeric>
 #include <vector>
 
-#include <ctime>
-#include <cstdio>
-#include <cstdlib>
-static long dbg_evals = 0;
 namespace sdcb {
 namespace {
 
 // The thresholds of the collapse passes, as fractions of the final one: the
 // cheapest collapses everywhere first. Flips run from kFirstFlipPass on.
-constexpr double kPassFractions[] = {0.03, 0.06, 0.1, 0.15, 0.22, 0.3, 0.4,
-                                     0.5,  0.6,  0.7, 0.8,  0.9,  1.0, 1.0, 1.0, 1.0};
+constexpr double kPassFractions[] = {0.03, 0.06, 0.1, 0.15, 0.22, 0.3,
+                                     0.4,  0.5,  0.6, 0.7,  0.8,  0.9,
+                                     1.0,  1.0,  1.0, 1.0};
 constexpr int kFirstFlipPass = 7;
 // From this fraction on, changes are measured on a lattice too.
 constexpr double kLatticeFrom = 0.4;
@@ -56,14 +53,8 @@ class Simplifier {
       if (options_.lattice_surface && kPassFractions[pass] >= kLatticeFrom) {
         faces_.SetLattice(options_.lattice_surface, options_.lattice);
       }
-      auto c0 = std::clock();
-      const int before = pattern_.num_faces();
       CollapsePass(t);
-      const int after = pattern_.num_faces();
-      auto c1 = std::clock();
       if (pass >= kFirstFlipPass) FlipPass(t);
-      if (getenv("DBG")) fprintf(stderr, "pass %d t %g: faces %d -> %d, evals %ld, cpu %.2f s flip cpu %.2f\n", pass, t, before, after, dbg_evals, double(c1-c0)/CLOCKS_PER_SEC, double(std::clock()-c1)/CLOCKS_PER_SEC);
-      dbg_evals = 0;
       if (options_.progress) {
         options_.progress(pass + 1, passes, pattern_.num_faces());
       }
@@ -96,11 +87,12 @@ class Simplifier {
     normals.resize(n);
     const Eigen::Vector3d& pv = positions_[v];
     for (size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d cross = (positions_[(*ring)[i]] - pv)
-                                        .cross(positions_[(*ring)[(i + 1) % n]] - pv);
+      const Eigen::Vector3d cross =
+          (positions_[(*ring)[i]] - pv)
+              .cross(positions_[(*ring)[(i + 1) % n]] - pv);
       const double norm = cross.norm();
-      normals[i] = norm > 0.0 ? Eigen::Vector3d(cross / norm)
-                              : Eigen::Vector3d::Zero();
+      normals[i] =
+          norm > 0.0 ? Eigen::Vector3d(cross / norm) : Eigen::Vector3d::Zero();
     }
     estimate->assign(n, 0.0);
     for (size_t j = 0; j < n; ++j) {
@@ -179,7 +171,6 @@ class Simplifier {
         }
         change.old_faces = star;
         change.freed = {v};
-        ++dbg_evals;
         if (!faces_.Evaluate(change, threshold, &result)) {
           bound = std::min(bound, result.failed_at);
           continue;

@@ -137,7 +137,8 @@ void SphereTriangulation::SplitEdgeAt(int h, int m) {
   vertex_face_[m] = f;
 }
 
-bool SphereTriangulation::PreviewCollapse(int v, int w, std::vector<Face>* faces,
+bool SphereTriangulation::PreviewCollapse(int v, int w,
+                                          std::vector<Face>* faces,
                                           std::vector<int>* slots) const {
   thread_local std::vector<int> star, ring, ring_w;
   Star(v, &star, &ring);

@@ -89,22 +89,24 @@ StatusOr<SurfaceSamples> SampleSurface(const SurfaceSampler& surface,
       least_cos = std::min(least_cos, c);
       // Across a fold or a cusp (normals turned over) the quadratic
       // prediction means nothing; the size criterion still holds there.
-      if (c > 0.0) q = std::max(q, std::abs((s.normals[b] - s.normals[a]).dot(d)));
+      if (c > 0.0)
+        q = std::max(q, std::abs((s.normals[b] - s.normals[a]).dot(d)));
     }
     if (longest2 > max_length * max_length) return true;
     if (longest2 <= max_error * max_error) return false;
     // The angular test applies to faces larger than the tolerance only.
-    return q > 6.0 * max_error ||
-           (test_angle && least_cos < min_cos &&
-            longest2 > angle_length * angle_length);
+    return q > 6.0 * max_error || (test_angle && least_cos < min_cos &&
+                                   longest2 > angle_length * angle_length);
   };
   // Domain edges order the bisections (longest first, ties by vertex
   // index): Rivara's longest-edge bisection, which keeps the domain faces
   // well shaped and ends. (Image lengths would not: near a singular point
   // of the surface they drive the domain faces into needles.)
   const auto longer = [&](int a, int b, int c, int d) {
-    const double lab = (s.pattern.vertex(a) - s.pattern.vertex(b)).squaredNorm();
-    const double lcd = (s.pattern.vertex(c) - s.pattern.vertex(d)).squaredNorm();
+    const double lab =
+        (s.pattern.vertex(a) - s.pattern.vertex(b)).squaredNorm();
+    const double lcd =
+        (s.pattern.vertex(c) - s.pattern.vertex(d)).squaredNorm();
     if (lab != lcd) return lab > lcd;
     return std::make_pair(std::min(a, b), std::max(a, b)) >
            std::make_pair(std::min(c, d), std::max(c, d));
