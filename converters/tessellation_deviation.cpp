@@ -1,0 +1,111 @@
+#include "sdcb/converters/tessellation_deviation.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <limits>
+#include <random>
+
+#include "sdcb/core/mesh/mesh_distance.h"
+#include "sdcb/core/spline/spherical_spline.h"
+
+namespace sdcb {
+namespace {
+
+// Surface -> mesh at random points of every face's domain triangle.
+double SurfaceToMesh(const SurfaceSampler& surface, const Tessellation& t,
+                     int per_face) {
+  const Eigen::Index nf = t.faces.rows();
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  Eigen::MatrixX3d directions(nf * per_face, 3);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    for (int s = 0; s < per_face; ++s) {
+      double a = uniform(rng), b = uniform(rng);
+      if (a + b > 1.0) {
+        a = 1.0 - a;
+        b = 1.0 - b;
+      }
+      directions.row(f * per_face + s) =
+          (a * t.directions.row(t.faces(f, 0)) +
+           b * t.directions.row(t.faces(f, 1)) +
+           (1.0 - a - b) * t.directions.row(t.faces(f, 2)))
+              .normalized();
+    }
+  }
+  Eigen::MatrixX3d points;
+  surface.Sample(directions, &points, nullptr);
+  TriangleMesh mesh;
+  mesh.vertices = t.positions;
+  mesh.faces = t.faces;
+  // A tessellation without a usable triangle cannot be measured: infinite.
+  const StatusOr<MeshDistance> distance = MeshDistance::Create(mesh);
+  if (!distance.ok()) return std::numeric_limits<double>::infinity();
+  return points.rows() > 0 ? distance->Distances(points).maxCoeff() : 0.0;
+}
+
+// Mesh -> surface: Gauss-Newton on |S(u) - x|^2 over the tangent plane,
+// from each face's domain centroid to its flat centroid's foot point.
+double MeshToSurface(const SurfaceSampler& surface, const Tessellation& t) {
+  const Eigen::Index nf = t.faces.rows();
+  Eigen::MatrixX3d x(nf, 3), u(nf, 3);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    x.row(f) =
+        (t.positions.row(t.faces(f, 0)) + t.positions.row(t.faces(f, 1)) +
+         t.positions.row(t.faces(f, 2))) /
+        3.0;
+    u.row(f) =
+        (t.directions.row(t.faces(f, 0)) + t.directions.row(t.faces(f, 1)) +
+         t.directions.row(t.faces(f, 2)))
+            .normalized();
+  }
+  const double h = 1e-6;
+  Eigen::VectorXd best = Eigen::VectorXd::Constant(nf, 1e300);
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    Eigen::MatrixX3d probe(3 * nf, 3), eu(nf, 3), ev(nf, 3);
+    for (Eigen::Index f = 0; f < nf; ++f) {
+      Eigen::Vector3d a, b;
+      TangentFrame(u.row(f).transpose(), &a, &b);
+      eu.row(f) = a;
+      ev.row(f) = b;
+      probe.row(3 * f) = u.row(f);
+      probe.row(3 * f + 1) = (u.row(f).transpose() + h * a).normalized();
+      probe.row(3 * f + 2) = (u.row(f).transpose() + h * b).normalized();
+    }
+    Eigen::MatrixX3d s;
+    surface.Sample(probe, &s, nullptr);
+    for (Eigen::Index f = 0; f < nf; ++f) {
+      const Eigen::Vector3d s0 = s.row(3 * f).transpose();
+      const Eigen::Vector3d r = x.row(f).transpose() - s0;
+      best[f] = std::min(best[f], r.norm());
+      Eigen::Matrix<double, 3, 2> j;
+      j.col(0) = (s.row(3 * f + 1).transpose() - s0) / h;
+      j.col(1) = (s.row(3 * f + 2).transpose() - s0) / h;
+      const Eigen::Vector2d step =
+          (j.transpose() * j).ldlt().solve(j.transpose() * r);
+      if (!step.allFinite() || step.norm() > 0.5) continue;
+      u.row(f) = (u.row(f).transpose() + step[0] * eu.row(f).transpose() +
+                  step[1] * ev.row(f).transpose())
+                     .normalized();
+    }
+  }
+  Eigen::MatrixX3d s;
+  surface.Sample(u, &s, nullptr);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    best[f] = std::min(best[f], (x.row(f) - s.row(f)).norm());
+  }
+  return nf > 0 ? best.maxCoeff() : 0.0;
+}
+
+}  // namespace
+
+TessellationDeviation MeasureTessellationDeviation(
+    const SurfaceSampler& surface, const Tessellation& tessellation,
+    int samples_per_face) {
+  TessellationDeviation d;
+  d.surface_to_mesh =
+      SurfaceToMesh(surface, tessellation, std::max(samples_per_face, 0));
+  d.mesh_to_surface = MeshToSurface(surface, tessellation);
+  return d;
+}
+
+}  // namespace sdcb
