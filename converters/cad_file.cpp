@@ -1,10 +1,7 @@
 #include "sdcb/converters/cad_file.h"
 
 #include <BRepCheck_Analyzer.hxx>
-#include <BRepGProp.hxx>
-#include <BRepLib.hxx>
 #include <BRep_Builder.hxx>
-#include <GProp_GProps.hxx>
 #include <Geom2d_Line.hxx>
 #include <Geom_BSplineCurve.hxx>
 #include <Geom_BSplineSurface.hxx>
@@ -23,12 +20,14 @@
 #include <TColgp_Array2OfPnt.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -40,6 +39,11 @@
 
 namespace sdcb {
 namespace {
+
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 // The knot vector of one cubic Bezier span: knots 0 and 1, each of
 // multiplicity 4.
@@ -124,6 +128,12 @@ StatusOr<CadSolidReport> WriteCadSolid(
                                 "quadruple per patch");
   }
   CadSolidReport report;
+  Clock::time_point t0 = Clock::now();
+  // The patches are counter-clockwise seen from outside, so the solid is
+  // oriented outward as built; its volume says so.
+  const PatchSetMeasures measures = MeasurePatchSet(patches);
+  report.volume = measures.volume;
+  report.area = measures.area;
   std::string contents;
   try {
     // The patches meet pole for pole, so the shared edges are known: the
@@ -207,26 +217,30 @@ StatusOr<CadSolidReport> WriteCadSolid(
     TopoDS_Solid solid;
     builder.MakeSolid(solid);
     builder.Add(solid, shell);
-    BRepLib::OrientClosedSolid(solid);
-    report.valid = BRepCheck_Analyzer(solid).IsValid();
-    GProp_GProps volume, area;
-    BRepGProp::VolumeProperties(solid, volume);
-    BRepGProp::SurfaceProperties(solid, area);
-    report.volume = volume.Mass();
-    report.area = area.Mass();
+    report.seconds.build = Since(t0);
+    t0 = Clock::now();
+    report.valid =
+        BRepCheck_Analyzer(solid, /*GeomControls=*/true, /*theIsParallel=*/true)
+            .IsValid();
+    report.seconds.check = Since(t0);
     if (!report.valid || !(report.volume > 0.0)) {
-      return InternalError(
-          path + ": the sewn solid is not valid (BRepCheck_Analyzer)");
+      return InternalError(path +
+                           ": the solid is not valid (BRepCheck_Analyzer) or "
+                           "encloses no volume");
     }
+    t0 = Clock::now();
     const Status translated = format == CadFormat::kStep
                                   ? WriteStep(solid, path, &contents)
                                   : WriteIges(solid, path, &contents);
     if (!translated.ok()) return translated;
+    report.seconds.translate = Since(t0);
   } catch (const Standard_Failure& failure) {
     return InternalError(path +
                          ": OpenCASCADE failed: " + failure.GetMessageString());
   }
+  t0 = Clock::now();
   SDCB_RETURN_IF_ERROR(WriteFileAtomically(contents, path));
+  report.seconds.write = Since(t0);
   return report;
 }
 

@@ -65,8 +65,8 @@ int RunCadExport(const Args& args, const std::string& ext) {
   CadPatchOptions options;
   options.tolerance_percent =
       args.GetDouble("tolerance", options.tolerance_percent, 1e-6, 50.0);
-  options.max_normal_degrees =
-      args.GetDouble("angle", options.max_normal_degrees, 1e-3, 180.0);
+  options.angle_degrees =
+      args.GetDouble("angle", options.angle_degrees, 1e-3, 180.0);
   options.max_patches =
       args.GetInt("max-patches", options.max_patches, 96, 2000000);
   const bool quiet = args.Has("quiet") || json_path == "-";
@@ -81,11 +81,7 @@ int RunCadExport(const Args& args, const std::string& ext) {
   if (!spline.ok()) return ReportError(spline.status().WithPrefix(model_path));
 
   ProgressBar progress("sdcb export", quiet);
-  options.on_round = [&](int round, int patches, double max_percent) {
-    progress.Update("round " + std::to_string(round) + ", " +
-                        std::to_string(patches) + " patches",
-                    std::min(1.0, options.tolerance_percent / max_percent));
-  };
+  options.progress = progress.Callback();
   Clock::time_point t0 = Clock::now();
   StatusOr<CadPatchSet> fit = FitCadPatches(*spline, options);
   progress.Finish();
@@ -99,7 +95,7 @@ int RunCadExport(const Args& args, const std::string& ext) {
                   "and %.3g deg (%s); nothing written",
                   static_cast<int>(fit->patches.size()),
                   fit->max_deviation_percent, fit->max_normal_deviation_degrees,
-                  options.tolerance_percent, options.max_normal_degrees,
+                  options.tolerance_percent, options.angle_degrees,
                   fit->stop_reason.c_str());
     return ReportError(InvalidInputError(model_path + ": " + message));
   }
@@ -118,7 +114,7 @@ int RunCadExport(const Args& args, const std::string& ext) {
   j["unit"] = "mm";
   j["patches"] = fit->patches.size();
   j["tolerance_percent"] = options.tolerance_percent;
-  j["angle_degrees"] = options.max_normal_degrees;
+  j["angle_degrees"] = options.angle_degrees;
   j["max_deviation_percent"] = fit->max_deviation_percent;
   j["rms_deviation_percent"] = fit->rms_deviation_percent;
   j["measured_points"] = fit->measured_points;
@@ -130,8 +126,12 @@ int RunCadExport(const Args& args, const std::string& ext) {
   j["rounds"] = fit->rounds;
   j["max_patches"] = options.max_patches;
   j["patch_max_deviation_percent"] = fit->patch_max_percent;
+  j["fine_patches"] = fit->fine_faces;
   j["seconds"] = {
-      {"fit", fit_seconds}, {"write", write_seconds}, {"total", Since(start)}};
+      {"fit", fit->fit_seconds},       {"measure", fit->measure_seconds},
+      {"patches", fit_seconds},        {"build", solid->seconds.build},
+      {"check", solid->seconds.check}, {"translate", solid->seconds.translate},
+      {"write", write_seconds},        {"total", Since(start)}};
   if (!json_path.empty()) {
     const Status s = WriteTextOutput(json_path, j.dump(2) + "\n");
     if (!s.ok()) {

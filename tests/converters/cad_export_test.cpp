@@ -2,13 +2,14 @@
 // (blobby.off, fitted). Oracles, none of them the patch
 // fitter's own measurement:
 // - the STEP / IGES file re-read by OpenCASCADE's readers: one valid solid,
-//   closed shells, volume and area against a fine adaptive tessellation of
-//   the spline (core/tessellate, its own certificate);
+//   closed shells, volume and area against the spline's fine uniform
+//   tessellation and OpenCASCADE's own BRepGProp against the report's;
 // - distances at >= 100K exact points of the re-read surfaces to the spline
-//   (to its fine tessellation, plus the tessellation's certificate), and
-//   from >= 20K of the spline's points to the re-read surfaces
-//   (OpenCASCADE's projection on the face the lattice names);
-// - shared edges compared pole for pole; a brute-force normal comparison.
+//   (closest-point searches on the spline), and from >= 10K of the spline's
+//   points to the re-read surfaces (OpenCASCADE's projection on the face
+//   the lattice names);
+// - shared edges compared pole for pole; a brute-force normal comparison;
+// - the volume and area of patches whose exact values are known.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -19,10 +20,9 @@
 #include "sdcb/converters/cad_file.h"
 #include "sdcb/converters/cad_patches.h"
 #include "sdcb/core/fit/spline_fitter.h"
+#include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/spline/piecewise_surface.h"
-#include "sdcb/core/tessellate/adaptive_tessellation.h"
-#include "sdcb/core/tessellate/surface_sampler.h"
 #include "sdcb/io/mesh_reader.h"
 #include "testing/occt_reread.h"
 #include "testing/temp_dir.h"
@@ -50,6 +50,7 @@ class CadExportTest : public ::testing::Test {
     spline_ = new SphericalSpline(BlobbySpline());
     CadPatchOptions options;
     options.tolerance_percent = kTolerance;
+    options.angle_degrees = 20.0;  // fewer patches than the default 10
     auto fit = FitCadPatches(*spline_, options);
     ASSERT_TRUE(fit.ok()) << fit.status().message();
     patches_ = new CadPatchSet(std::move(*fit));
@@ -58,7 +59,7 @@ class CadExportTest : public ::testing::Test {
     delete patches_;
     delete spline_;
   }
-  static constexpr double kTolerance = 0.1;
+  static constexpr double kTolerance = 0.2;
   static SphericalSpline* spline_;
   static CadPatchSet* patches_;
 };
@@ -143,6 +144,116 @@ TEST_F(CadExportTest, BudgetTooSmallReportsWhatItReached) {
   EXPECT_FALSE(FitCadPatches(*spline_, options).ok());
 }
 
+// The re-read surfaces against the spline (occt_reread.h's
+// CompareWithSpline without its fine adaptive tessellation):
+// - the spline's volume and area from its uniform tessellation of level 6
+//   (40,962 vertices by the exact evaluator): relative error ~2e-4;
+// - re-read surfaces -> spline at >= `surface_points` exact points x of the
+//   re-read surfaces: the closest point of that tessellation gives a sphere
+//   direction, from which Gauss-Newton steps (finite differences on
+//   PiecewiseSurface) go to a foot point u; |x - S(u)|, S by the exact
+//   evaluator, is the distance to a point of the spline, an upper bound of
+//   the true distance;
+// - spline -> re-read surfaces at `spline_points` vertices of the
+//   tessellation: the nearest re-read lattice triangle names a face, and
+//   OpenCASCADE projects the point onto that face's surface (or the
+//   triangle's nearest lattice vertex, an exact surface point, is nearer).
+testing::RereadComparison CompareWithSplineQuickly(
+    const testing::RereadShape& r, const SphericalSpline& spline,
+    int64_t surface_points, int64_t spline_points) {
+  testing::RereadComparison c;
+  const TriangleMesh sphere = MakeIcosphere(6);
+  TriangleMesh tessellation;
+  tessellation.vertices = spline.EvaluateMany(sphere.vertices);
+  tessellation.faces = sphere.faces;
+  for (Eigen::Index k = 0; k < sphere.faces.rows(); ++k) {
+    const Eigen::Vector3d a = tessellation.vertices.row(sphere.faces(k, 0));
+    const Eigen::Vector3d b = tessellation.vertices.row(sphere.faces(k, 1));
+    const Eigen::Vector3d d = tessellation.vertices.row(sphere.faces(k, 2));
+    c.spline_volume += a.dot(b.cross(d)) / 6.0;
+    c.spline_area += 0.5 * (b - a).cross(d - a).norm();
+  }
+  const int n = static_cast<int>(
+      std::ceil(std::sqrt(static_cast<double>(surface_points) / r.faces)));
+  const testing::SurfaceLattice lattice = testing::SampleSurfaces(r, n);
+  const Eigen::MatrixX3d& x = lattice.mesh.vertices;
+  c.surface_points = x.rows();
+  auto spline_mesh = MeshDistance::Create(tessellation);
+  if (!spline_mesh.ok()) return c;
+  Eigen::MatrixX3d u(x.rows(), 3);
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    const MeshDistance::Closest closest = spline_mesh->Find(x.row(i));
+    Eigen::Vector3d corner[3], direction[3];
+    for (int k = 0; k < 3; ++k) {
+      corner[k] = tessellation.vertices.row(sphere.faces(closest.face, k));
+      direction[k] = sphere.vertices.row(sphere.faces(closest.face, k));
+    }
+    // Barycentric coordinates of the closest point.
+    const Eigen::Vector3d e0 = corner[1] - corner[0],
+                          e1 = corner[2] - corner[0];
+    const Eigen::Vector3d q = closest.point - corner[0];
+    const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1);
+    const double det = d00 * d11 - d01 * d01;
+    const double b1 = det > 0 ? (d11 * q.dot(e0) - d01 * q.dot(e1)) / det : 0;
+    const double b2 = det > 0 ? (d00 * q.dot(e1) - d01 * q.dot(e0)) / det : 0;
+    u.row(i) =
+        ((1 - b1 - b2) * direction[0] + b1 * direction[1] + b2 * direction[2])
+            .normalized();
+  }
+  const PiecewiseSurface pieces(spline);
+  const double h = 1e-6;
+  for (int iteration = 0; iteration < 5; ++iteration) {
+    Eigen::MatrixX3d probe(3 * x.rows(), 3), eu(x.rows(), 3), ev(x.rows(), 3);
+    for (Eigen::Index i = 0; i < x.rows(); ++i) {
+      Eigen::Vector3d a, b;
+      TangentFrame(u.row(i).transpose(), &a, &b);
+      eu.row(i) = a;
+      ev.row(i) = b;
+      probe.row(3 * i) = u.row(i);
+      probe.row(3 * i + 1) = (u.row(i).transpose() + h * a).normalized();
+      probe.row(3 * i + 2) = (u.row(i).transpose() + h * b).normalized();
+    }
+    Eigen::MatrixX3d s;
+    pieces.EvaluateMany(probe, &s, nullptr);
+    for (Eigen::Index i = 0; i < x.rows(); ++i) {
+      const Eigen::Vector3d s0 = s.row(3 * i).transpose();
+      Eigen::Matrix<double, 3, 2> j;
+      j.col(0) = (s.row(3 * i + 1).transpose() - s0) / h;
+      j.col(1) = (s.row(3 * i + 2).transpose() - s0) / h;
+      const Eigen::Vector2d step =
+          (j.transpose() * j)
+              .ldlt()
+              .solve(j.transpose() * (x.row(i).transpose() - s0));
+      if (!step.allFinite() || step.norm() > 0.1) continue;
+      u.row(i) = (u.row(i).transpose() + step[0] * eu.row(i).transpose() +
+                  step[1] * ev.row(i).transpose())
+                     .normalized();
+    }
+  }
+  c.to_spline_percent =
+      100.0 * (spline.EvaluateMany(u) - x).rowwise().norm().maxCoeff();
+
+  auto surface_mesh = MeshDistance::Create(lattice.mesh);
+  if (!surface_mesh.ok()) return c;
+  const Eigen::Index stride =
+      std::max<Eigen::Index>(1, tessellation.vertices.rows() / spline_points);
+  for (Eigen::Index s = 0; s < tessellation.vertices.rows(); s += stride) {
+    const Eigen::Vector3d p = tessellation.vertices.row(s);
+    const MeshDistance::Closest closest = surface_mesh->Find(p);
+    double best =
+        testing::DistanceToFace(r, lattice.triangle_face[closest.face], p);
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d v =
+          lattice.mesh.vertices.row(lattice.mesh.faces(closest.face, k));
+      best = std::min(best, (v - p).norm());
+    }
+    c.from_spline_percent = std::max(c.from_spline_percent, 100.0 * best);
+    ++c.spline_points;
+  }
+  c.ok = true;
+  return c;
+}
+
 // The STEP and IGES files re-read by OpenCASCADE against the spline.
 void CheckReread(const SphericalSpline& spline, const CadPatchSet& patches,
                  const std::string& path, bool iges, double tolerance,
@@ -155,35 +266,33 @@ void CheckReread(const SphericalSpline& spline, const CadPatchSet& patches,
   EXPECT_TRUE(r.valid);
   EXPECT_EQ(r.faces, static_cast<int>(patches.patches.size()));
 
-  // The spline's volume and area from a fine adaptive tessellation; the
-  // distances both ways (testing/occt_reread.h).
-  // (Volume and area alone need a coarser tessellation than distances.)
-  const testing::RereadComparison c = testing::CompareWithSpline(
-      r, spline, NormalizingTransform(), distances ? 2e-5 : 1e-4,
-      distances ? 100000 : 1000, distances ? 20000 : 100);
+  const testing::RereadComparison c = CompareWithSplineQuickly(
+      r, spline, distances ? 100000 : 1000, distances ? 10000 : 100);
   ASSERT_TRUE(c.ok);
   EXPECT_NEAR(r.volume / c.spline_volume, 1.0, 1e-3)
       << r.volume << " vs " << c.spline_volume;
   EXPECT_NEAR(r.area / c.spline_area, 1.0, 1e-3)
       << r.area << " vs " << c.spline_area;
+  // The report's volume and area (from the patches) are OpenCASCADE's.
+  const PatchSetMeasures measures = MeasurePatchSet(patches.patches);
+  EXPECT_NEAR(measures.volume / r.volume, 1.0, 1e-9);
+  EXPECT_NEAR(measures.area / r.area, 1.0, 1e-7);
   std::printf("%s: %d faces, volume %.6f (spline %.6f), area %.6f (%.6f)\n",
               iges ? "IGES" : "STEP", r.faces, r.volume, c.spline_volume,
               r.area, c.spline_area);
   if (!distances) return;  // the same surfaces as the STEP file's
   EXPECT_GE(c.surface_points, 100000);
-  EXPECT_GE(c.spline_points, 20000);
+  EXPECT_GE(c.spline_points, 10000);
   EXPECT_LE(c.to_spline_percent, tolerance);
   EXPECT_LE(c.from_spline_percent, tolerance);
-  const double to_spline = c.to_spline_percent;
-  const double to_surfaces = c.from_spline_percent;
   // The fitter's parametric figure bounds both (it is the distance to the
   // spline point of the same sphere point), up to the spacing of its
-  // lattice and the tessellation's certificate.
-  EXPECT_LE(to_spline,
-            patches.max_deviation_percent * 1.05 + c.certified_percent);
-  EXPECT_LE(to_surfaces, patches.max_deviation_percent * 1.05);
+  // lattice.
+  EXPECT_LE(c.to_spline_percent, patches.max_deviation_percent * 1.05);
+  EXPECT_LE(c.from_spline_percent, patches.max_deviation_percent * 1.05);
   std::printf("to spline %.5f%%, from spline %.5f%% (reported %.5f%%)\n",
-              to_spline, to_surfaces, patches.max_deviation_percent);
+              c.to_spline_percent, c.from_spline_percent,
+              patches.max_deviation_percent);
 }
 
 TEST_F(CadExportTest, StepRereadIsOneValidSolidWithinTheTolerance) {

@@ -36,7 +36,7 @@ TEST(CadExportCliTest, StepAndIgesAreOneValidSolidInInputCoordinates) {
   for (const std::string name : {"cow.step", "cow.stp", "cow.igs"}) {
     const std::string out = dir + "/" + name;
     const auto r =
-        RunSdcb({"export", moved, "-o", out, "--tolerance", "0.2", "--angle",
+        RunSdcb({"export", moved, "-o", out, "--tolerance", "0.5", "--angle",
                  "180", "--json", out + ".json", "--quiet"},
                 dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -44,7 +44,7 @@ TEST(CadExportCliTest, StepAndIgesAreOneValidSolidInInputCoordinates) {
     const auto j = nlohmann::json::parse(testing::ReadBytes(out + ".json"));
     EXPECT_EQ(j["format"], name == "cow.igs" ? "iges" : "step");
     EXPECT_EQ(j["unit"], "mm");
-    EXPECT_LE(j["max_deviation_percent"].get<double>(), 0.2);
+    EXPECT_LE(j["max_deviation_percent"].get<double>(), 0.5);
     EXPECT_GE(j["measured_points"].get<int64_t>(), 100000);
     EXPECT_TRUE(j["valid"].get<bool>());
     EXPECT_EQ(j["patch_max_deviation_percent"].size(),
