@@ -5,8 +5,8 @@
 #include <limits>
 #include <random>
 
+#include "sdcb/converters/closest_surface_points.h"
 #include "sdcb/core/mesh/mesh_distance.h"
-#include "sdcb/core/spline/spherical_spline.h"
 
 namespace sdcb {
 namespace {
@@ -43,8 +43,8 @@ double SurfaceToMesh(const SurfaceSampler& surface, const Tessellation& t,
   return points.rows() > 0 ? distance->Distances(points).maxCoeff() : 0.0;
 }
 
-// Mesh -> surface: Gauss-Newton on |S(u) - x|^2 over the tangent plane,
-// from each face's domain centroid to its flat centroid's foot point.
+// Mesh -> surface: from each face's domain centroid to its flat centroid's
+// foot point.
 double MeshToSurface(const SurfaceSampler& surface, const Tessellation& t) {
   const Eigen::Index nf = t.faces.rows();
   Eigen::MatrixX3d x(nf, 3), u(nf, 3);
@@ -58,42 +58,7 @@ double MeshToSurface(const SurfaceSampler& surface, const Tessellation& t) {
          t.directions.row(t.faces(f, 2)))
             .normalized();
   }
-  const double h = 1e-6;
-  Eigen::VectorXd best = Eigen::VectorXd::Constant(nf, 1e300);
-  for (int iteration = 0; iteration < 4; ++iteration) {
-    Eigen::MatrixX3d probe(3 * nf, 3), eu(nf, 3), ev(nf, 3);
-    for (Eigen::Index f = 0; f < nf; ++f) {
-      Eigen::Vector3d a, b;
-      TangentFrame(u.row(f).transpose(), &a, &b);
-      eu.row(f) = a;
-      ev.row(f) = b;
-      probe.row(3 * f) = u.row(f);
-      probe.row(3 * f + 1) = (u.row(f).transpose() + h * a).normalized();
-      probe.row(3 * f + 2) = (u.row(f).transpose() + h * b).normalized();
-    }
-    Eigen::MatrixX3d s;
-    surface.Sample(probe, &s, nullptr);
-    for (Eigen::Index f = 0; f < nf; ++f) {
-      const Eigen::Vector3d s0 = s.row(3 * f).transpose();
-      const Eigen::Vector3d r = x.row(f).transpose() - s0;
-      best[f] = std::min(best[f], r.norm());
-      Eigen::Matrix<double, 3, 2> j;
-      j.col(0) = (s.row(3 * f + 1).transpose() - s0) / h;
-      j.col(1) = (s.row(3 * f + 2).transpose() - s0) / h;
-      const Eigen::Vector2d step =
-          (j.transpose() * j).ldlt().solve(j.transpose() * r);
-      if (!step.allFinite() || step.norm() > 0.5) continue;
-      u.row(f) = (u.row(f).transpose() + step[0] * eu.row(f).transpose() +
-                  step[1] * ev.row(f).transpose())
-                     .normalized();
-    }
-  }
-  Eigen::MatrixX3d s;
-  surface.Sample(u, &s, nullptr);
-  for (Eigen::Index f = 0; f < nf; ++f) {
-    best[f] = std::min(best[f], (x.row(f) - s.row(f)).norm());
-  }
-  return nf > 0 ? best.maxCoeff() : 0.0;
+  return nf > 0 ? ClosestSurfacePoints(surface, x, 4, &u).maxCoeff() : 0.0;
 }
 
 }  // namespace
