@@ -27,7 +27,6 @@
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -35,15 +34,11 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "sdcb/converters/stopwatch.h"
 #include "sdcb/io/atomic_file.h"
 
 namespace sdcb {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double Since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 // The knot vector of one cubic Bezier span: knots 0 and 1, each of
 // multiplicity 4.
@@ -121,14 +116,19 @@ Status WriteIges(const TopoDS_Shape& solid, const std::string& path,
 StatusOr<CadSolidReport> WriteCadSolid(
     const std::vector<BicubicPatch>& patches,
     const std::vector<std::array<int, 4>>& corners, CadFormat format,
-    const std::string& path) {
+    const std::string& path,
+    const std::function<void(const std::string& stage, double fraction)>&
+        progress) {
+  const auto stage = [&](const char* name, double fraction) {
+    if (progress) progress(name, fraction);
+  };
   if (patches.empty() || patches.size() != corners.size()) {
     return InvalidArgumentError(path +
                                 ": no patches, or not one corner "
                                 "quadruple per patch");
   }
   CadSolidReport report;
-  Clock::time_point t0 = Clock::now();
+  Stopwatch t0;
   // The patches are counter-clockwise seen from outside, so the solid is
   // oriented outward as built; its volume says so.
   const PatchSetMeasures measures = MeasurePatchSet(patches);
@@ -217,30 +217,34 @@ StatusOr<CadSolidReport> WriteCadSolid(
     TopoDS_Solid solid;
     builder.MakeSolid(solid);
     builder.Add(solid, shell);
-    report.seconds.build = Since(t0);
-    t0 = Clock::now();
+    report.seconds.build = t0.Seconds();
+    t0.Restart();
+    stage("checking", 0.2);
     report.valid =
         BRepCheck_Analyzer(solid, /*GeomControls=*/true, /*theIsParallel=*/true)
             .IsValid();
-    report.seconds.check = Since(t0);
+    report.seconds.check = t0.Seconds();
     if (!report.valid || !(report.volume > 0.0)) {
       return InternalError(path +
                            ": the solid is not valid (BRepCheck_Analyzer) or "
                            "encloses no volume");
     }
-    t0 = Clock::now();
+    t0.Restart();
+    stage("translating", 0.5);
     const Status translated = format == CadFormat::kStep
                                   ? WriteStep(solid, path, &contents)
                                   : WriteIges(solid, path, &contents);
     if (!translated.ok()) return translated;
-    report.seconds.translate = Since(t0);
+    report.seconds.translate = t0.Seconds();
   } catch (const Standard_Failure& failure) {
     return InternalError(path +
                          ": OpenCASCADE failed: " + failure.GetMessageString());
   }
-  t0 = Clock::now();
+  t0.Restart();
+  stage("writing", 0.95);
   SDCB_RETURN_IF_ERROR(WriteFileAtomically(contents, path));
-  report.seconds.write = Since(t0);
+  report.seconds.write = t0.Seconds();
+  report.bytes = static_cast<int64_t>(contents.size());
   return report;
 }
 

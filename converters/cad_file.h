@@ -16,6 +16,8 @@
 #define SDCB_CONVERTERS_CAD_FILE_H_
 
 #include <array>
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,6 +35,7 @@ struct CadSolidReport {
   int free_edges = 0;
   double tolerance = 0.0;
   bool valid = false;  // BRepCheck_Analyzer
+  int64_t bytes = 0;   // of the file
   // MeasurePatchSet of the patches, in their units.
   double volume = 0.0;
   double area = 0.0;
@@ -48,10 +51,14 @@ struct CadSolidReport {
 // (1, 1), (0, 1) is the vertex corners[f][0..3] (CadPatchSet::layout.faces)
 // and writes it to `path` atomically. Nothing is written, and a Status says
 // why, when the patches do not close or the solid is not valid.
+// `progress` (optional) is called with each stage's name ("checking",
+// "translating", "writing") and the finished fraction in [0, 1].
 StatusOr<CadSolidReport> WriteCadSolid(
     const std::vector<BicubicPatch>& patches,
     const std::vector<std::array<int, 4>>& corners, CadFormat format,
-    const std::string& path);
+    const std::string& path,
+    const std::function<void(const std::string& stage, double fraction)>&
+        progress = nullptr);
 
 // Process-wide: removes OpenCASCADE's default message printers (its writers
 // print transfer statistics on stdout). For programs that own the process,

@@ -5,11 +5,11 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <unordered_map>
 
 #include "sdcb/converters/cad_patch_cache.h"
+#include "sdcb/converters/stopwatch.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 
 namespace sdcb {
@@ -19,11 +19,6 @@ constexpr double kPi = 3.14159265358979323846;
 // Patches are refined until their measured distance is within this share of
 // the tolerance: a margin for the distance between lattice points.
 constexpr double kTargetShare = 0.95;
-
-using Clock = std::chrono::steady_clock;
-double Since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 uint64_t EdgeKey(int a, int b) {
   const auto lo = static_cast<uint64_t>(std::min(a, b));
@@ -109,7 +104,7 @@ double MaxNormalJump(const std::vector<BicubicPatch>& patches,
 StatusOr<CadPatchSet> FitCadPatches(const SphericalSpline& spline,
                                     const CadPatchOptions& options) {
   if (!(options.tolerance_percent > 0.0) || !(options.length_unit > 0.0) ||
-      !(options.angle_degrees > 0.0) || options.max_patches < 96 ||
+      !(options.angle_degrees > 0.0) || options.max_faces < 96 ||
       options.initial_levels < 0 || options.initial_levels > 8 ||
       options.fit_samples_per_side < 3 || options.check_samples_per_side < 1 ||
       options.max_rounds < 1 ||
@@ -126,13 +121,14 @@ StatusOr<CadPatchSet> FitCadPatches(const SphericalSpline& spline,
       SphereCageTopology::Create(CageCellShape::kQuad, options.initial_levels);
   PatchCache cache(surface, options);
   CadPatchSet result;
+  double progress = 0.0;
   for (int round = 1;; ++round) {
     const SphereCage& layout = topology.cage();
     const int nf = layout.num_faces();
-    Clock::time_point t0 = Clock::now();
+    Stopwatch t0;
     const std::vector<FaceRecord*> records = cache.Update(layout);
-    result.fit_seconds += Since(t0);
-    t0 = Clock::now();
+    result.fit_seconds += t0.Seconds();
+    t0.Restart();
     const int n = std::max(
         options.check_samples_per_side,
         static_cast<int>(std::ceil(
@@ -154,7 +150,7 @@ StatusOr<CadPatchSet> FitCadPatches(const SphericalSpline& spline,
       }
     }
     cache.Measure(layout, fine, records, n, /*fine=*/true);
-    result.measure_seconds += Since(t0);
+    result.measure_seconds += t0.Seconds();
 
     std::vector<int> cells;
     double max_distance = 0.0;
@@ -167,9 +163,11 @@ StatusOr<CadPatchSet> FitCadPatches(const SphericalSpline& spline,
       }
     }
     if (options.progress) {
+      // The share of the tolerance reached, never going back.
+      progress = std::max(progress, std::min(1.0, tolerance / max_distance));
       options.progress("round " + std::to_string(round) + ", " +
                            std::to_string(nf) + " patches",
-                       std::min(1.0, tolerance / max_distance));
+                       progress);
     }
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
@@ -180,7 +178,7 @@ StatusOr<CadPatchSet> FitCadPatches(const SphericalSpline& spline,
       stop = "rounds";
     } else if (static_cast<int64_t>(nf) +
                    4 * static_cast<int64_t>(cells.size()) >
-               options.max_patches) {
+               options.max_faces) {
       stop = "patch budget";
     }
     if (stop.empty()) {
@@ -190,15 +188,15 @@ StatusOr<CadPatchSet> FitCadPatches(const SphericalSpline& spline,
     SDCB_ASSIGN_OR_RETURN(const LayoutEdges edges, BuildEdges(layout));
     double squares = 0.0, area = 0.0, max_angle = 0.0;
     result.patches.resize(nf);
-    result.patch_max_percent.resize(nf);
-    result.patch_max_normal_degrees.resize(nf);
+    result.face_max_distance_percent.resize(nf);
+    result.face_max_normal_angle_degrees.resize(nf);
     result.measured_points = 0;
     result.fine_faces = 0;
     for (int f = 0; f < nf; ++f) {
       const FaceRecord& r = *records[f];
       result.patches[f] = r.patch;
-      result.patch_max_percent[f] = r.Distance() * percent_per_unit;
-      result.patch_max_normal_degrees[f] = r.Angle();
+      result.face_max_distance_percent[f] = r.Distance() * percent_per_unit;
+      result.face_max_normal_angle_degrees[f] = r.Angle();
       squares += r.sum_squares;
       area += r.sum_area;
       max_angle = std::max(max_angle, r.Angle());
@@ -209,15 +207,15 @@ StatusOr<CadPatchSet> FitCadPatches(const SphericalSpline& spline,
       }
     }
     result.layout = layout;
-    result.max_deviation_percent = max_distance * percent_per_unit;
-    result.max_normal_deviation_degrees = max_angle;
-    result.rms_deviation_percent =
+    result.max_distance_percent = max_distance * percent_per_unit;
+    result.max_normal_angle_degrees = max_angle;
+    result.rms_distance_percent =
         area > 0.0 ? std::sqrt(squares / area) * percent_per_unit : 0.0;
     result.max_normal_jump_degrees = MaxNormalJump(result.patches, edges, 32);
     result.rounds = round;
     result.within_tolerance =
-        result.max_deviation_percent <= options.tolerance_percent &&
-        result.max_normal_deviation_degrees <= options.angle_degrees;
+        result.max_distance_percent <= options.tolerance_percent &&
+        result.max_normal_angle_degrees <= options.angle_degrees;
     result.stop_reason = stop;
     return result;
   }

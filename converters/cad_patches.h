@@ -53,7 +53,7 @@ struct CadPatchOptions {
   // The length that is 100 % (1 in a model's normalized frame).
   double length_unit = 1.0;
   // The layout never has more faces (patches).
-  int max_patches = 50000;
+  int max_faces = 50000;
   // Uniform refinements of the cube before the first round.
   int initial_levels = 2;
   int max_rounds = 30;
@@ -81,12 +81,12 @@ struct CadPatchSet {
   // lattices (coarse, and fine where measured), percent, and the largest
   // angle between the patch's normal and the spline's there, degrees
   // (points where the spline is singular are skipped).
-  std::vector<double> patch_max_percent;
-  std::vector<double> patch_max_normal_degrees;
-  double max_normal_deviation_degrees = 0.0;
-  double max_deviation_percent = 0.0;
+  std::vector<double> face_max_distance_percent;
+  std::vector<double> face_max_normal_angle_degrees;
+  double max_normal_angle_degrees = 0.0;
+  double max_distance_percent = 0.0;
   // Area-weighted over the patches, on the coarse lattices.
-  double rms_deviation_percent = 0.0;
+  double rms_distance_percent = 0.0;
   // Lattice points behind the figures above (coarse and fine), and the
   // faces measured on the fine lattice.
   int64_t measured_points = 0;

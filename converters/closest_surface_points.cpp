@@ -69,15 +69,14 @@ Eigen::VectorXd ClosestSurfacePoints(const SurfaceSampler& surface,
     // Take each step, halved while it does not bring the point nearer.
     std::vector<Eigen::Index> trying(m), moved;
     for (Eigen::Index j = 0; j < m; ++j) trying[j] = j;
-    for (int halving = 0; halving <= kHalvings && !trying.empty();
-         ++halving) {
+    for (int halving = 0; halving <= kHalvings && !trying.empty(); ++halving) {
       const Eigen::Index t = static_cast<Eigen::Index>(trying.size());
       Eigen::MatrixX3d candidate(t, 3);
       for (Eigen::Index k = 0; k < t; ++k) {
         const Eigen::Index j = trying[k];
-        candidate.row(k) = (u.row(active[j]) + step(j, 0) * eu.row(j) +
-                            step(j, 1) * ev.row(j))
-                               .normalized();
+        candidate.row(k) =
+            (u.row(active[j]) + step(j, 0) * eu.row(j) + step(j, 1) * ev.row(j))
+                .normalized();
       }
       Eigen::MatrixX3d c;
       surface.Sample(candidate, &c, nullptr);

@@ -5,22 +5,17 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
 #include <utility>
 
+#include "sdcb/converters/stopwatch.h"
 #include "sdcb/core/fit/least_squares.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 
 namespace sdcb {
 namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 // The k^2 sample parameters of one face: centres of a k by k grid (quads),
 // centroids of the k^2 triangles of a level-k lattice (triangles).
@@ -258,7 +253,7 @@ StatusOr<Eigen::MatrixX3d> FitCagePositions(const SurfaceSampler& spline,
 StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
                                      const CageOptions& options) {
   SDCB_RETURN_IF_ERROR(CheckOptions(options));
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch start;
   const CageCellShape shape = options.scheme == SubdivisionScheme::kLoop
                                   ? CageCellShape::kTriangle
                                   : CageCellShape::kQuad;
@@ -281,32 +276,33 @@ StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
   SDCB_ASSIGN_OR_RETURN(const SplineImage image, SplineImage::Create(sampler));
 
   CageFit fit;
-  fit.stage_seconds.setup = SecondsSince(start);
+  fit.stage_seconds.setup = start.Seconds();
+  double progress = 0.0;  // never going back
   for (int round = 0;; ++round) {
     const SphereCage& layout = topology.cage();
-    auto t0 = std::chrono::steady_clock::now();
+    Stopwatch t0;
     SDCB_ASSIGN_OR_RETURN(
         const LimitSurface limit,
         LimitSurface::Create(options.scheme, layout.num_vertices(),
                              layout.faces));
     SDCB_ASSIGN_OR_RETURN(Eigen::MatrixX3d positions,
                           FitCagePositions(sampler, layout, limit, options));
-    fit.stage_seconds.fit += SecondsSince(t0);
-    t0 = std::chrono::steady_clock::now();
+    fit.stage_seconds.fit += t0.Seconds();
+    t0.Restart();
     measure.min_samples = std::min(
         options.measure_samples,
         std::max(10000, options.round_samples_per_face * layout.num_faces()));
     SDCB_ASSIGN_OR_RETURN(CageDeviation deviation,
                           MeasureCageDeviation(sampler, limit, positions,
                                                layout, measure, &image));
-    fit.stage_seconds.measure += SecondsSince(t0);
+    fit.stage_seconds.measure += t0.Seconds();
     CageRound r;
     r.round = round;
     r.faces = layout.num_faces();
     r.vertices = layout.num_vertices();
     r.limit_rmse_percent = deviation.rms_percent;
     r.limit_max_error_percent = deviation.max_percent;
-    r.seconds = SecondsSince(start);
+    r.seconds = start.Seconds();
     fit.rounds.push_back(r);
     if (options.progress) {
       // Toward the tolerance or the face budget, whichever is nearer.
@@ -314,10 +310,12 @@ StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
           std::min(1.0, options.tolerance_percent / r.limit_rmse_percent);
       const double toward_budget =
           static_cast<double>(r.faces) / options.max_faces;
-      options.progress(
-          "round " + std::to_string(round) + ", " + std::to_string(r.faces) +
-              " faces",
+      progress = std::max(
+          progress,
           0.9 * std::max(toward_tolerance * toward_tolerance, toward_budget));
+      options.progress("round " + std::to_string(round) + ", " +
+                           std::to_string(r.faces) + " faces",
+                       progress);
     }
     fit.cage.scheme = options.scheme;
     fit.cage.vertices = std::move(positions);
@@ -376,7 +374,7 @@ StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
   }
   // The returned cage measured at full density.
   if (options.progress) options.progress("measuring", 0.9);
-  const auto final_start = std::chrono::steady_clock::now();
+  const Stopwatch final_start;
   SDCB_ASSIGN_OR_RETURN(
       const LimitSurface limit,
       LimitSurface::Create(options.scheme, fit.cage.layout.num_vertices(),
@@ -385,8 +383,8 @@ StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
   SDCB_ASSIGN_OR_RETURN(fit.deviation,
                         MeasureCageDeviation(sampler, limit, fit.cage.vertices,
                                              fit.cage.layout, measure, &image));
-  fit.stage_seconds.final_measure = SecondsSince(final_start);
-  fit.seconds = SecondsSince(start);
+  fit.stage_seconds.final_measure = final_start.Seconds();
+  fit.seconds = start.Seconds();
   return fit;
 }
 

@@ -3,7 +3,6 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +10,7 @@
 
 #include "sdcb/converters/color_ramp.h"
 #include "sdcb/converters/mesh_export.h"
+#include "sdcb/converters/stopwatch.h"
 #include "sdcb/converters/tessellation_deviation.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
@@ -20,11 +20,6 @@
 
 namespace sdcb {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double Since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 // Fraction of the tolerance given to position quantization when a
 // compressed glTF is written; the tessellation gets the rest.
@@ -196,7 +191,7 @@ bool ExportFormatOfExtension(const std::string& extension,
 
 StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
     const SplineModel& model, const SurfaceMeshExportOptions& options) {
-  const Clock::time_point start = Clock::now();
+  const Stopwatch start;
   SDCB_RETURN_IF_ERROR(CheckOptions(options));
   const auto progress = [&](const std::string& stage, double fraction) {
     if (options.progress) options.progress(stage, fraction);
@@ -233,7 +228,7 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
   const double surface_tolerance = tolerance - quantization_budget;
 
   progress("tessellate", 0.0);
-  Clock::time_point t0 = Clock::now();
+  Stopwatch t0;
   Tessellation t;
   if (options.uniform_vertices > 0) {
     t = TessellateUniformly(sampler,
@@ -244,23 +239,23 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
     tessellation.angle_degrees = options.angle_degrees;
     SDCB_ASSIGN_OR_RETURN(t, TessellateAdaptively(sampler, tessellation));
   }
-  report.seconds.tessellate = Since(t0);
+  report.seconds.tessellate = t0.Seconds();
 
   progress("measure", 0.8);
-  t0 = Clock::now();
+  t0.Restart();
   const TessellationDeviation measured = MeasureTessellationDeviation(
       sampler, t, options.measure_samples_per_face);
-  report.seconds.measure = Since(t0);
+  report.seconds.measure = t0.Seconds();
   progress("optimum", 0.9);
-  t0 = Clock::now();
+  t0.Restart();
   SDCB_ASSIGN_OR_RETURN(report.curvature_integrals,
                         IntegrateCurvatureOverSurface(sampler));
   const double optimum =
       OptimalTriangleCount(report.curvature_integrals, surface_tolerance);
-  report.seconds.optimum = Since(t0);
+  report.seconds.optimum = t0.Seconds();
 
   progress("encode", 0.95);
-  t0 = Clock::now();
+  t0.Restart();
   SurfaceMesh& mesh = out.mesh;
   mesh.positions = transform.ToInput(t.positions);
   mesh.normals = CompleteNormals(t);
@@ -290,7 +285,7 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
         out.bytes,
         EncodeSurfaceMesh(mesh, std::string(".") + FormatName(options.format)));
   }
-  report.seconds.write = Since(t0);
+  report.seconds.write = t0.Seconds();
 
   const double measured_max =
       std::max(measured.surface_to_mesh, measured.mesh_to_surface);
@@ -324,7 +319,7 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
   report.quantization.float32_error_percent =
       100.0 * gltf.float32_error / transform.scale;
   report.evaluations = t.evaluations;
-  report.seconds.total = Since(start);
+  report.seconds.total = start.Seconds();
   progress("done", 1.0);
   return out;
 }
@@ -332,7 +327,7 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
 StatusOr<SurfaceMeshExportReport> WriteSurfaceMeshExport(
     const SplineModel& model, const SurfaceMeshExportOptions& options,
     const std::string& path) {
-  const Clock::time_point start = Clock::now();
+  const Stopwatch start;
   SurfaceMeshExportOptions o = options;
   const std::string extension =
       std::filesystem::path(path).extension().string();
@@ -343,10 +338,10 @@ StatusOr<SurfaceMeshExportReport> WriteSurfaceMeshExport(
   }
   SDCB_ASSIGN_OR_RETURN(SurfaceMeshExport exported,
                         ExportSurfaceMesh(model, o));
-  const Clock::time_point t0 = Clock::now();
+  const Stopwatch t0;
   SDCB_RETURN_IF_ERROR(WriteFileAtomically(exported.bytes, path));
-  exported.report.seconds.write += Since(t0);
-  exported.report.seconds.total = Since(start);
+  exported.report.seconds.write += t0.Seconds();
+  exported.report.seconds.total = start.Seconds();
   return exported.report;
 }
 

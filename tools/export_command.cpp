@@ -140,7 +140,7 @@ int RunExport(const std::vector<std::string>& argv) {
 
   if (!json_path.empty()) {
     nlohmann::ordered_json j;
-    j["file"] = model_path;
+    j["model"] = model_path;
     j["output"] = output;
     j.update(SurfaceMeshExportReportToJson(report));
     written = WriteTextOutput(json_path, j.dump(2) + "\n");

@@ -10,6 +10,8 @@
 //   the lattice names);
 // - shared edges compared pole for pole; a brute-force normal comparison;
 // - the volume and area of patches whose exact values are known.
+#include "sdcb/converters/cad_export.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -24,6 +26,7 @@
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/sdcb_file.h"
 #include "testing/occt_reread.h"
 #include "testing/temp_dir.h"
 
@@ -69,7 +72,7 @@ CadPatchSet* CadExportTest::patches_ = nullptr;
 TEST_F(CadExportTest, ReachesTheToleranceAndSharesEdgesPoleForPole) {
   const CadPatchSet& p = *patches_;
   EXPECT_TRUE(p.within_tolerance);
-  EXPECT_LE(p.max_deviation_percent, kTolerance);
+  EXPECT_LE(p.max_distance_percent, kTolerance);
   EXPECT_GE(p.measured_points, 100000);
   ASSERT_EQ(p.patches.size(), p.layout.faces.size());
   // Every edge of the layout: the two faces' boundary poles are the same
@@ -133,14 +136,14 @@ TEST_F(CadExportTest, ReachesTheToleranceAndSharesEdgesPoleForPole) {
 TEST_F(CadExportTest, BudgetTooSmallReportsWhatItReached) {
   CadPatchOptions options;
   options.tolerance_percent = 1e-5;
-  options.max_patches = 200;
+  options.max_faces = 200;
   auto fit = FitCadPatches(*spline_, options);
   ASSERT_TRUE(fit.ok());
   EXPECT_FALSE(fit->within_tolerance);
   EXPECT_EQ(fit->stop_reason, "patch budget");
-  EXPECT_GT(fit->max_deviation_percent, 1e-5);
+  EXPECT_GT(fit->max_distance_percent, 1e-5);
   EXPECT_LE(static_cast<int>(fit->patches.size()), 200);
-  options.max_patches = 10;
+  options.max_faces = 10;
   EXPECT_FALSE(FitCadPatches(*spline_, options).ok());
 }
 
@@ -288,11 +291,11 @@ void CheckReread(const SphericalSpline& spline, const CadPatchSet& patches,
   // The fitter's parametric figure bounds both (it is the distance to the
   // spline point of the same sphere point), up to the spacing of its
   // lattice.
-  EXPECT_LE(c.to_spline_percent, patches.max_deviation_percent * 1.05);
-  EXPECT_LE(c.from_spline_percent, patches.max_deviation_percent * 1.05);
+  EXPECT_LE(c.to_spline_percent, patches.max_distance_percent * 1.05);
+  EXPECT_LE(c.from_spline_percent, patches.max_distance_percent * 1.05);
   std::printf("to spline %.5f%%, from spline %.5f%% (reported %.5f%%)\n",
               c.to_spline_percent, c.from_spline_percent,
-              patches.max_deviation_percent);
+              patches.max_distance_percent);
 }
 
 TEST_F(CadExportTest, StepRereadIsOneValidSolidWithinTheTolerance) {
@@ -330,6 +333,46 @@ TEST_F(CadExportTest, PatchesThatDoNotCloseWriteNothing) {
   EXPECT_FALSE(report.ok());
   EXPECT_FALSE(std::filesystem::exists(path));
   EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+// The library call behind `sdcb export OUT.step`: the file and its report,
+// or, when the budget cannot reach the tolerance, a status naming what it
+// reached and no file.
+TEST(CadExportCallTest, WritesTheFileItReportsOrNothing) {
+  const std::string dir = testing::FreshTestDir();
+  auto model = ReadSdcbFile(testing::TestDataPath("cow_round0_v1.sdcb"));
+  ASSERT_TRUE(model.ok());
+  CadExportOptions options;
+  options.patches.tolerance_percent = 0.5;
+  options.patches.angle_degrees = 180.0;
+  double last = -1.0;
+  options.progress = [&](const std::string& stage, double fraction) {
+    EXPECT_GE(fraction, last) << stage;
+    last = fraction;
+  };
+  const std::string path = dir + "/cow.step";
+  auto report = WriteCadExport(*model, options, path);
+  ASSERT_TRUE(report.ok()) << report.status().message();
+  EXPECT_EQ(last, 1.0);
+  EXPECT_EQ(report->bytes,
+            static_cast<int64_t>(std::filesystem::file_size(path)));
+  EXPECT_TRUE(report->valid);
+  EXPECT_LE(report->max_distance_percent, 0.5);
+  EXPECT_EQ(static_cast<int>(report->face_max_distance_percent.size()),
+            report->faces);
+  const auto j = CadExportReportToJson(*report);
+  EXPECT_EQ(j["faces"], report->faces);
+  EXPECT_EQ(j["format"], "step");
+
+  options.patches.tolerance_percent = 1e-5;
+  options.patches.max_faces = 300;
+  options.progress = nullptr;
+  const std::string refused = dir + "/refused.step";
+  report = WriteCadExport(*model, options, refused);
+  EXPECT_EQ(report.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(report.status().message().find("max distance of"),
+            std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(refused));
 }
 
 }  // namespace

@@ -52,7 +52,7 @@ SplineModel* SurfaceMeshExportTest::model_ = nullptr;
 // only the command line knows (file names).
 nlohmann::json Comparable(nlohmann::json j) {
   j.erase("seconds");
-  j.erase("file");
+  j.erase("model");
   j.erase("output");
   return j;
 }
