@@ -49,8 +49,7 @@ TEST(CadExportCliTest, StepAndIgesAreOneValidSolidInInputCoordinates) {
     EXPECT_TRUE(j["valid"].get<bool>());
     EXPECT_EQ(j["bytes"].get<int64_t>(),
               static_cast<int64_t>(fs::file_size(out)));
-    EXPECT_EQ(j["face_max_distance_percent"].size(),
-              j["faces"].get<size_t>());
+    EXPECT_EQ(j["face_max_distance_percent"].size(), j["faces"].get<size_t>());
     const testing::RereadShape s = testing::Reread(out, name == "cow.igs");
     ASSERT_TRUE(s.read);
     EXPECT_EQ(s.solids, 1);
