@@ -22,8 +22,8 @@ for m in bunny00 cow bull; do
     python3 -c "
 import json, sys
 j = json.load(open(sys.argv[1]))
-print(sys.argv[1], {k: j[k] for k in ('patches', 'max_deviation_percent',
-      'rms_deviation_percent', 'measured_points', 'normal_deviation_degrees',
+print(sys.argv[1], {k: j[k] for k in ('faces', 'max_distance_percent',
+      'rms_distance_percent', 'measured_points', 'max_normal_angle_degrees',
       'max_normal_jump_degrees', 'volume', 'area', 'rounds', 'seconds')})
 " "$f.json"
     ./build/bench/cad_reread_bench "$out/$m.sdcb" "$f"

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "sdcb/converters/subdivision_cage.h"
+#include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/io/sdcb_file.h"
 
 int main(int argc, char** argv) {
@@ -42,6 +43,8 @@ int main(int argc, char** argv) {
   }
   auto spline = sdcb::SurfaceFromModel(*model);
   if (!spline.ok()) return 1;
+  const sdcb::PiecewiseSurface pieces(*spline);
+  const sdcb::PiecewiseSplineSampler sampler(*spline, pieces);
   const bool loop = options.scheme == sdcb::SubdivisionScheme::kLoop;
   std::printf("%s, %s\n", argv[1], loop ? "Loop" : "Catmull-Clark");
   std::printf("%-10s %7s %12s %12s %12s %12s %9s\n", "cage", "faces",
@@ -58,13 +61,13 @@ int main(int argc, char** argv) {
         options.scheme, layout.num_vertices(), layout.faces);
     if (!limit.ok()) return 1;
     const Eigen::MatrixX3d pulled = spline->EvaluateMany(layout.sphere_points);
-    auto fitted = sdcb::FitCagePositions(*spline, layout, *limit, options);
+    auto fitted = sdcb::FitCagePositions(sampler, layout, *limit, options);
     if (!fitted.ok()) return 1;
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
             .count();
-    auto a = sdcb::MeasureCageDeviation(*spline, *limit, pulled);
-    auto b = sdcb::MeasureCageDeviation(*spline, *limit, *fitted, &layout);
+    auto a = sdcb::MeasureCageDeviation(sampler, *limit, pulled, layout);
+    auto b = sdcb::MeasureCageDeviation(sampler, *limit, *fitted, layout);
     if (!a.ok() || !b.ok()) return 1;
     std::printf("%-10s %7d %11.4f%% %11.4f%% %11.4f%% %11.4f%% %9.2f\n",
                 ("uniform " + std::to_string(levels)).c_str(),

@@ -1,7 +1,6 @@
 // Where an adaptive tessellation's triangles go, against the asymptotic
 // optimum N_opt (core/tessellate/optimal_triangle_count.h):
-//   tessellation_efficiency_bench MODEL.sdcb TOLERANCE_PCT [--no-simplify]
-//       [--no-optimize] [--no-relocate]
+//   tessellation_efficiency_bench MODEL.sdcb TOLERANCE_PCT
 // Tessellates the model at the tolerance, then for each face: its share of
 // N_opt (area times the optimum's density at its centroid, eta), its
 // largest distance to its own flat triangle on an order-24 lattice (err, a
@@ -35,8 +34,7 @@ constexpr int kOrder = 24;
 int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr,
-                 "usage: %s MODEL.sdcb TOLERANCE_PCT [--no-simplify] "
-                 "[--no-optimize] [--no-relocate]\n",
+                 "usage: %s MODEL.sdcb TOLERANCE_PCT\n",
                  argv[0]);
     return 2;
   }
@@ -51,8 +49,6 @@ int main(int argc, char** argv) {
   const sdcb::PiecewiseSplineSampler sampler(*spline, pieces);
   sdcb::TessellationOptions options;
   options.tolerance = std::atof(argv[2]) / 100.0;
-  for (int i = 3; i < argc; ++i) {
-  }
   const double eps = options.tolerance;
   const auto start = std::chrono::steady_clock::now();
   auto t = sdcb::TessellateAdaptively(sampler, options);

@@ -4,11 +4,11 @@
 // so the shell is assembled from the known topology (BRep_Builder: one
 // vertex per layout vertex, one edge per layout edge whose curve is the
 // common boundary, a straight pcurve in each of its two faces) instead of
-// being sewn (BRepBuilderAPI_Sewing took 35 s for 4000 patches and can merge
-// the wrong edges of tiny patches); made a solid, oriented outward
-// (BRepLib::OrientClosedSolid), checked with BRepCheck_Analyzer; written by
-// STEPControl_Writer (AP214) or IGESControl_Writer (B-rep mode), in
-// millimetres: the patches' coordinates are taken as millimetres.
+// being sewn; the patches are counter-clockwise seen from outside, so the
+// solid is oriented outward as built (its volume, MeasurePatchSet, is
+// positive); checked with BRepCheck_Analyzer; written by STEPControl_Writer
+// (AP214) or IGESControl_Writer (B-rep mode), in millimetres: the patches'
+// coordinates are taken as millimetres.
 //
 // This file (with its .cpp) is the only place of sdcb that includes
 // OpenCASCADE.
@@ -16,6 +16,8 @@
 #define SDCB_CONVERTERS_CAD_FILE_H_
 
 #include <array>
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,9 +34,16 @@ struct CadSolidReport {
   // tolerance of the vertices, edges and faces.
   int free_edges = 0;
   double tolerance = 0.0;
-  bool valid = false;   // BRepCheck_Analyzer
-  double volume = 0.0;  // BRepGProp, in the patches' units
+  bool valid = false;  // BRepCheck_Analyzer
+  int64_t bytes = 0;   // of the file
+  // MeasurePatchSet of the patches, in their units.
+  double volume = 0.0;
   double area = 0.0;
+  struct Seconds {
+    // Building the B-rep, BRepCheck_Analyzer, OpenCASCADE's STEP / IGES
+    // translation and writer, the atomic write of the file.
+    double build = 0.0, check = 0.0, translate = 0.0, write = 0.0;
+  } seconds;
 };
 
 // Builds the solid from `patches` (counter-clockwise seen from outside,
@@ -42,10 +51,14 @@ struct CadSolidReport {
 // (1, 1), (0, 1) is the vertex corners[f][0..3] (CadPatchSet::layout.faces)
 // and writes it to `path` atomically. Nothing is written, and a Status says
 // why, when the patches do not close or the solid is not valid.
+// `progress` (optional) is called with each stage's name ("checking",
+// "translating", "writing") and the finished fraction in [0, 1].
 StatusOr<CadSolidReport> WriteCadSolid(
     const std::vector<BicubicPatch>& patches,
     const std::vector<std::array<int, 4>>& corners, CadFormat format,
-    const std::string& path);
+    const std::string& path,
+    const std::function<void(const std::string& stage, double fraction)>&
+        progress = nullptr);
 
 // Process-wide: removes OpenCASCADE's default message printers (its writers
 // print transfer statistics on stdout). For programs that own the process,

@@ -15,9 +15,16 @@
 // - A patch is compared with the spline point of the same sphere point,
 //   |B(u, v) - S(sphere(f, u, v))|: since the faces' regions tile the sphere,
 //   this parametric distance bounds the distance both ways (patch -> spline
-//   and spline -> patch) from above. Faces whose distance exceeds the
-//   tolerance are refined, until every face is within it or the patch budget
-//   stops the refinement.
+//   and spline -> patch) from above. It is sampled on an (n + 1) by (n + 1)
+//   lattice of every face, and on one three times as fine on the faces whose
+//   coarse maximum (distance or normal angle) is above `fine_share` of its
+//   limit: elsewhere a maximum between the coarse points would have to be
+//   several times the one at them (docs/CAD.md has the measured ratios).
+//   Faces whose sampled distance or angle exceeds the limits are refined,
+//   until every face is within them or the patch budget stops the
+//   refinement.
+// A face's patch depends only on its corners' sphere points, so a face that
+// a round keeps is neither fitted nor measured again.
 #ifndef SDCB_CONVERTERS_CAD_PATCHES_H_
 #define SDCB_CONVERTERS_CAD_PATCHES_H_
 
@@ -28,22 +35,12 @@
 #include <string>
 #include <vector>
 
+#include "sdcb/converters/bicubic_patch.h"
 #include "sdcb/core/cage/sphere_cage_topology.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/spline/spherical_spline.h"
 
 namespace sdcb {
-
-// A bicubic Bezier patch over [0, 1]^2: poles[4 * j + i] is the pole i
-// along u, j along v. Corner (0, 0) is poles[0], (1, 0) poles[3], (1, 1)
-// poles[15], (0, 1) poles[12].
-struct BicubicPatch {
-  std::array<Eigen::Vector3d, 16> poles;
-
-  // The point at (u, v), with its parameter derivatives when not null.
-  Eigen::Vector3d Evaluate(double u, double v, Eigen::Vector3d* du = nullptr,
-                           Eigen::Vector3d* dv = nullptr) const;
-};
 
 struct CadPatchOptions {
   // The largest allowed distance between patches and spline, percent of
@@ -52,24 +49,27 @@ struct CadPatchOptions {
   // The largest allowed angle between a patch's normal and the spline's at
   // the same sphere point, degrees (bounds the normal jump across patch
   // borders by twice as much).
-  double max_normal_degrees = 10.0;
+  double angle_degrees = 10.0;
   // The length that is 100 % (1 in a model's normalized frame).
   double length_unit = 1.0;
   // The layout never has more faces (patches).
-  int max_patches = 50000;
+  int max_faces = 50000;
   // Uniform refinements of the cube before the first round.
   int initial_levels = 2;
   int max_rounds = 30;
   // Fit samples per face: k by k grid centres; per edge: k inner points.
   int fit_samples_per_side = 8;
-  // Each round checks every face on an (n + 1) by (n + 1) lattice, n at
-  // least k and large enough for `measure_samples` points in all; once every
-  // face is within, on one with 3 n: that measurement is the one returned
-  // (and may send faces back for refinement).
+  // The coarse lattice of every face has order n: at least this, and large
+  // enough for `measure_samples` points over all faces. The fine lattice
+  // (order 3 n) measures the faces whose coarse maximum is above
+  // `fine_share` of the tolerance or of the angle.
   int check_samples_per_side = 10;
   int measure_samples = 100000;
-  // Called after every round: round, patches, the round's largest distance.
-  std::function<void(int, int, double)> on_round;
+  double fine_share = 0.5;
+  // Called after every round with a stage name ("round 3, 1584 patches")
+  // and an estimate of the finished fraction in [0, 1], from the calling
+  // thread.
+  std::function<void(const std::string& stage, double fraction)> progress;
 };
 
 struct CadPatchSet {
@@ -77,20 +77,28 @@ struct CadPatchSet {
   // seen from outside (dB/du x dB/dv points out).
   std::vector<BicubicPatch> patches;
   SphereCage layout;
-  // Parametric distance to the spline on the final (fine) lattice, percent.
-  std::vector<double> patch_max_percent;
-  // Angle between the patch's normal and the spline's on that lattice,
-  // degrees (points where the spline is singular are skipped).
-  std::vector<double> patch_max_normal_degrees;
-  double max_normal_deviation_degrees = 0.0;
-  double max_deviation_percent = 0.0;
-  double rms_deviation_percent = 0.0;  // area-weighted over the patches
+  // Per face: the largest parametric distance to the spline on its
+  // lattices (coarse, and fine where measured), percent, and the largest
+  // angle between the patch's normal and the spline's there, degrees
+  // (points where the spline is singular are skipped).
+  std::vector<double> face_max_distance_percent;
+  std::vector<double> face_max_normal_angle_degrees;
+  double max_normal_angle_degrees = 0.0;
+  double max_distance_percent = 0.0;
+  // Area-weighted over the patches, on the coarse lattices.
+  double rms_distance_percent = 0.0;
+  // Lattice points behind the figures above (coarse and fine), and the
+  // faces measured on the fine lattice.
   int64_t measured_points = 0;
-  // The largest angle between the two patches' normals along shared edges.
+  int fine_faces = 0;
+  // The largest angle between the two patches' normals along shared edges
+  // (33 points per edge).
   double max_normal_jump_degrees = 0.0;
   int rounds = 0;
   bool within_tolerance = false;
   std::string stop_reason;
+  // Seconds spent fitting and measuring patches, over all rounds.
+  double fit_seconds = 0.0, measure_seconds = 0.0;
 };
 
 // Patches for `spline` (normalized frame or any other; distances in percent
@@ -99,10 +107,6 @@ struct CadPatchSet {
 // within_tolerance. kInvalidArgument for bad options.
 StatusOr<CadPatchSet> FitCadPatches(const SphericalSpline& spline,
                                     const CadPatchOptions& options = {});
-
-// (u, v) of face-local edge k (from corner k to corner k + 1, the corners at
-// (0, 0), (1, 0), (1, 1), (0, 1)) at edge parameter t in [0, 1].
-Eigen::Vector2d QuadEdgeParameter(int k, double t);
 
 }  // namespace sdcb
 

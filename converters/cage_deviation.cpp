@@ -6,9 +6,13 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <vector>
 
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/converters/closest_surface_points.h"
+#include "sdcb/core/mesh/icosphere.h"
+#include "sdcb/core/mesh/mesh_distance.h"
 
 namespace sdcb {
 namespace {
@@ -73,14 +77,13 @@ void ClampToDomain(bool triangle, double* u, double* v) {
 
 }  // namespace
 
-double ClosestOnLimitFace(const LimitSurface& limit,
-                          const Eigen::MatrixX3d& cage, int f,
+double ClosestOnLimitFace(const PreparedLimit& limit, int f,
                           const Eigen::Vector3d& x, int iterations, double* u,
                           double* v) {
-  const bool triangle = limit.scheme() == SubdivisionScheme::kLoop;
+  const bool triangle = limit.limit().scheme() == SubdivisionScheme::kLoop;
   ClampToDomain(triangle, u, v);
   Eigen::Vector3d pu, pv;
-  Eigen::Vector3d p = limit.Evaluate(f, *u, *v, cage, &pu, &pv);
+  Eigen::Vector3d p = limit.Evaluate(f, *u, *v, &pu, &pv);
   double best = (p - x).norm();
   for (int it = 0; it < iterations && best > 0; ++it) {
     const Eigen::Vector3d r = p - x;
@@ -95,7 +98,7 @@ double ClosestOnLimitFace(const LimitSurface& limit,
       double nu = *u + step[0], nv = *v + step[1];
       ClampToDomain(triangle, &nu, &nv);
       Eigen::Vector3d qu, qv;
-      const Eigen::Vector3d q = limit.Evaluate(f, nu, nv, cage, &qu, &qv);
+      const Eigen::Vector3d q = limit.Evaluate(f, nu, nv, &qu, &qv);
       const double d = (q - x).norm();
       if (d < best) {
         best = d;
@@ -113,24 +116,77 @@ double ClosestOnLimitFace(const LimitSurface& limit,
   return best;
 }
 
+StatusOr<SplineImage> SplineImage::Create(const SurfaceSampler& spline,
+                                          int level) {
+  if (level < 0 || level > 9) {
+    return InvalidArgumentError("spline image: the level must be in 0..9");
+  }
+  TriangleMesh sphere = MakeIcosphere(level);
+  const Eigen::Index nv = sphere.vertices.rows();
+  const Eigen::Index nt = sphere.faces.rows();
+  // The vertices and the triangles' centroids' sphere points.
+  Eigen::MatrixX3d directions(nv + nt, 3);
+  directions.topRows(nv) = sphere.vertices;
+  for (Eigen::Index t = 0; t < nt; ++t) {
+    directions.row(nv + t) = (sphere.vertices.row(sphere.faces(t, 0)) +
+                              sphere.vertices.row(sphere.faces(t, 1)) +
+                              sphere.vertices.row(sphere.faces(t, 2)))
+                                 .normalized();
+  }
+  Eigen::MatrixX3d points;
+  spline.Sample(directions, &points, nullptr);
+  TriangleMesh image;
+  image.vertices = points.topRows(nv);
+  image.faces = sphere.faces;
+  Eigen::VectorXd chord(nt);
+  for (Eigen::Index t = 0; t < nt; ++t) {
+    chord[t] = (points.row(nv + t) - (image.vertices.row(image.faces(t, 0)) +
+                                      image.vertices.row(image.faces(t, 1)) +
+                                      image.vertices.row(image.faces(t, 2))) /
+                                         3.0)
+                   .norm();
+  }
+  SDCB_ASSIGN_OR_RETURN(MeshDistance tree, MeshDistance::Create(image));
+  return SplineImage(std::move(sphere), std::move(image), std::move(tree),
+                     std::move(chord));
+}
+
+Eigen::Vector3d SplineImage::NearestDirection(const Eigen::Vector3d& x,
+                                              double* distance,
+                                              double* chord) const {
+  const MeshDistance::Closest c = tree_.Find(x);
+  *distance = c.distance;
+  *chord = chord_[c.face];
+  Eigen::Vector3d corner[3];
+  for (int k = 0; k < 3; ++k)
+    corner[k] = image_.vertices.row(image_.faces(c.face, k));
+  const Eigen::Vector3d w =
+      TriangleCoordinates(c.point, corner[0], corner[1], corner[2]);
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    d += w[k] * sphere_.vertices.row(sphere_.faces(c.face, k)).transpose();
+  }
+  return d.normalized();
+}
+
 StatusOr<CageDeviation> MeasureCageDeviation(
-    const SphericalSpline& spline, const LimitSurface& limit,
-    const Eigen::MatrixX3d& cage, const SphereCage* sphere,
-    const CageDeviationOptions& options) {
+    const SurfaceSampler& spline, const LimitSurface& limit,
+    const Eigen::MatrixX3d& cage, const SphereCage& sphere,
+    const CageDeviationOptions& options, const SplineImage* image) {
   const int nf = limit.num_faces();
-  if (cage.rows() != limit.num_vertices() ||
-      (sphere && sphere->num_faces() != nf)) {
+  if (cage.rows() != limit.num_vertices() || sphere.num_faces() != nf) {
     return InvalidArgumentError(
         "cage deviation: the cage positions or the sphere layout do not "
         "match the limit surface");
   }
   if (!(options.length_unit > 0) || options.min_samples < 1 ||
-      options.newton_iterations < 0) {
+      options.newton_iterations < 0 || options.spline_iterations < 0) {
     return InvalidArgumentError(
         "cage deviation: the length unit must be > 0 and the sample count "
         ">= 1");
   }
   const bool triangle = limit.scheme() == SubdivisionScheme::kLoop;
+  const PreparedLimit prepared(limit, cage);
   int n = 1;
   auto per_face = [&](int level) {
     return triangle ? (level + 1) * (level + 2) / 2 : (level + 1) * (level + 1);
@@ -139,14 +195,15 @@ StatusOr<CageDeviation> MeasureCageDeviation(
   const FaceLattice lattice = MakeFaceLattice(triangle, n);
   const int np = static_cast<int>(lattice.uv.size());
   const int nt = static_cast<int>(lattice.triangles.size());
+  const Eigen::Index ns = static_cast<Eigen::Index>(nf) * np;
   const double to_percent = 100.0 / options.length_unit;
 
-  // The limit lattice: exact limit points, unwelded (every face its own).
-  TriangleMesh tessellation;
-  tessellation.vertices.resize(static_cast<Eigen::Index>(nf) * np, 3);
-  tessellation.faces.resize(static_cast<Eigen::Index>(nf) * nt, 3);
-  Eigen::MatrixX3d candidates;
-  if (sphere) candidates.resize(tessellation.vertices.rows(), 3);
+  // Both lattices, unwelded (every face its own points): the limit points
+  // and normals, the sphere points; the triangles are shared.
+  TriangleMesh limit_mesh, spline_mesh;
+  limit_mesh.vertices.resize(ns, 3);
+  limit_mesh.faces.resize(static_cast<Eigen::Index>(nf) * nt, 3);
+  Eigen::MatrixX3d directions(ns, 3);
   tbb::parallel_for(
       tbb::blocked_range<int>(0, nf, 16),
       [&](const tbb::blocked_range<int>& range) {
@@ -154,15 +211,12 @@ StatusOr<CageDeviation> MeasureCageDeviation(
           const Eigen::Index base = static_cast<Eigen::Index>(f) * np;
           for (int k = 0; k < np; ++k) {
             const Eigen::Vector2d& uv = lattice.uv[k];
-            tessellation.vertices.row(base + k) =
-                limit.Evaluate(f, uv[0], uv[1], cage);
-            if (sphere) {
-              candidates.row(base + k) =
-                  spline.Evaluate(sphere->SpherePoint(f, uv[0], uv[1]));
-            }
+            limit_mesh.vertices.row(base + k) =
+                prepared.Evaluate(f, uv[0], uv[1]);
+            directions.row(base + k) = sphere.SpherePoint(f, uv[0], uv[1]);
           }
           for (int t = 0; t < nt; ++t) {
-            tessellation.faces.row(static_cast<Eigen::Index>(f) * nt + t) =
+            limit_mesh.faces.row(static_cast<Eigen::Index>(f) * nt + t) =
                 (lattice.triangles[t].array() + base)
                     .cast<int>()
                     .matrix()
@@ -170,99 +224,159 @@ StatusOr<CageDeviation> MeasureCageDeviation(
           }
         }
       });
-
-  DeviationOptions measure;
-  measure.length_unit = options.length_unit;
-  measure.min_surface_samples = options.min_samples;
-  SDCB_ASSIGN_OR_RETURN(
-      const SurfaceDeviation d,
-      MeasureSurfaceDeviation(spline, tessellation, measure,
-                              sphere ? &candidates : nullptr));
-
-  CageDeviation out;
-  out.lattice_level = n;
-  out.limit_samples = tessellation.vertices.rows();
-  out.spline_samples = d.surface_samples;
-  out.limit_to_spline_rms_percent = d.mesh_to_surface_rms_percent;
-  out.limit_to_spline_max_percent = d.mesh_to_surface_max_percent;
-  out.folded_area_percent = d.folded_area_percent;
-  out.limit_sample_points = tessellation.vertices;
-  out.limit_sample_distance_percent = d.vertex_distance_percent;
-  out.limit_sample_face.resize(out.limit_samples);
-  out.limit_sample_uv.resize(out.limit_samples, 2);
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < np; ++k) {
-      const Eigen::Index i = static_cast<Eigen::Index>(f) * np + k;
-      out.limit_sample_face[i] = f;
-      out.limit_sample_uv.row(i) = lattice.uv[k].transpose();
-    }
+  Eigen::MatrixX3d spline_normals;
+  spline.Sample(directions, &spline_mesh.vertices, &spline_normals);
+  spline_mesh.faces = limit_mesh.faces;
+  StatusOr<SplineImage> own_image = InvalidArgumentError("not made");
+  if (image == nullptr) {
+    own_image = SplineImage::Create(spline);
+    if (!own_image.ok()) return own_image.status();
+    image = &*own_image;
   }
-
-  // Per face: area-weighted squared limit -> spline distances.
-  out.face_rms_percent = Eigen::VectorXd::Zero(nf);
-  out.face_max_percent = Eigen::VectorXd::Zero(nf);
-  out.face_squared_error = Eigen::VectorXd::Zero(nf);
-  {
-    Eigen::VectorXd face_area = Eigen::VectorXd::Zero(nf);
-    for (Eigen::Index t = 0; t < tessellation.faces.rows(); ++t) {
-      const int f = static_cast<int>(t / nt);
-      const Eigen::Vector3d a =
-          tessellation.vertices.row(tessellation.faces(t, 0));
-      const Eigen::Vector3d b =
-          tessellation.vertices.row(tessellation.faces(t, 1));
-      const Eigen::Vector3d c =
-          tessellation.vertices.row(tessellation.faces(t, 2));
-      const double area = 0.5 * (b - a).cross(c - a).norm();
-      face_area[f] += area;
-      for (int k = 0; k < 3; ++k) {
-        const double e = d.vertex_distance_percent[tessellation.faces(t, k)];
-        out.face_squared_error[f] += area / 3 * e * e;
-      }
+  SDCB_ASSIGN_OR_RETURN(const MeshDistance to_limit_image,
+                        MeshDistance::Create(limit_mesh));
+  // A third of each lattice triangle's area to each of its corners.
+  const auto corner_weights = [&](const TriangleMesh& mesh) {
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(ns);
+    for (Eigen::Index t = 0; t < mesh.faces.rows(); ++t) {
+      const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(t, 0));
+      const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(t, 1));
+      const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(t, 2));
+      const double third = (b - a).cross(c - a).norm() / 6.0;
+      for (int k = 0; k < 3; ++k) w[mesh.faces(t, k)] += third;
     }
-    for (int f = 0; f < nf; ++f) {
-      out.face_rms_percent[f] =
-          face_area[f] > 0 ? std::sqrt(out.face_squared_error[f] / face_area[f])
-                           : 0;
-      out.face_max_percent[f] =
-          d.vertex_distance_percent
-              .segment(static_cast<Eigen::Index>(f) * np, np)
-              .maxCoeff();
-    }
-  }
+    return w;
+  };
 
-  // Spline -> limit: from the nearest point of the limit lattice (found by
-  // the measurement above) to the foot point on the limit surface.
-  const Eigen::MatrixX3d& spline_points = d.surface_sample_positions;
-  const Eigen::Index ns = spline_points.rows();
-  Eigen::VectorXd distance(ns);
+  // Limit -> spline: searches from the sample's sphere point, then, where
+  // that ends more than 1 % farther than the nearest point y of the
+  // spline's image plus half the image's chord there, or farther than the
+  // spline at y's sphere point, from that sphere point.
+  Eigen::MatrixX3d starts = directions;
+  Eigen::VectorXd limit_distance = ClosestSurfacePoints(
+      spline, limit_mesh.vertices, options.spline_iterations, &starts);
+  Eigen::MatrixX3d image_starts(ns, 3);
+  Eigen::VectorXd image_distance(ns), chord(ns);
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, ns, 256),
       [&](const tbb::blocked_range<Eigen::Index>& range) {
         for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
-          const Eigen::Vector3d x = spline_points.row(i).transpose();
-          const int face = d.surface_sample_mesh_face[i];
-          const int f = face / nt;
-          const Eigen::Vector3i& t = lattice.triangles[face % nt];
+          image_starts.row(i) =
+              image->NearestDirection(limit_mesh.vertices.row(i).transpose(),
+                                      &image_distance[i], &chord[i]);
+        }
+      });
+  Eigen::MatrixX3d image_points;
+  spline.Sample(image_starts, &image_points, nullptr);
+  std::vector<Eigen::Index> again;
+  for (Eigen::Index i = 0; i < ns; ++i) {
+    if (limit_distance[i] > 1.01 * image_distance[i] + 0.5 * chord[i] ||
+        (image_points.row(i) - limit_mesh.vertices.row(i)).norm() <
+            limit_distance[i]) {
+      again.push_back(i);
+    }
+  }
+  if (!again.empty()) {
+    const Eigen::Index m = static_cast<Eigen::Index>(again.size());
+    Eigen::MatrixX3d x(m, 3), retry(m, 3);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      x.row(j) = limit_mesh.vertices.row(again[j]);
+      retry.row(j) = image_starts.row(again[j]);
+    }
+    const Eigen::VectorXd d =
+        ClosestSurfacePoints(spline, x, 2 * options.spline_iterations, &retry);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      limit_distance[again[j]] = std::min(limit_distance[again[j]], d[j]);
+    }
+  }
+  limit_distance *= to_percent;
+
+  const Eigen::VectorXd limit_weight = corner_weights(limit_mesh);
+
+  CageDeviation out;
+  out.lattice_level = n;
+  out.limit_samples = ns;
+  out.spline_samples = ns;
+  out.limit_searches_from_image = static_cast<int64_t>(again.size());
+  const double limit_area = limit_weight.sum();
+  out.limit_to_spline_rms_percent =
+      limit_area > 0
+          ? std::sqrt(limit_weight.dot(limit_distance.cwiseAbs2()) / limit_area)
+          : 0;
+  out.limit_to_spline_max_percent = limit_distance.maxCoeff();
+  out.limit_sample_points = limit_mesh.vertices;
+  out.limit_sample_distance_percent = limit_distance;
+  out.limit_sample_face.resize(ns);
+  out.limit_sample_uv.resize(ns, 2);
+  out.face_rms_percent = Eigen::VectorXd::Zero(nf);
+  out.face_max_percent = Eigen::VectorXd::Zero(nf);
+  out.face_squared_error = Eigen::VectorXd::Zero(nf);
+  for (int f = 0; f < nf; ++f) {
+    double area = 0;
+    for (int k = 0; k < np; ++k) {
+      const Eigen::Index i = static_cast<Eigen::Index>(f) * np + k;
+      out.limit_sample_face[i] = f;
+      out.limit_sample_uv.row(i) = lattice.uv[k].transpose();
+      out.face_squared_error[f] +=
+          limit_weight[i] * limit_distance[i] * limit_distance[i];
+      area += limit_weight[i];
+    }
+    out.face_rms_percent[f] =
+        area > 0 ? std::sqrt(out.face_squared_error[f] / area) : 0;
+    out.face_max_percent[f] =
+        limit_distance.segment(static_cast<Eigen::Index>(f) * np, np)
+            .maxCoeff();
+  }
+
+  // Spline -> limit: from the nearest point of the limit lattice to the
+  // foot point on the limit surface; folded where the limit's normal there
+  // opposes the spline's.
+  Eigen::VectorXd distance(ns);
+  std::vector<char> folded(ns, 0);
+  tbb::parallel_for(
+      tbb::blocked_range<Eigen::Index>(0, ns, 256),
+      [&](const tbb::blocked_range<Eigen::Index>& range) {
+        for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
+          const Eigen::Vector3d x = spline_mesh.vertices.row(i).transpose();
+          const MeshDistance::Closest c = to_limit_image.Find(x);
+          const int f = c.face / nt;
+          const Eigen::Vector3i& t = lattice.triangles[c.face % nt];
           const Eigen::Index base = static_cast<Eigen::Index>(f) * np;
-          const Eigen::Vector3d w = TriangleCoordinates(
-              d.surface_sample_mesh_point.row(i).transpose(),
-              tessellation.vertices.row(base + t[0]),
-              tessellation.vertices.row(base + t[1]),
-              tessellation.vertices.row(base + t[2]));
+          const Eigen::Vector3d w =
+              TriangleCoordinates(c.point, limit_mesh.vertices.row(base + t[0]),
+                                  limit_mesh.vertices.row(base + t[1]),
+                                  limit_mesh.vertices.row(base + t[2]));
           Eigen::Vector2d uv = Eigen::Vector2d::Zero();
           for (int k = 0; k < 3; ++k) uv += w[k] * lattice.uv[t[k]];
           double u = uv[0], v = uv[1];
-          distance[i] = to_percent *
-                        ClosestOnLimitFace(limit, cage, f, x,
-                                           options.newton_iterations, &u, &v);
+          const double d = ClosestOnLimitFace(
+              prepared, f, x, options.newton_iterations, &u, &v);
+          const double own =
+              (limit_mesh.vertices.row(i).transpose() - x).norm();
+          Eigen::Vector3d du, dv;
+          if (own < d) {
+            distance[i] = to_percent * own;
+            const Eigen::Index at = i / np;
+            prepared.Evaluate(static_cast<int>(at), out.limit_sample_uv(i, 0),
+                              out.limit_sample_uv(i, 1), &du, &dv);
+          } else {
+            distance[i] = to_percent * d;
+            prepared.Evaluate(f, u, v, &du, &dv);
+          }
+          folded[i] = du.cross(dv).dot(spline_normals.row(i).transpose()) < 0;
         }
       });
-  const Eigen::VectorXd& weight = d.surface_sample_weight;
+  const Eigen::VectorXd weight = corner_weights(spline_mesh);
   const double area = weight.sum();
+  double folded_area = 0;
+  for (Eigen::Index i = 0; i < ns; ++i) {
+    if (folded[i]) folded_area += weight[i];
+  }
+  out.folded_area_percent = area > 0 ? 100.0 * folded_area / area : 0;
   out.spline_to_limit_rms_percent =
       area > 0 ? std::sqrt(weight.dot(distance.cwiseAbs2()) / area) : 0;
   out.spline_to_limit_max_percent = ns > 0 ? distance.maxCoeff() : 0;
-  out.spline_sample_points = spline_points;
+  out.spline_sample_points = spline_mesh.vertices;
   out.spline_sample_distance_percent = distance;
   out.rms_percent = std::sqrt(
       0.5 *

@@ -1,18 +1,22 @@
 // How far a subdivision cage's limit surface is from a spherical spline,
-// both ways, measured where nothing was fitted (docs/CAGE.md):
+// both ways, measured where nothing was fitted (docs/CAGE.md). Both
+// surfaces are sampled on one lattice of level n in every cage face (n
+// chosen for at least `min_samples` points): the limit surface (OpenSubdiv
+// Bfr) at the face's parameters (u, v), the spline at the face's sphere
+// points (SphereCage::SpherePoint of the same (u, v)).
 //
-// - limit -> spline: the limit surface evaluated (OpenSubdiv Bfr) on a
-//   lattice of level n in every cage face, n chosen for at least
-//   `min_samples` points; each point's distance to the spline by the
-//   spline's own closest-point search (core/fit/surface_deviation.h: the
-//   nearest point of a dense image of the spline, then Gauss-Newton steps on
-//   the exact spline), started also from the spline point the cage face maps
-//   the parameter to. Area-weighted over the limit surface.
-// - spline -> limit: the spline at the lattice of its knot triangles (at
-//   least `min_samples` points); each point's closest point on the limit
+// - limit -> spline: each limit point's distance to the spline by a
+//   closest-point search on the spline (converters/closest_surface_points.h)
+//   from its sphere point, and where that ends more than 1 % farther than
+//   its nearest point on an image of the spline (SplineImage) plus half
+//   that image's chord there, or farther than the spline at that point's
+//   sphere point, again from that sphere point; the nearer result counts.
+//   Area-weighted over the limit surface.
+// - spline -> limit: each spline point's nearest point on the limit
 //   lattice's triangles gives a face and (u, v), from which Newton steps on
-//   the exact limit surface of that face go to the foot point. Area-weighted
-//   over the spline.
+//   the exact limit surface of that face go to the foot point (or the
+//   limit point of the sample's own (u, v) is nearer). Area-weighted over
+//   the spline.
 //
 // Every distance is to a point that lies on the exact other surface, so each
 // figure is an upper bound of the true distance: pessimistic, never
@@ -26,7 +30,9 @@
 #include "sdcb/converters/limit_surface.h"
 #include "sdcb/core/cage/sphere_cage_topology.h"
 #include "sdcb/core/common/status.h"
-#include "sdcb/core/spline/spherical_spline.h"
+#include "sdcb/core/mesh/mesh_distance.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/core/tessellate/surface_sampler.h"
 
 namespace sdcb {
 
@@ -35,8 +41,10 @@ struct CageDeviationOptions {
   double length_unit = 1.0;
   // Points on each surface at least.
   int min_samples = 100000;
-  // Newton steps of the closest-point search on the limit surface.
+  // Newton steps of the closest-point search on the limit surface, and
+  // Gauss-Newton steps of that on the spline.
   int newton_iterations = 5;
+  int spline_iterations = 6;
 };
 
 struct CageDeviation {
@@ -51,6 +59,9 @@ struct CageDeviation {
   double folded_area_percent = 0.0;
   int64_t limit_samples = 0;
   int64_t spline_samples = 0;
+  // Limit samples whose search was run again from the spline's lattice
+  // image.
+  int64_t limit_searches_from_image = 0;
   int lattice_level = 0;  // per cage face
   // Per cage face: the limit -> spline rms and max (percent) and the
   // face's share of the squared error (area-weighted, sums to the total).
@@ -60,24 +71,54 @@ struct CageDeviation {
   Eigen::MatrixX2d limit_sample_uv;
   Eigen::MatrixX3d limit_sample_points;
   Eigen::VectorXd limit_sample_distance_percent;
-  // Every spline sample: the spline point and its distance to the limit.
+  // Every spline sample (at the limit samples' faces and (u, v)): the
+  // spline point and its distance to the limit.
   Eigen::MatrixX3d spline_sample_points;
   Eigen::VectorXd spline_sample_distance_percent;
 };
 
-// `cage`: #V by 3 cage positions of `limit`'s vertices. `sphere` (optional):
-// the cage's sphere layout (one face per limit face), whose map gives a
-// second start for the closest-point search of every limit sample.
+// The spline's image of an icosphere (core/mesh/icosphere.h) with an AABB
+// tree: where closest-point searches on the spline start. It does not
+// depend on the cage, so a fit builds it once for all its rounds.
+class SplineImage {
+ public:
+  // `level` 0..9 (10 * 4^level + 2 points).
+  static StatusOr<SplineImage> Create(const SurfaceSampler& spline,
+                                      int level = 6);
+  // The sphere point of the image's point nearest to `x` (barycentric on
+  // its triangle), that distance, and the distance between that triangle's
+  // centroid and the spline at the centroid's sphere point (how far the
+  // image can be from the spline there, sampled).
+  Eigen::Vector3d NearestDirection(const Eigen::Vector3d& x, double* distance,
+                                   double* chord) const;
+
+ private:
+  SplineImage(TriangleMesh sphere, TriangleMesh image, MeshDistance tree,
+              Eigen::VectorXd chord)
+      : sphere_(std::move(sphere)),
+        image_(std::move(image)),
+        tree_(std::move(tree)),
+        chord_(std::move(chord)) {}
+  TriangleMesh sphere_, image_;
+  MeshDistance tree_;
+  Eigen::VectorXd chord_;  // per triangle
+};
+
+// `spline`: the spline (a PiecewiseSplineSampler: positions and unit
+// normals). `cage`: #V by 3 cage positions of `limit`'s vertices. `sphere`:
+// the cage's sphere layout (one face per limit face). `image`: the spline's
+// SplineImage, made here (level 6) if null. Deterministic for any thread
+// count.
 StatusOr<CageDeviation> MeasureCageDeviation(
-    const SphericalSpline& spline, const LimitSurface& limit,
-    const Eigen::MatrixX3d& cage, const SphereCage* sphere = nullptr,
-    const CageDeviationOptions& options = {});
+    const SurfaceSampler& spline, const LimitSurface& limit,
+    const Eigen::MatrixX3d& cage, const SphereCage& sphere,
+    const CageDeviationOptions& options = {},
+    const SplineImage* image = nullptr);
 
 // Newton steps toward the point of face `f` of the limit surface closest to
 // `x`, from (*u, *v), staying in the face's parameter domain; updates (*u,
 // *v) and returns the distance of the best point found.
-double ClosestOnLimitFace(const LimitSurface& limit,
-                          const Eigen::MatrixX3d& cage, int f,
+double ClosestOnLimitFace(const PreparedLimit& limit, int f,
                           const Eigen::Vector3d& x, int iterations, double* u,
                           double* v);
 

@@ -491,15 +491,9 @@ int PositionBitsFor(const Eigen::MatrixX3d& positions, double max_error,
   return max_bits;
 }
 
-StatusOr<GltfExportResult> WriteGltf(const SurfaceMesh& mesh,
-                                     const GltfExportOptions& options,
-                                     const std::string& path) {
-  const std::string ext = LowerExtension(path);
-  if (ext != ".gltf" && ext != ".glb") {
-    return InvalidArgumentError(path +
-                                ": a glTF file must end in .gltf or .glb");
-  }
-  const bool glb = ext == ".glb";
+StatusOr<EncodedGltf> EncodeGltf(const SurfaceMesh& mesh,
+                                 const GltfExportOptions& options,
+                                 bool binary) {
   const int max_bits =
       options.compression == GltfCompression::kMeshopt ? 16 : 30;
   if (options.compression != GltfCompression::kNone &&
@@ -518,7 +512,8 @@ StatusOr<GltfExportResult> WriteGltf(const SurfaceMesh& mesh,
       }
     }
   }
-  GltfExportResult result;
+  EncodedGltf out;
+  GltfExportResult& result = out.result;
   for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) {
     for (int k = 0; k < 3; ++k) {
       const double x = mesh.positions(v, k);
@@ -529,7 +524,7 @@ StatusOr<GltfExportResult> WriteGltf(const SurfaceMesh& mesh,
   StatusOr<std::string> bytes = std::string();
   switch (options.compression) {
     case GltfCompression::kNone:
-      bytes = EncodePlain(mesh, glb);
+      bytes = EncodePlain(mesh, binary);
       break;
     case GltfCompression::kDraco: {
       // Draco quantizes the float32 positions over their bounding box.
@@ -537,7 +532,7 @@ StatusOr<GltfExportResult> WriteGltf(const SurfaceMesh& mesh,
           QuantizationStep(mesh.positions, options.position_bits);
       result.quantization_error =
           std::sqrt(3.0) / 2.0 * result.quantization_step;
-      bytes = EncodeDraco(mesh, options, glb);
+      bytes = EncodeDraco(mesh, options, binary);
       break;
     }
     case GltfCompression::kMeshopt: {
@@ -546,14 +541,29 @@ StatusOr<GltfExportResult> WriteGltf(const SurfaceMesh& mesh,
       result.quantization_error =
           std::sqrt(3.0) / 2.0 * result.quantization_step;
       const Eigen::RowVector3d lo = mesh.positions.colwise().minCoeff();
-      bytes = EncodeMeshopt(mesh, options, glb, result.quantization_step, lo);
+      bytes =
+          EncodeMeshopt(mesh, options, binary, result.quantization_step, lo);
       break;
     }
   }
-  if (!bytes.ok()) return bytes.status().WithPrefix(path);
-  SDCB_RETURN_IF_ERROR(WriteFileAtomically(*bytes, path));
-  result.bytes = static_cast<int64_t>(bytes->size());
-  return result;
+  if (!bytes.ok()) return bytes.status();
+  out.bytes = std::move(bytes).value();
+  result.bytes = static_cast<int64_t>(out.bytes.size());
+  return out;
+}
+
+StatusOr<GltfExportResult> WriteGltf(const SurfaceMesh& mesh,
+                                     const GltfExportOptions& options,
+                                     const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  if (ext != ".gltf" && ext != ".glb") {
+    return InvalidArgumentError(path +
+                                ": a glTF file must end in .gltf or .glb");
+  }
+  StatusOr<EncodedGltf> encoded = EncodeGltf(mesh, options, ext == ".glb");
+  if (!encoded.ok()) return encoded.status().WithPrefix(path);
+  SDCB_RETURN_IF_ERROR(WriteFileAtomically(encoded->bytes, path));
+  return encoded->result;
 }
 
 }  // namespace sdcb

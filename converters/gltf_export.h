@@ -53,9 +53,21 @@ double QuantizationStep(const Eigen::MatrixX3d& positions, int bits);
 int PositionBitsFor(const Eigen::MatrixX3d& positions, double max_error,
                     int max_bits);
 
-// `path` ends in .gltf or .glb (else kInvalidArgument). kInvalidArgument for
-// bits out of range or normals that are not unit vectors; kIoError if the
-// file cannot be written (nothing is left at `path`).
+// The file's bytes and what the encoding did to the positions.
+struct EncodedGltf {
+  std::string bytes;
+  GltfExportResult result;  // result.bytes == bytes.size()
+};
+
+// `mesh` as a .glb (`binary`) or a .gltf with its buffer embedded.
+// kInvalidArgument for bits out of range or normals that are not unit
+// vectors.
+StatusOr<EncodedGltf> EncodeGltf(const SurfaceMesh& mesh,
+                                 const GltfExportOptions& options, bool binary);
+
+// EncodeGltf written to `path`, which ends in .gltf or .glb (else
+// kInvalidArgument); kIoError if the file cannot be written (nothing is left
+// at `path`).
 StatusOr<GltfExportResult> WriteGltf(const SurfaceMesh& mesh,
                                      const GltfExportOptions& options,
                                      const std::string& path);

@@ -3,6 +3,7 @@
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/far/topologyDescriptor.h>
+#include <tbb/parallel_for.h>
 
 #include <string>
 #include <utility>
@@ -116,6 +117,42 @@ Eigen::Vector3d LimitSurface::Evaluate(int f, double u, double v,
     pu += s.du[k] * c;
     pv += s.dv[k] * c;
   }
+  if (du) *du = pu;
+  if (dv) *dv = pv;
+  return p;
+}
+
+PreparedLimit::PreparedLimit(const LimitSurface& limit,
+                             const Eigen::MatrixX3d& cage)
+    : limit_(limit) {
+  const auto& surfaces = limit.impl_->surfaces;
+  const int nf = static_cast<int>(surfaces.size());
+  first_.resize(nf + 1);
+  first_[0] = 0;
+  for (int f = 0; f < nf; ++f) {
+    first_[f + 1] = first_[f] + 3 * surfaces[f]->GetNumPatchPoints();
+  }
+  points_.resize(first_[nf]);
+  // Bfr reads the mesh's points as one contiguous x, y, z array.
+  std::vector<double> mesh(3 * cage.rows());
+  for (Eigen::Index i = 0; i < cage.rows(); ++i) {
+    for (int k = 0; k < 3; ++k) mesh[3 * i + k] = cage(i, k);
+  }
+  const osd::Bfr::Surface<double>::PointDescriptor xyz(3);
+  tbb::parallel_for(0, nf, [&](int f) {
+    surfaces[f]->PreparePatchPoints(mesh.data(), xyz,
+                                    points_.data() + first_[f], xyz);
+  });
+}
+
+Eigen::Vector3d PreparedLimit::Evaluate(int f, double u, double v,
+                                        Eigen::Vector3d* du,
+                                        Eigen::Vector3d* dv) const {
+  const double uv[2] = {u, v};
+  const osd::Bfr::Surface<double>::PointDescriptor xyz(3);
+  Eigen::Vector3d p, pu, pv;
+  limit_.impl_->surfaces[f]->Evaluate(uv, points_.data() + first_[f], xyz,
+                                      p.data(), pu.data(), pv.data());
   if (du) *du = pu;
   if (dv) *dv = pv;
   return p;

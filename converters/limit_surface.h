@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -55,19 +56,42 @@ class LimitSurface {
   // u + v <= 1). Safe to call from many threads at once.
   void Stencil(int f, double u, double v, LimitStencil* out) const;
   // The limit point at (u, v) of face `f` for cage positions `cage` (#V by
-  // 3), with its derivatives when `du`, `dv` are not null.
+  // 3), with its derivatives when `du`, `dv` are not null (through the
+  // stencil; PreparedLimit evaluates many points of one cage faster).
   Eigen::Vector3d Evaluate(int f, double u, double v,
                            const Eigen::MatrixX3d& cage,
                            Eigen::Vector3d* du = nullptr,
                            Eigen::Vector3d* dv = nullptr) const;
 
  private:
+  friend class PreparedLimit;
   struct Impl;
   explicit LimitSurface(std::unique_ptr<Impl> impl, SubdivisionScheme scheme,
                         int num_vertices);
   std::unique_ptr<Impl> impl_;
   SubdivisionScheme scheme_ = SubdivisionScheme::kCatmullClark;
   int num_vertices_ = 0;
+};
+
+// The limit surface of one set of cage positions, prepared for many
+// evaluations: OpenSubdiv Bfr's patch points of every face, computed once,
+// so that an evaluation is one patch evaluation (no stencil over the cage).
+// Equal to LimitSurface::Evaluate to rounding. `limit` must outlive it.
+class PreparedLimit {
+ public:
+  // `cage`: #V by 3 positions of `limit`'s vertices.
+  PreparedLimit(const LimitSurface& limit, const Eigen::MatrixX3d& cage);
+
+  const LimitSurface& limit() const { return limit_; }
+  // As LimitSurface::Evaluate. Safe to call from many threads at once.
+  Eigen::Vector3d Evaluate(int f, double u, double v,
+                           Eigen::Vector3d* du = nullptr,
+                           Eigen::Vector3d* dv = nullptr) const;
+
+ private:
+  const LimitSurface& limit_;
+  std::vector<double> points_;  // x, y, z of every face's patch points
+  std::vector<int64_t> first_;  // per face, its first point's offset
 };
 
 }  // namespace sdcb

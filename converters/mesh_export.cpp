@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <sstream>
 
 #include "sdcb/io/atomic_file.h"
 
@@ -20,12 +21,13 @@ using OmMesh = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
 
 }  // namespace
 
-Status WriteSurfaceMesh(const SurfaceMesh& mesh, const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
+StatusOr<std::string> EncodeSurfaceMesh(const SurfaceMesh& mesh,
+                                        const std::string& extension) {
+  std::string ext = extension;
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return std::tolower(c); });
   if (ext != ".obj" && ext != ".ply" && ext != ".stl") {
-    return InvalidArgumentError(path + ": unknown mesh extension '" + ext +
+    return InvalidArgumentError("unknown mesh extension '" + extension +
                                 "' (use .obj, .ply or .stl)");
   }
   OmMesh om;
@@ -55,7 +57,7 @@ Status WriteSurfaceMesh(const SurfaceMesh& mesh, const std::string& path) {
     if (!om.add_face(handles[mesh.faces(f, 0)], handles[mesh.faces(f, 1)],
                      handles[mesh.faces(f, 2)])
              .is_valid()) {
-      return InvalidInputError(path + ": face " + std::to_string(f) +
+      return InvalidInputError("face " + std::to_string(f) +
                                " is not manifold; cannot write it");
     }
   }
@@ -63,18 +65,22 @@ Status WriteSurfaceMesh(const SurfaceMesh& mesh, const std::string& path) {
   if (ext != ".obj") options += OpenMesh::IO::Options::Binary;
   if (normals && ext != ".stl") options += OpenMesh::IO::Options::VertexNormal;
   if (colors) options += OpenMesh::IO::Options::VertexColor;
-  return WriteFileAtomically(
-      [&](std::ostream& out) {
-        bool ok = false;
-        try {
-          ok = OpenMesh::IO::write_mesh(om, out, ext, options, 17);
-        } catch (const std::exception&) {
-          ok = false;
-        }
-        return ok ? Status::Ok()
-                  : IoError(path + ": OpenMesh could not write the mesh");
-      },
-      path);
+  std::ostringstream out(std::ios::binary);
+  bool ok = false;
+  try {
+    ok = OpenMesh::IO::write_mesh(om, out, ext, options, 17);
+  } catch (const std::exception&) {
+    ok = false;
+  }
+  if (!ok) return IoError("OpenMesh could not write the mesh");
+  return std::move(out).str();
+}
+
+Status WriteSurfaceMesh(const SurfaceMesh& mesh, const std::string& path) {
+  StatusOr<std::string> bytes =
+      EncodeSurfaceMesh(mesh, std::filesystem::path(path).extension().string());
+  if (!bytes.ok()) return bytes.status().WithPrefix(path);
+  return WriteFileAtomically(*bytes, path);
 }
 
 }  // namespace sdcb

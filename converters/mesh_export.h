@@ -10,11 +10,17 @@
 
 namespace sdcb {
 
-// `path` ends in .obj, .ply or .stl (case-insensitive; else
+// The bytes of `mesh` as an OBJ (text), PLY or STL (binary) file;
+// `extension` is ".obj", ".ply" or ".stl" (case-insensitive; else
 // kInvalidArgument). OBJ stores 17 significant digits; PLY and STL store
 // float32 coordinates. Colors are written to PLY only (OBJ and STL have no
-// standard vertex colors). kIoError if the file cannot be written; nothing
-// is left at `path` then.
+// standard vertex colors). kInvalidInput for a face that is not manifold.
+StatusOr<std::string> EncodeSurfaceMesh(const SurfaceMesh& mesh,
+                                        const std::string& extension);
+
+// EncodeSurfaceMesh by the extension of `path`, written to `path`
+// atomically. kIoError if the file cannot be written; nothing is left at
+// `path` then.
 Status WriteSurfaceMesh(const SurfaceMesh& mesh, const std::string& path);
 
 }  // namespace sdcb

@@ -5,21 +5,17 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
 #include <utility>
 
+#include "sdcb/converters/stopwatch.h"
 #include "sdcb/core/fit/least_squares.h"
+#include "sdcb/core/spline/piecewise_surface.h"
 
 namespace sdcb {
 namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 // The k^2 sample parameters of one face: centres of a k by k grid (quads),
 // centroids of the k^2 triangles of a level-k lattice (triangles).
@@ -159,6 +155,15 @@ StatusOr<Eigen::MatrixX3d> FitCagePositions(const SphericalSpline& spline,
                                             const SphereCage& layout,
                                             const LimitSurface& limit,
                                             const CageOptions& options) {
+  const PiecewiseSurface pieces(spline);
+  return FitCagePositions(PiecewiseSplineSampler(spline, pieces), layout, limit,
+                          options);
+}
+
+StatusOr<Eigen::MatrixX3d> FitCagePositions(const SurfaceSampler& spline,
+                                            const SphereCage& layout,
+                                            const LimitSurface& limit,
+                                            const CageOptions& options) {
   SDCB_RETURN_IF_ERROR(CheckOptions(options));
   const int nf = layout.num_faces();
   if (limit.num_faces() != nf ||
@@ -172,27 +177,38 @@ StatusOr<Eigen::MatrixX3d> FitCagePositions(const SphericalSpline& spline,
   const int spf = static_cast<int>(local.size());
   const Eigen::Index ns = static_cast<Eigen::Index>(nf) * spf;
 
-  // Samples: face, (u, v), sphere point; the spline there is the target.
+  // Samples: face, (u, v), sphere point; the spline there is the target,
+  // and two points a small step away along a tangent frame give its
+  // derivatives (finite differences).
+  constexpr double kStep = 1e-6;
   std::vector<int> face(ns);
   Eigen::MatrixX2d uv(ns, 2);
-  Eigen::MatrixX3d sphere(ns, 3);
+  Eigen::MatrixX3d probes(3 * ns, 3);
   for (int f = 0; f < nf; ++f) {
     for (int k = 0; k < spf; ++k) {
       const Eigen::Index r = static_cast<Eigen::Index>(f) * spf + k;
       face[r] = f;
       uv.row(r) = local[k].transpose();
-      sphere.row(r) = layout.SpherePoint(f, local[k][0], local[k][1]);
+      const Eigen::Vector3d p = layout.SpherePoint(f, local[k][0], local[k][1]);
+      Eigen::Vector3d a, b;
+      TangentFrame(p, &a, &b);
+      probes.row(3 * r) = p;
+      probes.row(3 * r + 1) = (p + kStep * a).normalized();
+      probes.row(3 * r + 2) = (p + kStep * b).normalized();
     }
   }
-  const std::vector<SurfacePoint> jets =
-      spline.EvaluateDifferentialMany(sphere, JetOrder::kGradient);
+  Eigen::MatrixX3d points;
+  spline.Sample(probes, &points, nullptr);
   Eigen::MatrixX3d targets(ns, 3);
   Eigen::VectorXd weight(ns);
   for (Eigen::Index r = 0; r < ns; ++r) {
-    targets.row(r) = jets[r].position;
+    targets.row(r) = points.row(3 * r);
+    const Eigen::Vector3d du =
+        (points.row(3 * r + 1) - points.row(3 * r)).transpose() / kStep;
+    const Eigen::Vector3d dv =
+        (points.row(3 * r + 2) - points.row(3 * r)).transpose() / kStep;
     // The spline's area the sample stands for.
-    weight[r] = jets[r].du.cross(jets[r].dv).norm() *
-                SphereFaceArea(layout, face[r]) / spf;
+    weight[r] = du.cross(dv).norm() * SphereFaceArea(layout, face[r]) / spf;
   }
   const double mean = weight.mean();
   if (!(mean > 0) || !std::isfinite(mean)) {
@@ -205,20 +221,22 @@ StatusOr<Eigen::MatrixX3d> FitCagePositions(const SphericalSpline& spline,
       options.fairing * static_cast<double>(ns) / layout.num_vertices());
 
   // The prior of the regularization: the cage pulled through the spline.
-  const Eigen::MatrixX3d prior = spline.EvaluateMany(layout.sphere_points);
+  Eigen::MatrixX3d prior;
+  spline.Sample(layout.sphere_points, &prior, nullptr);
   Eigen::MatrixX3d rhs = Eigen::MatrixX3d::Zero(ns + layout.num_vertices(), 3);
   rhs.topRows(ns) = scale.asDiagonal() * targets;
   Eigen::MatrixX3d cage;
   for (int pass = 0; pass <= options.parameter_corrections; ++pass) {
     if (pass > 0) {
       // Each sample moves to its closest point of the current limit surface.
+      const PreparedLimit prepared(limit, cage);
       tbb::parallel_for(
           tbb::blocked_range<Eigen::Index>(0, ns, 256),
           [&](const tbb::blocked_range<Eigen::Index>& range) {
             for (Eigen::Index r = range.begin(); r < range.end(); ++r) {
               double u = uv(r, 0), v = uv(r, 1);
-              ClosestOnLimitFace(limit, cage, face[r],
-                                 targets.row(r).transpose(), 2, &u, &v);
+              ClosestOnLimitFace(prepared, face[r], targets.row(r).transpose(),
+                                 2, &u, &v);
               uv(r, 0) = u;
               uv(r, 1) = v;
             }
@@ -235,7 +253,7 @@ StatusOr<Eigen::MatrixX3d> FitCagePositions(const SphericalSpline& spline,
 StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
                                      const CageOptions& options) {
   SDCB_RETURN_IF_ERROR(CheckOptions(options));
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch start;
   const CageCellShape shape = options.scheme == SubdivisionScheme::kLoop
                                   ? CageCellShape::kTriangle
                                   : CageCellShape::kQuad;
@@ -252,31 +270,53 @@ StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
   }
   CageDeviationOptions measure;
   measure.length_unit = options.length_unit;
+  // The spline through its fast evaluator, for the fits and measurements.
+  const PiecewiseSurface pieces(spline);
+  const PiecewiseSplineSampler sampler(spline, pieces);
+  SDCB_ASSIGN_OR_RETURN(const SplineImage image, SplineImage::Create(sampler));
 
   CageFit fit;
+  fit.stage_seconds.setup = start.Seconds();
+  double progress = 0.0;  // never going back
   for (int round = 0;; ++round) {
     const SphereCage& layout = topology.cage();
+    Stopwatch t0;
     SDCB_ASSIGN_OR_RETURN(
         const LimitSurface limit,
         LimitSurface::Create(options.scheme, layout.num_vertices(),
                              layout.faces));
     SDCB_ASSIGN_OR_RETURN(Eigen::MatrixX3d positions,
-                          FitCagePositions(spline, layout, limit, options));
+                          FitCagePositions(sampler, layout, limit, options));
+    fit.stage_seconds.fit += t0.Seconds();
+    t0.Restart();
     measure.min_samples = std::min(
         options.measure_samples,
         std::max(10000, options.round_samples_per_face * layout.num_faces()));
-    SDCB_ASSIGN_OR_RETURN(
-        CageDeviation deviation,
-        MeasureCageDeviation(spline, limit, positions, nullptr, measure));
+    SDCB_ASSIGN_OR_RETURN(CageDeviation deviation,
+                          MeasureCageDeviation(sampler, limit, positions,
+                                               layout, measure, &image));
+    fit.stage_seconds.measure += t0.Seconds();
     CageRound r;
     r.round = round;
     r.faces = layout.num_faces();
     r.vertices = layout.num_vertices();
     r.limit_rmse_percent = deviation.rms_percent;
     r.limit_max_error_percent = deviation.max_percent;
-    r.seconds = SecondsSince(start);
+    r.seconds = start.Seconds();
     fit.rounds.push_back(r);
-    if (options.on_round) options.on_round(r);
+    if (options.progress) {
+      // Toward the tolerance or the face budget, whichever is nearer.
+      const double toward_tolerance =
+          std::min(1.0, options.tolerance_percent / r.limit_rmse_percent);
+      const double toward_budget =
+          static_cast<double>(r.faces) / options.max_faces;
+      progress = std::max(
+          progress,
+          0.9 * std::max(toward_tolerance * toward_tolerance, toward_budget));
+      options.progress("round " + std::to_string(round) + ", " +
+                           std::to_string(r.faces) + " faces",
+                       progress);
+    }
     fit.cage.scheme = options.scheme;
     fit.cage.vertices = std::move(positions);
     fit.cage.layout = layout;
@@ -332,17 +372,19 @@ StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
       break;
     }
   }
-  // The returned cage measured at full density, with the sphere layout as a
-  // second start of every closest-point search.
+  // The returned cage measured at full density.
+  if (options.progress) options.progress("measuring", 0.9);
+  const Stopwatch final_start;
   SDCB_ASSIGN_OR_RETURN(
       const LimitSurface limit,
       LimitSurface::Create(options.scheme, fit.cage.layout.num_vertices(),
                            fit.cage.layout.faces));
   measure.min_samples = options.measure_samples;
   SDCB_ASSIGN_OR_RETURN(fit.deviation,
-                        MeasureCageDeviation(spline, limit, fit.cage.vertices,
-                                             &fit.cage.layout, measure));
-  fit.seconds = SecondsSince(start);
+                        MeasureCageDeviation(sampler, limit, fit.cage.vertices,
+                                             fit.cage.layout, measure, &image));
+  fit.stage_seconds.final_measure = final_start.Seconds();
+  fit.seconds = start.Seconds();
   return fit;
 }
 

@@ -4,7 +4,9 @@
 //
 // Each round: the cage's topology lives on the sphere
 // (core/cage/sphere_cage_topology.h), so every cage face has a sphere region;
-// dense samples of the spline in each region are the targets, the rows of
+// dense samples of the spline in each region (its fast evaluator,
+// core/spline/piecewise_surface.h) are the targets, weighted by the area
+// they stand for, the rows of
 // the least-squares system are OpenSubdiv's limit stencils at the samples'
 // (face, u, v) (converters/limit_surface.h), plus a light umbrella fairing
 // of the cage; solved by the fit's solver (core/fit/least_squares.h). The
@@ -28,6 +30,7 @@
 #include "sdcb/core/cage/sphere_cage_topology.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/spline/spherical_spline.h"
+#include "sdcb/core/tessellate/surface_sampler.h"
 
 namespace sdcb {
 
@@ -70,8 +73,10 @@ struct CageOptions {
   // per cage face, at least 10000 and at most measure_samples.
   int measure_samples = 100000;
   int round_samples_per_face = 16;
-  // Called after every round (from the calling thread).
-  std::function<void(const CageRound&)> on_round;
+  // Called after every round and before the final measurement with a stage
+  // name ("round 3, 260 faces") and an estimate of the finished fraction in
+  // [0, 1], from the calling thread.
+  std::function<void(const std::string& stage, double fraction)> progress;
 };
 
 struct SubdivisionCage {
@@ -89,6 +94,12 @@ struct CageFit {
   std::vector<CageRound> rounds;
   std::string stop_reason;
   double seconds = 0.0;
+  // Where they went: the fast evaluator and the spline's image, the rounds'
+  // fits (limit surfaces and solves) and measurements, the final
+  // measurement.
+  struct StageSeconds {
+    double setup = 0.0, fit = 0.0, measure = 0.0, final_measure = 0.0;
+  } stage_seconds;
 };
 
 // Fits a cage to `spline` (any frame; distances in percent of
@@ -98,8 +109,13 @@ StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
 
 // The positions of a cage with the topology `layout` that fit `spline` best
 // (one solve with parameter corrections, no refinement). Exposed for tests
-// and benchmarks.
+// and benchmarks. `spline` as a sampler: a PiecewiseSplineSampler (the
+// first form makes one).
 StatusOr<Eigen::MatrixX3d> FitCagePositions(const SphericalSpline& spline,
+                                            const SphereCage& layout,
+                                            const LimitSurface& limit,
+                                            const CageOptions& options = {});
+StatusOr<Eigen::MatrixX3d> FitCagePositions(const SurfaceSampler& spline,
                                             const SphereCage& layout,
                                             const LimitSurface& limit,
                                             const CageOptions& options = {});

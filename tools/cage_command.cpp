@@ -54,17 +54,7 @@ int RunCage(const std::vector<std::string>& argv) {
   if (!surface.ok()) return ReportError(surface.status().WithPrefix(path));
 
   ProgressBar progress("sdcb cage", args.Has("quiet"));
-  options.on_round = [&](const CageRound& r) {
-    // Progress toward the tolerance or the face budget, whichever is nearer.
-    const double toward_tolerance =
-        std::min(1.0, options.tolerance_percent / r.limit_rmse_percent);
-    const double toward_budget =
-        static_cast<double>(r.faces) / options.max_faces;
-    progress.Update(
-        "round " + std::to_string(r.round) + ", " + std::to_string(r.faces) +
-            " faces",
-        std::max(toward_tolerance * toward_tolerance, toward_budget));
-  };
+  options.progress = progress.Callback();
   StatusOr<CageFit> fit = FitSubdivisionCage(*surface, options);
   progress.Finish();
   if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));
@@ -103,7 +93,11 @@ int RunCage(const std::vector<std::string>& argv) {
                         {"seconds", r.seconds}});
     }
     j["rounds"] = rounds;
-    j["seconds"] = fit->seconds;
+    j["seconds"] = {{"setup", fit->stage_seconds.setup},
+                    {"fit", fit->stage_seconds.fit},
+                    {"measure", fit->stage_seconds.measure},
+                    {"final_measure", fit->stage_seconds.final_measure},
+                    {"total", fit->seconds}};
     written = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
     if (!written.ok()) {
       // Nothing left behind: the cage goes with its report.

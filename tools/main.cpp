@@ -67,8 +67,7 @@ commands:
   export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb} [--tolerance PCT]
       [--angle DEG] [--uniform N] [--draco [--qp BITS] [--cl LEVEL]]
       [--meshopt [--qp BITS]] [--colors none|error|curvature|gaussian]
-      [--mesh MESH] [--json FILE] [--quiet] [--no-optimize]
-      [--no-simplify] [--no-relocate] [--measure-samples N]
+      [--mesh MESH] [--json FILE] [--quiet] [--measure-samples N]
                              Triangulate the surface: adaptive (every
                              triangle within PCT, default 0.1, of the
                              surface and its normals within DEG, default

@@ -133,6 +133,40 @@ TEST_P(LimitSurfaceTest, MatchesFarLimitOfTheFirstLevel) {
   EXPECT_LT(worst, 1e-10);
 }
 
+// PreparedLimit (Bfr's patch points) evaluates what the stencils give:
+// positions and derivatives at random parameters of every face, the
+// irregular ones included.
+TEST_P(LimitSurfaceTest, PreparedLimitEqualsTheStencils) {
+  const TestCage t = MakeTestCage(GetParam());
+  const bool loop = GetParam() == CageCellShape::kTriangle;
+  auto limit = LimitSurface::Create(
+      loop ? SubdivisionScheme::kLoop : SubdivisionScheme::kCatmullClark,
+      t.layout.num_vertices(), t.layout.faces);
+  ASSERT_TRUE(limit.ok());
+  const PreparedLimit prepared(*limit, t.positions);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  double worst = 0;
+  int irregular = 0;
+  for (int f = 0; f < limit->num_faces(); ++f) {
+    irregular += !limit->IsRegular(f);
+    for (int s = 0; s < 5; ++s) {
+      double u = uniform(rng), v = uniform(rng);
+      if (loop && u + v > 1) {
+        u = 1 - u;
+        v = 1 - v;
+      }
+      Eigen::Vector3d du, dv, eu, ev;
+      const Eigen::Vector3d p = limit->Evaluate(f, u, v, t.positions, &du, &dv);
+      const Eigen::Vector3d q = prepared.Evaluate(f, u, v, &eu, &ev);
+      worst =
+          std::max({worst, (p - q).norm(), (du - eu).norm(), (dv - ev).norm()});
+    }
+  }
+  EXPECT_GT(irregular, 0);
+  EXPECT_LT(worst, 1e-12);
+}
+
 TEST(LimitSurfaceCreateTest, RejectsBadTopology) {
   // A face referring to a missing vertex; an open cage (one quad).
   EXPECT_FALSE(

@@ -16,6 +16,7 @@
 
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
+#include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/far_refinement.h"
 #include "testing/temp_dir.h"
@@ -70,7 +71,7 @@ struct FittedCage {
   Eigen::MatrixX3d positions;
 };
 
-FittedCage FitUniform(const SphericalSpline& spline, CageCellShape shape,
+FittedCage FitUniform(const SurfaceSampler& spline, CageCellShape shape,
                       int levels) {
   FittedCage c;
   c.layout = SphereCageTopology::Create(shape, levels).cage();
@@ -90,14 +91,16 @@ FittedCage FitUniform(const SphericalSpline& spline, CageCellShape shape,
 
 TEST(CageDeviationTest, AgreesWithBruteForceBothWays) {
   const SphericalSpline spline = CowSpline();
-  const FittedCage c = FitUniform(spline, CageCellShape::kQuad, 2);
+  const PiecewiseSurface pieces(spline);
+  const PiecewiseSplineSampler sampler(spline, pieces);
+  const FittedCage c = FitUniform(sampler, CageCellShape::kQuad, 2);
   auto limit = LimitSurface::Create(SubdivisionScheme::kCatmullClark,
                                     c.layout.num_vertices(), c.layout.faces);
   ASSERT_TRUE(limit.ok());
   CageDeviationOptions options;
   options.min_samples = 20000;
   auto d =
-      MeasureCageDeviation(spline, *limit, c.positions, &c.layout, options);
+      MeasureCageDeviation(sampler, *limit, c.positions, c.layout, options);
   ASSERT_TRUE(d.ok()) << d.status().message();
   EXPECT_GE(d->limit_samples, 20000);
   EXPECT_GE(d->spline_samples, 20000);
@@ -171,18 +174,22 @@ TEST(CageDeviationTest, AgreesWithBruteForceBothWays) {
 // corrections work together): the error falls by a factor per level.
 TEST(SubdivisionCageTest, UniformRefinementConverges) {
   const SphericalSpline spline = CowSpline();
+  const PiecewiseSurface pieces(spline);
+  const PiecewiseSplineSampler sampler(spline, pieces);
+  auto image = SplineImage::Create(sampler);
+  ASSERT_TRUE(image.ok());
   for (CageCellShape shape : {CageCellShape::kQuad, CageCellShape::kTriangle}) {
     double previous = 0;
     for (int levels = 1; levels <= 3; ++levels) {
-      const FittedCage c = FitUniform(spline, shape, levels);
+      const FittedCage c = FitUniform(sampler, shape, levels);
       auto limit = LimitSurface::Create(
           shape == CageCellShape::kQuad ? SubdivisionScheme::kCatmullClark
                                         : SubdivisionScheme::kLoop,
           c.layout.num_vertices(), c.layout.faces);
       CageDeviationOptions options;
       options.min_samples = 20000;
-      auto d =
-          MeasureCageDeviation(spline, *limit, c.positions, nullptr, options);
+      auto d = MeasureCageDeviation(sampler, *limit, c.positions, c.layout,
+                                    options, &*image);
       ASSERT_TRUE(d.ok());
       if (levels > 1) {
         EXPECT_LT(d->rms_percent, 0.7 * previous) << "levels " << levels;

@@ -108,7 +108,9 @@ TEST_P(CageCliTest, FarRefinementOfTheWrittenCageAgreesWithTheReport) {
   mesh.faces.resize(triangles.size(), 3);
   for (size_t t = 0; t < triangles.size(); ++t)
     mesh.faces.row(t) = triangles[t];
-  auto d = MeasureSurfaceDeviation(*spline, mesh);
+  DeviationOptions deviation;
+  deviation.min_surface_samples = 30000;
+  auto d = MeasureSurfaceDeviation(*spline, mesh, deviation);
   ASSERT_TRUE(d.ok()) << d.status().message();
 
   // Limit -> spline at Far's limit points, against the report's.

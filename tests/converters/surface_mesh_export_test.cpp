@@ -1,0 +1,169 @@
+// Tests of converters/surface_mesh_export: the library call makes the bytes
+// and the report `sdcb export` writes (the command line is a wrapper of it),
+// the file writer writes them, options that do not go together are
+// refused, progress reaches 1, and the bytes do not depend on the thread
+// count. A small fitted model (blobby, rms 0.2 %) at a coarse tolerance.
+#include "sdcb/converters/surface_mesh_export.h"
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "sdcb/core/fit/spline_fitter.h"
+#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/sdcb_file.h"
+#include "testing/run_sdcb.h"
+#include "testing/temp_dir.h"
+
+namespace sdcb {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SurfaceMeshExportTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new std::string(std::string(SDCB_TEST_TMP) +
+                           "/SurfaceMeshExportTest.model");
+    fs::remove_all(*dir_);
+    fs::create_directories(*dir_);
+    auto mesh = ReadMesh(testing::MeshPath("blobby.off"));
+    ASSERT_TRUE(mesh.ok());
+    FitOptions options;
+    options.rmse_percent = 0.2;
+    auto fit = FitSphericalSpline(*mesh, options);
+    ASSERT_TRUE(fit.ok());
+    model_ = new SplineModel(fit->model);
+    ASSERT_TRUE(WriteSdcbFile(*model_, *dir_ + "/blobby.sdcb").ok());
+  }
+  static void TearDownTestSuite() {
+    delete model_;
+    delete dir_;
+  }
+  static std::string* dir_;
+  static SplineModel* model_;
+};
+std::string* SurfaceMeshExportTest::dir_ = nullptr;
+SplineModel* SurfaceMeshExportTest::model_ = nullptr;
+
+// The report's JSON without what differs between two runs (times) and what
+// only the command line knows (file names).
+nlohmann::json Comparable(nlohmann::json j) {
+  j.erase("seconds");
+  j.erase("model");
+  j.erase("output");
+  return j;
+}
+
+TEST_F(SurfaceMeshExportTest, LibraryMakesWhatTheCommandLineWrites) {
+  struct Case {
+    std::string file;
+    std::vector<std::string> flags;
+    SurfaceMeshExportOptions options;
+  };
+  std::vector<Case> cases(4);
+  cases[0].file = "plain.glb";
+  cases[1].file = "draco.glb";
+  cases[1].flags = {"--draco"};
+  cases[1].options.compression = GltfCompression::kDraco;
+  cases[2].file = "curvature.ply";
+  cases[2].flags = {"--colors", "curvature", "--angle", "30"};
+  cases[2].options.colors = VertexColors::kMeanCurvature;
+  cases[2].options.angle_degrees = 30.0;
+  cases[3].file = "meshopt.gltf";
+  cases[3].flags = {"--meshopt", "--qp", "12"};
+  cases[3].options.compression = GltfCompression::kMeshopt;
+  cases[3].options.position_bits = 12;
+  for (Case& c : cases) {
+    SCOPED_TRACE(c.file);
+    const std::string out = *dir_ + "/" + c.file;
+    std::vector<std::string> args = {
+        "export",      *dir_ + "/blobby.sdcb", "-o", out,      "--json",
+        out + ".json", "--tolerance",          "1",  "--quiet"};
+    args.insert(args.end(), c.flags.begin(), c.flags.end());
+    const auto r = testing::RunSdcb(args, *dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+
+    c.options.tolerance_percent = 1.0;
+    ASSERT_TRUE(ExportFormatOfExtension(fs::path(c.file).extension().string(),
+                                        &c.options.format));
+    const auto exported = ExportSurfaceMesh(*model_, c.options);
+    ASSERT_TRUE(exported.ok()) << exported.status().message();
+    EXPECT_TRUE(exported->bytes == testing::ReadBytes(out));
+    EXPECT_EQ(
+        Comparable(SurfaceMeshExportReportToJson(exported->report)),
+        Comparable(nlohmann::json::parse(testing::ReadBytes(out + ".json"))));
+    EXPECT_EQ(exported->report.bytes,
+              static_cast<int64_t>(exported->bytes.size()));
+    EXPECT_EQ(exported->mesh.faces.rows(), exported->report.triangles);
+    EXPECT_LE(exported->report.total_error_bound_percent, 1.0);
+  }
+}
+
+TEST_F(SurfaceMeshExportTest, FileWriterWritesTheSameBytes) {
+  SurfaceMeshExportOptions options;
+  options.tolerance_percent = 1.0;
+  options.format = ExportFormat::kObj;
+  const auto exported = ExportSurfaceMesh(*model_, options);
+  ASSERT_TRUE(exported.ok());
+  const std::string path = *dir_ + "/written.obj";
+  options.format = ExportFormat::kGlb;  // the path's extension decides
+  const auto report = WriteSurfaceMeshExport(*model_, options, path);
+  ASSERT_TRUE(report.ok()) << report.status().message();
+  EXPECT_TRUE(testing::ReadBytes(path) == exported->bytes);
+  EXPECT_EQ(report->format, "obj");
+  EXPECT_EQ(report->triangles, exported->report.triangles);
+
+  const auto refused =
+      WriteSurfaceMeshExport(*model_, options, *dir_ + "/x.step");
+  EXPECT_EQ(refused.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_FALSE(fs::exists(*dir_ + "/x.step"));
+}
+
+TEST_F(SurfaceMeshExportTest, OptionsThatDoNotGoTogetherAreRefused) {
+  std::vector<SurfaceMeshExportOptions> bad(6);
+  bad[0].format = ExportFormat::kObj;
+  bad[0].compression = GltfCompression::kDraco;
+  bad[1].format = ExportFormat::kStl;
+  bad[1].colors = VertexColors::kGaussianCurvature;
+  bad[2].colors = VertexColors::kDistanceToMesh;  // no mesh
+  bad[3].compression = GltfCompression::kMeshopt;
+  bad[3].position_bits = 17;
+  bad[4].tolerance_percent = 0.0;
+  // 16-bit positions alone are off by more than half of 0.002 %.
+  bad[5].compression = GltfCompression::kMeshopt;
+  bad[5].tolerance_percent = 0.002;
+  for (size_t i = 0; i < bad.size(); ++i) {
+    const auto r = ExportSurfaceMesh(*model_, bad[i]);
+    EXPECT_EQ(r.status().code(), StatusCode::kInvalidArgument) << i;
+  }
+}
+
+TEST_F(SurfaceMeshExportTest, ProgressRisesToOneAndBytesIgnoreThreads) {
+  SurfaceMeshExportOptions options;
+  options.tolerance_percent = 1.0;
+  options.compression = GltfCompression::kDraco;
+  std::vector<std::pair<std::string, double>> calls;
+  options.progress = [&](const std::string& stage, double fraction) {
+    calls.emplace_back(stage, fraction);
+  };
+  const auto many = ExportSurfaceMesh(*model_, options);
+  ASSERT_TRUE(many.ok());
+  ASSERT_GE(calls.size(), 3u);
+  for (size_t i = 1; i < calls.size(); ++i) {
+    EXPECT_GE(calls[i].second, calls[i - 1].second) << calls[i].first;
+  }
+  EXPECT_EQ(calls.back().second, 1.0);
+
+  options.progress = nullptr;
+  StatusOr<SurfaceMeshExport> one = InvalidArgumentError("not run");
+  tbb::task_arena single(1);
+  single.execute([&] { one = ExportSurfaceMesh(*model_, options); });
+  ASSERT_TRUE(one.ok());
+  EXPECT_TRUE(one->bytes == many->bytes);
+}
+
+}  // namespace
+}  // namespace sdcb
