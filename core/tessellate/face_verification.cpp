@@ -62,6 +62,47 @@ struct Lattice {
   std::vector<std::array<int, 2>> edges;  // corner c as -1 - c
 };
 
+// Lattice points whose distance is above this fraction of the threshold
+// and a local maximum start an ascent (Ascend), at most kMaxStarts a face.
+constexpr double kAscentFrom = 0.5;
+constexpr int kMaxStarts = 4;
+
+// The local maxima of the distance over face f's lattice `l` (points at
+// rows first.. of `points`), above kAscentFrom of the threshold, farthest
+// first, at most kMaxStarts.
+std::vector<Eigen::Vector3d> LatticePeaks(const SampledFaces& faces, int f,
+                                          const Lattice& l,
+                                          const Eigen::MatrixX3d& points,
+                                          Eigen::Index first,
+                                          double threshold) {
+  const size_t n = l.weights.size();
+  std::vector<double> d(n);
+  for (size_t k = 0; k < n; ++k) {
+    bool angle_ok = true;
+    double angle = 0.0;
+    Eigen::Index worst = 0;
+    d[k] = faces.MeasurePoints(f, points, nullptr, first + k, 1, threshold,
+                               &angle_ok, &angle, &worst);
+  }
+  std::vector<char> peak(n, 1);
+  for (const auto& [x, y] : l.edges) {
+    if (x < 0 || y < 0) continue;
+    if (d[x] < d[y]) peak[x] = 0;
+    if (d[y] < d[x]) peak[y] = 0;
+  }
+  std::vector<int> order;
+  for (size_t k = 0; k < n; ++k) {
+    if (peak[k] && d[k] > kAscentFrom * threshold) order.push_back(int(k));
+  }
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return d[a] > d[b] || (d[a] == d[b] && a < b);
+  });
+  if (order.size() > size_t(kMaxStarts)) order.resize(kMaxStarts);
+  std::vector<Eigen::Vector3d> out;
+  for (int k : order) out.push_back(l.weights[k]);
+  return out;
+}
+
 // What the lattice of a face measured.
 struct LatticeMeasure {
   double distance = 0.0;
@@ -70,6 +111,11 @@ struct LatticeMeasure {
   // The largest ratio of a lattice edge's image to the same edge of the
   // flat triangle's lattice (1 where the surface is affine over the face).
   double stretch = 1.0;
+  // Barycentric weights of the lattice's local maxima of the distance
+  // above kAscentFrom of the threshold (at most kMaxStarts, farthest first),
+  // and the lattice's order.
+  std::vector<Eigen::Vector3d> peaks;
+  int order = 0;
 };
 
 // Measures faces[i] on its lattice of order orders[i] (one batch).
@@ -113,6 +159,11 @@ std::vector<LatticeMeasure> MeasureLattices(const SurfaceSampler& surface,
     m.distance = faces.MeasurePoints(
         which[i], points, with_normals ? &normals : nullptr, offset[i],
         offset[i + 1] - offset[i], threshold, &m.angle_ok, &m.angle, &worst);
+    m.order = orders[i];
+    if (m.angle_ok && m.distance > kAscentFrom * threshold &&
+        m.distance <= threshold) {
+      m.peaks = LatticePeaks(faces, which[i], l, points, offset[i], threshold);
+    }
     const auto image = [&](int x) -> Eigen::Vector3d {
       return x < 0 ? samples.positions[t[-1 - x]]
                    : Eigen::Vector3d(points.row(offset[i] + x).transpose());
@@ -145,6 +196,103 @@ double LongestImageEdge(const SurfaceSamples& samples,
                       .squaredNorm());
   }
   return std::sqrt(longest2);
+}
+
+// From the farthest lattice point of each face (faces[i], measured[i]),
+// a pattern search over the face's barycentric coordinates for a larger
+// distance: six neighbours at a step of half the lattice spacing, the best
+// taken while it gains, the step halved when none does, kAscentSteps
+// halvings. It finds maxima narrower than the lattice spacing that rise on
+// a lattice point's flank (a small bump on a large flat face). Raises
+// measured[i].distance; one batch of evaluations per iteration.
+constexpr int kAscentSteps = 5;
+
+void Ascend(const SurfaceSampler& surface, const SampledFaces& faces,
+            const std::vector<int>& which, double threshold,
+            std::vector<LatticeMeasure>* measured, int64_t* evaluations) {
+  const SphereTriangulation& pattern = faces.samples().pattern;
+  struct Climb {
+    size_t i;
+    Eigen::Vector3d at;
+    double step;
+    double distance;  // at `at`
+    int halvings = 0;
+  };
+  std::vector<Climb> climbs;
+  for (size_t i = 0; i < which.size(); ++i) {
+    const LatticeMeasure& m = (*measured)[i];
+    if (!m.angle_ok || !(m.distance <= threshold)) continue;
+    for (const Eigen::Vector3d& w : m.peaks) {
+      climbs.push_back({i, w, 0.5 / m.order, m.distance});
+    }
+  }
+  static const double kMoves[6][3] = {{1, -1, 0}, {-1, 1, 0}, {1, 0, -1},
+                                      {-1, 0, 1}, {0, 1, -1}, {0, -1, 1}};
+  while (!climbs.empty()) {
+    const Eigen::Index n = static_cast<Eigen::Index>(climbs.size());
+    Eigen::MatrixX3d directions(6 * n, 3), points;
+    std::vector<Eigen::Vector3d> weights(6 * n);
+    tbb::parallel_for(Eigen::Index{0}, n, [&](Eigen::Index c) {
+      const Climb& climb = climbs[c];
+      const auto& t = pattern.face(which[climb.i]);
+      for (int k = 0; k < 6; ++k) {
+        Eigen::Vector3d w =
+            climb.at + climb.step * Eigen::Vector3d(kMoves[k][0], kMoves[k][1],
+                                                    kMoves[k][2]);
+        w = w.cwiseMax(0.0);
+        w /= w.sum();
+        weights[6 * c + k] = w;
+        directions.row(6 * c + k) =
+            (w[0] * pattern.vertex(t[0]) + w[1] * pattern.vertex(t[1]) +
+             w[2] * pattern.vertex(t[2]))
+                .normalized()
+                .transpose();
+      }
+    });
+    surface.Sample(directions, &points, nullptr);
+    *evaluations += directions.rows();
+    std::vector<char> done(n, 0);
+    // Climbs of one face run in one task (they raise its distance).
+    std::vector<Eigen::Index> start{0};
+    for (Eigen::Index c = 1; c < n; ++c) {
+      if (climbs[c].i != climbs[c - 1].i) start.push_back(c);
+    }
+    start.push_back(n);
+    tbb::parallel_for(size_t{0}, start.size() - 1, [&](size_t g) {
+      for (Eigen::Index c = start[g]; c < start[g + 1]; ++c) {
+        Climb& climb = climbs[c];
+        LatticeMeasure& m = (*measured)[climb.i];
+        double best = climb.distance;
+        int moved = -1;
+        for (int k = 0; k < 6; ++k) {
+          bool angle_ok = true;
+          double angle = 0.0;
+          Eigen::Index worst = 0;
+          const double d =
+              faces.MeasurePoints(which[climb.i], points, nullptr, 6 * c + k, 1,
+                                  threshold, &angle_ok, &angle, &worst);
+          if (d > best) {
+            best = d;
+            moved = k;
+          }
+        }
+        if (moved >= 0) {
+          climb.distance = best;
+          climb.at = weights[6 * c + moved];
+          m.distance = std::max(m.distance, best);
+        } else {
+          climb.step *= 0.5;
+          ++climb.halvings;
+        }
+        done[c] = climb.halvings >= kAscentSteps || m.distance > threshold;
+      }
+    });
+    std::vector<Climb> next;
+    for (Eigen::Index c = 0; c < n; ++c) {
+      if (!done[c]) next.push_back(climbs[c]);
+    }
+    climbs = std::move(next);
+  }
 }
 
 enum : char { kPassed, kDistanceFailed, kAngleFailed };
@@ -236,11 +384,17 @@ Status VerifyFaces(const SurfaceSampler& surface,
                           &result->evaluations);
       for (size_t j = 0; j < again.size(); ++j) {
         LatticeMeasure& m = measured[again_index[j]];
+        if (finer[j].distance > m.distance || !finer[j].peaks.empty()) {
+          m.peaks = finer[j].peaks;
+          m.order = finer[j].order;
+        }
         m.distance = std::max(m.distance, finer[j].distance);
         m.angle = std::max(m.angle, finer[j].angle);
         m.angle_ok = m.angle_ok && finer[j].angle_ok;
       }
     }
+    Ascend(surface, *faces, pending, options.threshold, &measured,
+           &result->evaluations);
     std::vector<char> failed(n, kPassed);
     for (Eigen::Index i = 0; i < n; ++i) {
       const int f = pending[i];
