@@ -189,6 +189,11 @@ class SurfaceDeviationTest : public ::testing::Test {
     FitOptions options;
     options.rmse_percent = 0.05;
     options.max_rounds = 2;
+    // The fit's own dense measurements kept small (they would take most of
+    // its time, once per test process): these tests measure the model
+    // themselves.
+    options.final_surface_samples = 1000;
+    options.final_mesh_samples = 0;
     auto fit = FitSphericalSpline(*mesh_, options);
     ASSERT_TRUE(fit.ok()) << fit.status().message();
     model_ = new SplineModel(fit->model);
