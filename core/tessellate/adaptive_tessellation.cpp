@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/tessellate/face_verification.h"
@@ -44,8 +46,21 @@ StatusOr<Tessellation> TessellateAdaptively(
   if (options.lattice < 2 || options.lattice > 16) {
     return InvalidArgumentError("tessellation lattice order must be in 2..16");
   }
+  // Each stage's own fraction into its share of the whole, never back.
+  double reported = 0.0;
   const auto progress = [&](const char* stage, double fraction) {
-    if (options.progress) options.progress(stage, std::min(fraction, 1.0));
+    static constexpr struct {
+      const char* name;
+      double from, to;
+    } kShares[] = {
+        {"samples", 0.0, 0.2}, {"simplify", 0.2, 0.9}, {"verify", 0.9, 1.0}};
+    if (!options.progress) return;
+    for (const auto& share : kShares) {
+      if (std::string(stage) != share.name) continue;
+      const double f = std::clamp(fraction, 0.0, 1.0);
+      reported = std::max(reported, share.from + f * (share.to - share.from));
+    }
+    options.progress(stage, reported);
   };
 
   SurfaceSampleOptions sampling;

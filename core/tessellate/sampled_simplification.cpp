@@ -31,6 +31,9 @@ struct Decision {
   FaceChange change;
   ChangeResult result;
   int a = -1, b = -1;  // collapse a into b, or flip the half-edge a
+  // The vertices whose stars the evaluation read (the corners of the old
+  // faces).
+  std::vector<int> reads;
 };
 
 class Simplifier {
@@ -62,16 +65,44 @@ class Simplifier {
   }
 
  private:
-  // Evaluates the items of `queue` in order and makes each change that
-  // passes before the next item is looked at.
+  // Evaluates the items of `queue` and makes the changes that pass, as if
+  // one after another in queue order: batches of kBatch items are evaluated
+  // in parallel against the pattern before the batch; then, in order, a
+  // passing change is made unless a change made earlier in the batch
+  // touched a corner of its old faces (what its evaluation read), in which
+  // case it is evaluated again first. The result depends on kBatch, not on
+  // the number of threads.
   template <typename Evaluate, typename Make>
   void RunInOrder(const std::vector<int>& queue, const Evaluate& evaluate,
                   const Make& make) {
-    Decision decision;
-    for (int item : queue) {
-      decision.made = false;
-      evaluate(item, &decision);
-      if (decision.made) make(&decision);
+    constexpr size_t kBatch = 512;
+    std::vector<Decision> decisions(kBatch);
+    if (stamp_.size() < size_t(pattern_.num_vertices())) {
+      stamp_.resize(pattern_.num_vertices(), -1);
+    }
+    for (size_t first = 0; first < queue.size(); first += kBatch) {
+      const size_t n = std::min(kBatch, queue.size() - first);
+      ++batch_;
+      tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+        decisions[i].made = false;
+        evaluate(queue[first + i], &decisions[i]);
+      });
+      for (size_t i = 0; i < n; ++i) {
+        Decision& d = decisions[i];
+        if (!d.made) continue;
+        bool stale = false;
+        for (int v : d.reads) stale = stale || stamp_[v] == batch_;
+        if (stale) {
+          d.made = false;
+          evaluate(queue[first + i], &d);
+          if (!d.made) continue;
+        }
+        make(&d);
+        for (const auto& t : d.change.faces) {
+          for (int v : t) stamp_[v] = batch_;
+        }
+        for (int v : d.change.freed) stamp_[v] = batch_;
+      }
     }
   }
 
@@ -181,6 +212,8 @@ class Simplifier {
         d->b = w;
         d->change = change;
         d->result = result;
+        d->reads.assign(ring.begin(), ring.end());
+        d->reads.push_back(v);
       }
       if (!d->made) {
         known_[v] = 1;
@@ -234,6 +267,8 @@ class Simplifier {
       d->a = i;
       d->change = change;
       d->result = result;
+      d->reads = {pattern_.Origin(h), pattern_.Target(h), pattern_.Apex(h),
+                  pattern_.Apex(pattern_.Twin(h))};
     };
     const auto make = [&](Decision* d) {
       pattern_.Flip(pattern_.HalfEdge(ends[d->a][0], ends[d->a][1]));
@@ -247,6 +282,9 @@ class Simplifier {
   // last certified and failed, the least distance that failed them, and
   // its cheapest estimate then.
   int pass_ = 0;
+  // Per vertex: the last batch of RunInOrder that changed its star.
+  std::vector<int64_t> stamp_;
+  int64_t batch_ = 0;
   std::vector<char> known_;
   std::vector<double> bound_, estimate_;
   const SimplificationOptions options_;

@@ -9,8 +9,10 @@
 //     makes to the faces that keep their other corners) are certified, and
 //     the one of lower largest distance that passes is made;
 //   - then edge flips that lower the larger distance of their two faces.
-// Candidates are certified in waves of non-overlapping regions, in
-// parallel, and made in order, so the result does not depend on the
+// Candidates are certified in batches of consecutive queue items, in
+// parallel, against the pattern before the batch, and made in queue order;
+// a change whose old faces' corners a change made earlier in the batch
+// touched is certified again first. The result does not depend on the
 // thread count.
 #ifndef SDCB_CORE_TESSELLATE_SAMPLED_SIMPLIFICATION_H_
 #define SDCB_CORE_TESSELLATE_SAMPLED_SIMPLIFICATION_H_

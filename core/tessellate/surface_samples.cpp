@@ -5,12 +5,90 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <numeric>
 #include <string>
 #include <utility>
 
 namespace sdcb {
 namespace {
+
+// Interleaves the bits of three 21-bit integers (a Morton code).
+uint64_t Interleave(uint32_t x, uint32_t y, uint32_t z) {
+  uint64_t code = 0;
+  for (int b = 0; b < 21; ++b) {
+    code |= (uint64_t((x >> b) & 1u) << (3 * b)) |
+            (uint64_t((y >> b) & 1u) << (3 * b + 1)) |
+            (uint64_t((z >> b) & 1u) << (3 * b + 2));
+  }
+  return code;
+}
+
+// The samples renumbered along a Morton curve of their directions, and the
+// faces in the order of their first corner: a vertex's star and its
+// neighbours' samples then sit close in memory (the simplification walks
+// them millions of times). The same triangulation and samples otherwise.
+SurfaceSamples SpatiallyOrdered(const SurfaceSamples& s) {
+  const SphereTriangulation& p = s.pattern;
+  const std::vector<int> alive = p.AliveVertices();
+  const int n = static_cast<int>(alive.size());
+  std::vector<uint64_t> key(n);
+  const auto quantize = [](double x) {
+    return static_cast<uint32_t>(
+        std::clamp((x + 1.0) * 0.5 * 2097151.0, 0.0, 2097151.0));
+  };
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d& d = p.vertex(alive[i]);
+    key[i] = Interleave(quantize(d[0]), quantize(d[1]), quantize(d[2]));
+  }
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return key[a] < key[b] || (key[a] == key[b] && a < b);
+  });
+  // p.Faces() numbers corners by rank among the alive vertices.
+  std::vector<int> rank(n);
+  for (int i = 0; i < n; ++i) rank[order[i]] = i;
+  Eigen::MatrixX3i faces = p.Faces();
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    Eigen::Vector3i t(rank[faces(f, 0)], rank[faces(f, 1)], rank[faces(f, 2)]);
+    // Rotated so the first corner is the smallest (same orientation).
+    while (t[0] > t[1] || t[0] > t[2]) t = Eigen::Vector3i(t[1], t[2], t[0]);
+    faces.row(f) = t.transpose();
+  }
+  std::vector<Eigen::Index> by_corner(faces.rows());
+  std::iota(by_corner.begin(), by_corner.end(), 0);
+  std::sort(by_corner.begin(), by_corner.end(),
+            [&](Eigen::Index a, Eigen::Index b) {
+              for (int k = 0; k < 3; ++k) {
+                if (faces(a, k) != faces(b, k))
+                  return faces(a, k) < faces(b, k);
+              }
+              return false;
+            });
+  Eigen::MatrixX3i sorted(faces.rows(), 3);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    sorted.row(f) = faces.row(by_corner[f]);
+  }
+  SurfaceSamples out;
+  Eigen::MatrixX3d directions(n, 3);
+  out.positions.resize(n);
+  out.normals.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const int v = alive[order[i]];
+    directions.row(i) = p.vertex(v).transpose();
+    out.positions[i] = s.positions[v];
+    out.normals[i] = s.normals[v];
+  }
+  StatusOr<SphereTriangulation> pattern =
+      SphereTriangulation::FromFaces(directions, sorted);
+  // The faces are a renumbered closed triangulation: FromFaces accepts them.
+  out.pattern = std::move(pattern).value();
+  out.size = s.size;
+  out.evaluations = s.evaluations;
+  return out;
+}
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -181,7 +259,7 @@ StatusOr<SurfaceSamples> SampleSurface(const SurfaceSampler& surface,
     pending = std::move(touched);
     if (options.progress) options.progress(s.pattern.num_vertices());
   }
-  return s;
+  return SpatiallyOrdered(s);
 }
 
 }  // namespace sdcb

@@ -16,9 +16,13 @@
 //     than `angle_length_factor` * tolerance (the final faces' angular test
 //     applies to faces larger than the tolerance only): corner normals
 //     within angle_degrees / `angle_divisions` of each other.
-// A face that fails has its longest image edge split at the edge's domain
-// midpoint (both faces of the edge, so the pattern stays conforming); each
-// round of splits is one batch of surface evaluations.
+// A face that fails is bisected at the domain midpoint of its longest
+// domain edge, after the face across that edge if its longest edge is
+// longer (longest-edge propagation: the pattern stays conforming and its
+// angles bounded); each round of splits is one batch of surface
+// evaluations. The result is renumbered along a Morton curve of the
+// directions (vertices) and by first corner (faces), so that neighbours
+// sit close in memory.
 #ifndef SDCB_CORE_TESSELLATE_SURFACE_SAMPLES_H_
 #define SDCB_CORE_TESSELLATE_SURFACE_SAMPLES_H_
 
