@@ -2,8 +2,12 @@
 // (SphericalSpline::Evaluate) against the per-piece polynomials
 // (PiecewiseSurface), one thread, random directions. Wall and CPU seconds
 // are both printed (on a shared machine the CPU time is the per-core cost).
-//   surface_evaluation_bench [MODEL.sdcb [GRID]]   (default out/bunny00.sdcb;
-//   GRID: cells per cube-face side, 0 = PiecewiseSurface's choice)
+// The first pass over the points builds every region they touch; its CPU
+// time minus the second pass's, per region built, is the cost of building
+// a region.
+//   surface_evaluation_bench [MODEL.sdcb [GRID [first]]]   (default
+//   out/bunny00.sdcb; GRID: cells per cube-face side, 0 = PiecewiseSurface's
+//   choice; "first": stop after the first pass, for profiling it)
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -11,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <string>
 
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/io/sdcb_file.h"
@@ -71,14 +76,19 @@ int main(int argc, char** argv) {
   Eigen::MatrixX3d out, normals;
   timer = Timer();
   pieces.EvaluateMany(many, &out, nullptr);
+  const double first_cpu = timer.Cpu();
+  const int64_t regions = pieces.num_regions();
   std::printf(
       "piecewise first pass: %8.3f s (CPU %.3f s) for %lld points, builds "
       "%lld regions\n",
-      timer.Wall(), timer.Cpu(), static_cast<long long>(many.rows()),
-      static_cast<long long>(pieces.num_regions()));
+      timer.Wall(), first_cpu, static_cast<long long>(many.rows()),
+      static_cast<long long>(regions));
+  if (argc > 3 && std::string(argv[3]) == "first") return 0;
   timer = Timer();
   pieces.EvaluateMany(many, &out, nullptr);
   PrintRate("piecewise positions", timer, many.rows());
+  std::printf("region building     : %8.3f us CPU per region\n",
+              1e6 * (first_cpu - timer.Cpu()) / std::max<int64_t>(1, regions));
   timer = Timer();
   pieces.EvaluateMany(many, &out, &normals);
   PrintRate("piecewise + normals", timer, many.rows());
