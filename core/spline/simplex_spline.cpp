@@ -16,11 +16,6 @@ namespace {
 
 constexpr int kMax = SimplexSpline::kMaxKnots;
 
-// Index of the pair i < j among m knots: 0 .. m (m - 1) / 2 - 1, increasing
-// in the order (0,1), (0,2), ..., (0,m-1), (1,2), ...
-int PairIndex(int i, int j, int m) {
-  return i * (2 * m - i - 1) / 2 + j - i - 1;
-}
 constexpr int kMaxPairs = kMax * (kMax - 1) / 2;
 
 // Fixed generic axes of the half-open perturbation.
@@ -206,19 +201,29 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
     return index;
   };
   build((1u << m) - 1);
-  // Leaves first (stable; still children before parents), so an evaluation
-  // can stop once all degree-0 values are known to vanish.
+  // Leaves first, so an evaluation can stop once all degree-0 values are
+  // known to vanish; then the internal nodes by size (children before
+  // parents), each size's first at level_start_[size - 3].
   std::vector<int> new_index(s.nodes_.size());
   std::vector<Node> ordered;
-  for (int pass = 0; pass < 2; ++pass) {
+  for (size_t i = 0; i < s.nodes_.size(); ++i) {
+    if (s.nodes_[i].matrix < 0) {
+      new_index[i] = static_cast<int>(ordered.size());
+      ordered.push_back(s.nodes_[i]);
+    }
+  }
+  s.num_leaves_ = static_cast<int>(ordered.size());
+  for (int size = 4; size <= m; ++size) {
+    s.level_start_[size - 3] = static_cast<int>(ordered.size());
     for (size_t i = 0; i < s.nodes_.size(); ++i) {
-      if ((s.nodes_[i].matrix < 0) == (pass == 0)) {
+      if (s.nodes_[i].matrix >= 0 &&
+          __builtin_popcount(s.nodes_[i].mask) == size) {
         new_index[i] = static_cast<int>(ordered.size());
         ordered.push_back(s.nodes_[i]);
       }
     }
-    if (pass == 0) s.num_leaves_ = static_cast<int>(ordered.size());
   }
+  s.level_start_[m - 2] = static_cast<int>(ordered.size());
   for (Node& node : ordered) {
     for (int& c : node.child) {
       if (c >= 0) c = new_index[c];
@@ -349,38 +354,142 @@ ScalarJet SimplexSpline::Evaluate(const Eigen::Vector3d& p,
   return jet;
 }
 
+template <int K>
+bool SimplexSpline::PieceOfDegree(const Eigen::Vector3d& q,
+                                  const Eigen::Vector3d& o,
+                                  const Eigen::Vector3d& e1,
+                                  const Eigen::Vector3d& e2,
+                                  double* out) const {
+  double leaves[256];
+  if (!LeafValues(q, leaves)) return false;
+  // Each node's polynomial (degree = its size - 3) at slot[node] in poly, or
+  // -1 where all its leaves vanish.
+  int slot[256];
+  double poly[256 * PolynomialSize(K > 0 ? K - 1 : 0) + 64];
+  int used = 0;
+  for (int i = 0; i < num_leaves_; ++i) {
+    slot[i] = leaves[i] != 0.0 ? used : -1;
+    if (leaves[i] != 0.0) poly[used++] = leaves[i];
+  }
+  const auto level = [&](auto degree) {
+    constexpr int D = decltype(degree)::value;
+    for (int i = level_start_[D]; i < level_start_[D + 1]; ++i) {
+      const Node& node = nodes_[i];
+      const int* c = node.child;
+      slot[i] = -1;
+      if (slot[c[0]] < 0 && slot[c[1]] < 0 && slot[c[2]] < 0) continue;
+      double* result = D == K ? out : poly + used;
+      std::fill(result, result + PolynomialSize(D), 0.0);
+      // Eq. 3 with b_j(p(s, t)) = g_j . o + s g_j . e1 + t g_j . e2.
+      const Eigen::Matrix3d& g = matrices_[node.matrix];
+      for (int j = 0; j < 3; ++j) {
+        if (slot[c[j]] < 0) continue;
+        const Eigen::Vector3d gj = g.row(j).transpose();
+        AddAffineProduct<D>(gj.dot(o), gj.dot(e1), gj.dot(e2),
+                            poly + slot[c[j]], result);
+      }
+      slot[i] = used;
+      if (D < K) used += PolynomialSize(D);
+    }
+  };
+  if constexpr (K >= 1) level(std::integral_constant<int, 1>());
+  if constexpr (K >= 2) level(std::integral_constant<int, 2>());
+  if constexpr (K >= 3) level(std::integral_constant<int, 3>());
+  if constexpr (K >= 4) level(std::integral_constant<int, 4>());
+  if constexpr (K >= 5) level(std::integral_constant<int, 5>());
+  const int count = static_cast<int>(nodes_.size());
+  if (slot[count - 1] < 0) {
+    // Every path to a nonzero leaf passes a zero node: M vanishes here.
+    std::fill(out, out + PolynomialSize(K), 0.0);
+  } else if (K == 0) {
+    out[0] = poly[slot[count - 1]];
+  }
+  return true;
+}
+
+SimplexSpline::Leaf SimplexSpline::leaf(int i) const {
+  const Node& node = nodes_[i];
+  Leaf out;
+  out.knots = {node.local[0], node.local[1], node.local[2]};
+  out.orientation = node.orientation;
+  out.inv_abs_det = node.inv_abs_det;
+  return out;
+}
+
+template <int K>
+void SimplexSpline::PathsOfDegree(const Eigen::Vector3d& o,
+                                  const Eigen::Vector3d& e1,
+                                  const Eigen::Vector3d& e2, const bool* wanted,
+                                  double* out) const {
+  constexpr int kSize = PolynomialSize(K);
+  const int count = static_cast<int>(nodes_.size());
+  // Only the nodes above a wanted leaf carry a polynomial: a node of size
+  // |S| one of degree k + 3 - |S|, at slot[node] in poly.
+  bool useful[256];
+  for (int i = 0; i < num_leaves_; ++i) {
+    useful[i] = wanted[i];
+    if (wanted[i]) std::fill(out + i * kSize, out + (i + 1) * kSize, 0.0);
+  }
+  double poly[256 * PolynomialSize(K > 0 ? K - 1 : 0) + 64];
+  int slot[256];
+  int used = 0;
+  for (int i = num_leaves_; i < count; ++i) {
+    const int* c = nodes_[i].child;
+    useful[i] = useful[c[0]] || useful[c[1]] || useful[c[2]];
+    if (!useful[i]) continue;
+    slot[i] = used;
+    used += PolynomialSize(K - (__builtin_popcount(nodes_[i].mask) - 3));
+  }
+  if (!useful[count - 1]) return;
+  if constexpr (K == 0) {
+    out[0] = 1.0;  // V is its only leaf
+    return;
+  } else {
+    std::fill(poly, poly + used, 0.0);
+    poly[slot[count - 1]] = 1.0;
+    // Parents before children (sizes descending): each passes its polynomial
+    // times b_j(p(s, t)) = g_j . o + s g_j . e1 + t g_j . e2 to child j.
+    const auto level = [&](auto degree) {
+      constexpr int D = decltype(degree)::value;  // the parents' degree
+      for (int i = level_start_[K - D]; i < level_start_[K - D + 1]; ++i) {
+        if (!useful[i]) continue;
+        const Node& node = nodes_[i];
+        const Eigen::Matrix3d& g = matrices_[node.matrix];
+        for (int j = 0; j < 3; ++j) {
+          const int c = node.child[j];
+          if (!useful[c]) continue;
+          const Eigen::Vector3d gj = g.row(j).transpose();
+          double* target = c < num_leaves_ ? out + c * kSize : poly + slot[c];
+          AddAffineProduct<D + 1>(gj.dot(o), gj.dot(e1), gj.dot(e2),
+                                  poly + slot[i], target);
+        }
+      }
+    };
+    level(std::integral_constant<int, 0>());
+    if constexpr (K >= 2) level(std::integral_constant<int, 1>());
+    if constexpr (K >= 3) level(std::integral_constant<int, 2>());
+    if constexpr (K >= 4) level(std::integral_constant<int, 3>());
+    if constexpr (K >= 5) level(std::integral_constant<int, 4>());
+  }
+}
+
+void SimplexSpline::LeafPathPolynomials(const Eigen::Vector3d& o,
+                                        const Eigen::Vector3d& e1,
+                                        const Eigen::Vector3d& e2,
+                                        const bool* wanted, double* out) const {
+  WithDegree(degree(), [&](auto k) {
+    PathsOfDegree<decltype(k)::value>(o, e1, e2, wanted, out);
+  });
+}
+
 bool SimplexSpline::PiecePolynomial(const Eigen::Vector3d& q,
                                     const Eigen::Vector3d& o,
                                     const Eigen::Vector3d& e1,
                                     const Eigen::Vector3d& e2,
                                     double* out) const {
-  double leaves[256];
-  if (!LeafValues(q, leaves)) return false;
-  constexpr int kSize = PolynomialSize(kMax - 3);
-  const int count = static_cast<int>(nodes_.size());
-  // Reused per thread: this runs once per region and basis function.
-  thread_local std::vector<std::array<double, kSize>> poly;
-  if (static_cast<int>(poly.size()) < count) poly.resize(count);
-  for (int i = 0; i < num_leaves_; ++i) {
-    poly[i].fill(0.0);
-    poly[i][0] = leaves[i];
-  }
-  for (int i = num_leaves_; i < count; ++i) {
-    const Node& node = nodes_[i];
-    poly[i].fill(0.0);
-    // Eq. 3 with b_j(p(s, t)) = g_j . o + s g_j . e1 + t g_j . e2.
-    const int child_degree = __builtin_popcount(node.mask) - 4;
-    const Eigen::Matrix3d& g = matrices_[node.matrix];
-    for (int j = 0; j < 3; ++j) {
-      const Eigen::Vector3d gj = g.row(j).transpose();
-      AccumulateAffineProduct(gj.dot(o), gj.dot(e1), gj.dot(e2),
-                              poly[node.child[j]].data(), child_degree,
-                              poly[i].data());
-    }
-  }
-  const std::array<double, kSize>& top = poly[count - 1];
-  std::copy(top.begin(), top.begin() + PolynomialSize(degree()), out);
-  return true;
+  return WithDegree(degree(), [&](auto k) {
+    return PieceOfDegree<decltype(k)::value>(q, o, e1, e2, out);
+  });
 }
 
 }  // namespace sdcb

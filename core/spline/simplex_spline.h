@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "sdcb/core/common/status.h"
@@ -60,6 +61,51 @@ inline void AccumulateAffineProduct(double alpha, double beta, double gamma,
       out[MonomialIndex(i + 1, j)] += beta * c;
       out[MonomialIndex(i, j + 1)] += gamma * c;
     }
+}
+
+// f(std::integral_constant<int, degree>()), for the degrees 0 .. 5 of
+// SimplexSpline (kMaxKnots - 3; larger ones are taken as 5): code
+// specialized by degree, chosen at run time.
+template <typename F>
+decltype(auto) WithDegree(int degree, F&& f) {
+  switch (degree) {
+    case 0:
+      return f(std::integral_constant<int, 0>());
+    case 1:
+      return f(std::integral_constant<int, 1>());
+    case 2:
+      return f(std::integral_constant<int, 2>());
+    case 3:
+      return f(std::integral_constant<int, 3>());
+    case 4:
+      return f(std::integral_constant<int, 4>());
+    default:
+      return f(std::integral_constant<int, 5>());
+  }
+}
+
+// Index of the pair i < j among m knots: 0 .. m (m - 1) / 2 - 1, increasing
+// in the order (0,1), (0,2), ..., (0,m-1), (1,2), ...
+inline constexpr int PairIndex(int i, int j, int m) {
+  return i * (2 * m - i - 1) / 2 + j - i - 1;
+}
+
+// AccumulateAffineProduct for a fixed degree: out (degree D) += (alpha +
+// beta s + gamma t) * in (degree D - 1). The coefficient of degree n and
+// index j of `in` (at n (n + 1) / 2 + j) multiplies into the same index
+// (alpha), + n + 1 (s) and + n + 2 (t).
+template <int D>
+inline void AddAffineProduct(double alpha, double beta, double gamma,
+                             const double* in, double* out) {
+  for (int n = 0; n < D; ++n) {
+    const int first = n * (n + 1) / 2;
+    for (int j = 0; j <= n; ++j) {
+      const double c = in[first + j];
+      out[first + j] += alpha * c;
+      out[first + n + 1 + j] += beta * c;
+      out[first + n + 2 + j] += gamma * c;
+    }
+  }
 }
 
 // Three unit knots with |det| at or below this count as lying on one great
@@ -155,6 +201,29 @@ class SimplexSpline {
                        const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
                        double* out) const;
 
+  // The recursion unrolled: M(p | V) = sum over its leaves T (the subsets
+  // the recursion ends at) of P_T(p) chi_T(p) / |det T|, where chi_T is the
+  // half-open triangle's indicator and P_T(p), homogeneous of degree k, sums
+  // over the recursion's paths from V to T the products of the barycentric
+  // coordinates b_j(p | W) met on the way.
+  struct Leaf {
+    std::array<int, 3> knots = {-1, -1, -1};  // local, ascending
+    int orientation = 0;       // exact sign of det(t_a, t_b, t_c); 0: zero leaf
+    double inv_abs_det = 0.0;  // 1 / |det(t_a, t_b, t_c)|
+  };
+  int num_leaves() const { return num_leaves_; }
+  // The perturbed signs of det(p, t_i, t_j) for the pairs i < j, at
+  // PairIndex(i, j, k + 3) (as Value(p) decides them).
+  void PairSigns(const Eigen::Vector3d& p, int* signs) const;
+  Leaf leaf(int i) const;
+  // P_T in the chart p(s, t) = o + s e1 + t e2 of each leaf i with
+  // wanted[i] (num_leaves() flags): PolynomialSize(degree()) coefficients
+  // at out + i * PolynomialSize(degree()); the other leaves' are left as
+  // they are.
+  void LeafPathPolynomials(const Eigen::Vector3d& o, const Eigen::Vector3d& e1,
+                           const Eigen::Vector3d& e2, const bool* wanted,
+                           double* out) const;
+
  private:
   friend class SimplexSplineForest;
   struct Node {
@@ -171,8 +240,14 @@ class SimplexSpline {
   };
 
   SimplexSpline() = default;
-  // Fills per-pair perturbed signs sigma(i, j) of det(p, t_i, t_j), i < j.
-  void PairSigns(const Eigen::Vector3d& p, int* signs) const;
+  template <int K>
+  void PathsOfDegree(const Eigen::Vector3d& o, const Eigen::Vector3d& e1,
+                     const Eigen::Vector3d& e2, const bool* wanted,
+                     double* out) const;
+  template <int K>
+  bool PieceOfDegree(const Eigen::Vector3d& q, const Eigen::Vector3d& o,
+                     const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
+                     double* out) const;
   double LeafValue(const Node& node, const int* signs) const;
   // Degree-0 values of the num_leaves_ leaves into `values`; false if all
   // are zero.
@@ -185,6 +260,9 @@ class SimplexSpline {
   // Children before parents; the num_leaves_ leaves (3 knots) first.
   std::vector<Node> nodes_;
   int num_leaves_ = 0;
+  // The internal nodes of size d + 3 are level_start_[d] ..
+  // level_start_[d + 1] - 1 (d = 1 .. k).
+  std::array<int, kMaxKnots - 1> level_start_{};
 };
 
 }  // namespace sdcb
