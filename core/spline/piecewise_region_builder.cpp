@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <memory>
 
 #include "sdcb/core/spline/simplex_spline.h"
 
@@ -15,9 +16,18 @@ void AddScaled(const double* poly, const double c4[4], int size, double* out) {
     for (int d = 0; d < 4; ++d) out[4 * m + d] += c4[d] * poly[m];
 }
 
+// A copy of `v` in the arena (null if empty).
+template <typename T>
+T* CopyToArena(const std::vector<T>& v, BlockArena* arena) {
+  if (v.empty()) return nullptr;
+  T* out = static_cast<T*>(arena->Allocate(v.size() * sizeof(T)));
+  std::uninitialized_copy(v.begin(), v.end(), out);
+  return out;
+}
+
 }  // namespace
 
-// The sums of the cell (see the header).
+// The sums of a cell (see the header), as MakeCell makes them.
 struct PiecewiseRegionBuilder::Cell {
   // A triangle edge that is not a line: the perturbed sign of det(p, t_a,
   // t_b) the triangle needs (constant wherever its lines' signs are right).
@@ -34,15 +44,14 @@ struct PiecewiseRegionBuilder::Cell {
   struct Group {
     uint64_t mask = 0, want = 0;  // the key's bits and their values
     int first = -1, last = -1;    // its triangles
-    int sum = -1;                 // offset in group_sums, -1 until found
+    const double* sum = nullptr;  // in the arena, null until found
   };
 
   std::vector<double> base;
   std::vector<Edge> edges;
   std::vector<Triangle> triangles;
   std::vector<Group> groups;
-  std::vector<double> sums;        // the triangles'
-  std::vector<double> group_sums;  // the groups' found so far
+  std::vector<double> sums;  // the triangles'
   // Open addressing: (knots, triangle) by the triangle's knots; only while
   // the cell is made.
   std::vector<std::pair<uint64_t, int>> triangle_of;
@@ -64,12 +73,23 @@ struct PiecewiseRegionBuilder::Cell {
   }
 };
 
+// The cell's sums kept for its life: Cell's arrays copied to the arena.
+struct PiecewiseRegionBuilder::Kept {
+  const double* base = nullptr;
+  const Cell::Edge* edges = nullptr;
+  const Cell::Triangle* triangles = nullptr;
+  Cell::Group* groups = nullptr;
+  int num_groups = 0;
+  const double* sums = nullptr;
+};
+
 PiecewiseRegionBuilder::PiecewiseRegionBuilder(
     const SphericalSpline& spline, const Eigen::Vector3d& o,
     const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
     const std::vector<int>& sets, const std::vector<int8_t>& pair_bits,
-    const Eigen::Vector3d& p)
+    const Eigen::Vector3d& p, BlockArena* arena)
     : spline_(spline),
+      arena_(arena),
       o_(o),
       e1_(e1),
       e2_(e2),
@@ -117,6 +137,10 @@ void PiecewiseRegionBuilder::MakeCell(const Eigen::Vector3d& p,
     return knots.row(i).transpose();
   };
   cell->base = fixed_;
+  cell->edges.clear();
+  cell->triangles.clear();
+  cell->groups.clear();
+  cell->sums.clear();
   cell->ClearTriangles(sets_.size() * 8);
   thread_local std::vector<double> paths;
   // Per leaf of a set's recursion: 0 off in the cell, 1 on everywhere, 2
@@ -241,29 +265,31 @@ void PiecewiseRegionBuilder::MakeCell(const Eigen::Vector3d& p,
 
 void PiecewiseRegionBuilder::Build(const Eigen::Vector3d& p, uint64_t key,
                                    double* out) {
-  if (!cell_) {
-    cell_ = std::make_unique<Cell>();
-    MakeCell(p, cell_.get());
-    // Kept for the cell's life: without the slack of their growth.
-    std::vector<std::pair<uint64_t, int>>().swap(cell_->triangle_of);
-    cell_->edges.shrink_to_fit();
-    cell_->triangles.shrink_to_fit();
-    cell_->groups.shrink_to_fit();
-    cell_->sums.shrink_to_fit();
-  }
-  Cell* cell = cell_.get();
   const int n = 4 * size_;
-  std::copy(cell->base.begin(), cell->base.end(), out);
+  if (kept_ == nullptr) {
+    // Made in this thread's buffers, kept in the arena.
+    thread_local Cell made;
+    MakeCell(p, &made);
+    Kept* kept = arena_->New<Kept>();
+    kept->base = CopyToArena(made.base, arena_);
+    kept->edges = CopyToArena(made.edges, arena_);
+    kept->triangles = CopyToArena(made.triangles, arena_);
+    kept->groups = CopyToArena(made.groups, arena_);
+    kept->num_groups = static_cast<int>(made.groups.size());
+    kept->sums = CopyToArena(made.sums, arena_);
+    kept_ = kept;
+  }
+  const Kept* cell = kept_;
+  std::copy(cell->base, cell->base + n, out);
   const Eigen::MatrixX3d& knots = spline_.knots();
   const double bound = kSignFilter * 3.01 * p.cwiseAbs().sum();
-  for (Cell::Group& group : cell->groups) {
+  for (int g = 0; g < cell->num_groups; ++g) {
+    Cell::Group& group = cell->groups[g];
     if ((key & group.mask) != group.want) continue;
-    if (group.sum < 0) {
+    if (group.sum == nullptr) {
       // The first region with these signs: its triangles that are on there
       // (their other edges' signs are the same at every such point).
-      group.sum = static_cast<int>(cell->group_sums.size());
-      cell->group_sums.resize(cell->group_sums.size() + n, 0.0);
-      double* sum = cell->group_sums.data() + group.sum;
+      double* sum = arena_->New<double>(n);
       for (int t = group.first; t >= 0; t = cell->triangles[t].next) {
         const Cell::Triangle& triangle = cell->triangles[t];
         bool on = true;
@@ -274,12 +300,12 @@ void PiecewiseRegionBuilder::Build(const Eigen::Vector3d& p, uint64_t key,
                             knots.row(edge.b).transpose()) == edge.sign;
         }
         if (!on) continue;
-        const double* a = cell->sums.data() + triangle.sum;
+        const double* a = cell->sums + triangle.sum;
         for (int i = 0; i < n; ++i) sum[i] += a[i];
       }
+      group.sum = sum;
     }
-    const double* sum = cell->group_sums.data() + group.sum;
-    for (int i = 0; i < n; ++i) out[i] += sum[i];
+    for (int i = 0; i < n; ++i) out[i] += group.sum[i];
   }
   if (!other_sets_.empty()) {
     std::vector<double> piece(size_);

@@ -25,7 +25,7 @@
 // functions; a region is then a few tests and additions.
 //
 // The sums over the triangles and groups are made at the cell's first region
-// and kept with the builder (the cell's). Every sum is taken in a fixed
+// and kept in the arena for the cell's life. Every sum is taken in a fixed
 // order, so a region's coefficients depend on its key only: not on which
 // point of it came first or on the thread.
 #ifndef SDCB_CORE_SPLINE_PIECEWISE_REGION_BUILDER_H_
@@ -36,6 +36,7 @@
 #include <memory>
 #include <vector>
 
+#include "sdcb/core/spline/block_arena.h"
 #include "sdcb/core/spline/spherical_spline.h"
 
 namespace sdcb {
@@ -47,13 +48,14 @@ class PiecewiseRegionBuilder {
   // and its knots' pair q (in the order (0,1), (0,2), ..., (1,2), ... of
   // its knots), pair_bits[j * P + q] is the pair's line (bit of the key) or
   // -1 if its segment does not cross the cell, P = (k + 3)(k + 2) / 2.
-  // `p`: a point of the cell (nonzero).
+  // `p`: a point of the cell (nonzero). The kept sums are allocated from
+  // `arena`, which must outlive the builder.
   PiecewiseRegionBuilder(const SphericalSpline& spline,
                          const Eigen::Vector3d& o, const Eigen::Vector3d& e1,
                          const Eigen::Vector3d& e2,
                          const std::vector<int>& sets,
                          const std::vector<int8_t>& pair_bits,
-                         const Eigen::Vector3d& p);
+                         const Eigen::Vector3d& p, BlockArena* arena);
   ~PiecewiseRegionBuilder();
 
   // Writes the coefficients of the region `key` (p a point of it) to `out`:
@@ -62,11 +64,13 @@ class PiecewiseRegionBuilder {
   void Build(const Eigen::Vector3d& p, uint64_t key, double* out);
 
  private:
-  struct Cell;  // the per-thread sums
+  struct Cell;  // the sums as made
+  struct Kept;  // and as kept
   // Fills `cell` for this builder (p: a point of the cell).
   void MakeCell(const Eigen::Vector3d& p, Cell* cell) const;
 
   const SphericalSpline& spline_;
+  BlockArena* const arena_;
   Eigen::Vector3d o_, e1_, e2_;
   int size_ = 0;               // PolynomialSize(degree)
   std::vector<double> fixed_;  // 4 * size_: the sets without lines
@@ -76,7 +80,7 @@ class PiecewiseRegionBuilder {
   // The sets with lines whose B has limit terms (degenerate knots): their
   // pieces are made at every region.
   std::vector<int> other_sets_;
-  std::unique_ptr<Cell> cell_;  // made by the first Build
+  Kept* kept_ = nullptr;  // made by the first Build
 };
 
 }  // namespace sdcb

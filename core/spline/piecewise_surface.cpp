@@ -322,7 +322,8 @@ const double* PiecewiseSurface::BuildRegion(const Leaf& leaf,
     }
     for (int line : leaf.lines) bit_of[line] = -1;
     leaf.builder = std::make_unique<PiecewiseRegionBuilder>(
-        spline_, leaf.origin, leaf.e1, leaf.e2, leaf.sets, pair_bits, p);
+        spline_, leaf.origin, leaf.e1, leaf.e2, leaf.sets, pair_bits, p,
+        &arena_);
   }
   Table* table = leaf.table.load(std::memory_order_relaxed);
   if (table == nullptr) {
