@@ -1,9 +1,21 @@
 // Evaluated surface points per second per core: the reference evaluator
 // (SphericalSpline::Evaluate) against the per-piece polynomials
-// (PiecewiseSurface), one thread, random directions. Wall and CPU seconds
-// are both printed (on a shared machine the CPU time is the per-core cost).
-//   surface_evaluation_bench [MODEL.sdcb [GRID]]   (default out/bunny00.sdcb;
-//   GRID: cells per cube-face side, 0 = PiecewiseSurface's choice)
+// (PiecewiseSurface), one thread, random directions; then curvature through
+// PiecewiseSplineSampler and shapes (PiecewiseSurface::EvaluateShapeMany),
+// and the whole-surface curvature quadrature of export
+// (IntegrateCurvatureOverSurface, level 6) on a fresh surface and on one
+// whose regions are built. Wall and CPU seconds are both printed (on a
+// shared machine the CPU time is the per-core cost).
+//
+// Region building: the first pass over 2 M points builds every region they
+// touch; its CPU time minus the second pass's, per region built, is the
+// cost of building a region (the output is allocated before either pass).
+// Run it in a fresh process: a second surface in the same process reuses the
+// first one's freed memory and builds its regions faster than a first one.
+//   surface_evaluation_bench [MODEL.sdcb [GRID [regions]]]
+// (default out/bunny00.sdcb; GRID: cells per cube-face side, 0 =
+// PiecewiseSurface's choice; "regions": stop after the region building, for
+// profiling and A/B runs)
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -11,8 +23,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "sdcb/core/spline/piecewise_surface.h"
+#include "sdcb/core/tessellate/optimal_triangle_count.h"
+#include "sdcb/core/tessellate/surface_sampler.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/spline_model_fixture.h"
 
@@ -62,28 +79,62 @@ int main(int argc, char** argv) {
     reference.row(r) = spline->Evaluate(few.row(r).transpose()).transpose();
   }
   PrintRate("reference evaluator", timer, few.rows());
-  timer = Timer();
-  const sdcb::PiecewiseSurface pieces(*spline,
-                                      argc > 2 ? std::atoi(argv[2]) : 0);
-  std::printf("piecewise build     : %8.3f s (CPU %.3f s), grid %d\n",
-              timer.Wall(), timer.Cpu(), pieces.grid());
+  const int grid = argc > 2 ? std::atoi(argv[2]) : 0;
   const Eigen::MatrixX3d many = sdcb::testing::RandomUnitVectors(2000000, 2);
-  Eigen::MatrixX3d out, normals;
+  Eigen::MatrixX3d out = Eigen::MatrixX3d::Zero(many.rows(), 3), normals;
   timer = Timer();
-  pieces.EvaluateMany(many, &out, nullptr);
+  const auto pieces = std::make_unique<sdcb::PiecewiseSurface>(*spline, grid);
+  std::printf("piecewise build     : %8.3f s (CPU %.3f s), grid %d\n",
+              timer.Wall(), timer.Cpu(), pieces->grid());
+  timer = Timer();
+  pieces->EvaluateMany(many, &out, nullptr);
+  const double first_cpu = timer.Cpu();
+  const int64_t regions = pieces->num_regions();
   std::printf(
       "piecewise first pass: %8.3f s (CPU %.3f s) for %lld points, builds "
       "%lld regions\n",
-      timer.Wall(), timer.Cpu(), static_cast<long long>(many.rows()),
-      static_cast<long long>(pieces.num_regions()));
+      timer.Wall(), first_cpu, static_cast<long long>(many.rows()),
+      static_cast<long long>(regions));
   timer = Timer();
-  pieces.EvaluateMany(many, &out, nullptr);
+  pieces->EvaluateMany(many, &out, nullptr);
   PrintRate("piecewise positions", timer, many.rows());
+  std::printf("region building     : %8.3f us CPU per region\n",
+              1e6 * (first_cpu - timer.Cpu()) / std::max<int64_t>(1, regions));
+  if (argc > 3 && std::string(argv[3]) == "regions") return 0;
   timer = Timer();
-  pieces.EvaluateMany(many, &out, &normals);
+  pieces->EvaluateMany(many, &out, &normals);
   PrintRate("piecewise + normals", timer, many.rows());
+  {
+    // Curvature as the tessellator asks for it.
+    const sdcb::PiecewiseSplineSampler sampler(*spline, *pieces);
+    const Eigen::MatrixX3d some = many.topRows(100000);
+    Eigen::VectorXd gaussian, mean;
+    timer = Timer();
+    sampler.SampleCurvature(some, &gaussian, &mean);
+    PrintRate("sampler curvature", timer, some.rows());
+    std::vector<sdcb::SurfaceShape> shapes;
+    timer = Timer();
+    pieces->EvaluateShapeMany(some, &shapes);
+    PrintRate("piecewise shapes", timer, some.rows());
+    timer = Timer();
+    auto warm = sdcb::IntegrateCurvatureOverSurface(sampler, 6);
+    std::printf("quadrature, built   : %8.3f s (CPU %.3f s)\n", timer.Wall(),
+                timer.Cpu());
+    timer = Timer();
+    const sdcb::PiecewiseSurface fresh(*spline, grid);
+    const sdcb::PiecewiseSplineSampler cold_sampler(*spline, fresh);
+    auto cold = sdcb::IntegrateCurvatureOverSurface(cold_sampler, 6);
+    std::printf(
+        "quadrature, fresh   : %8.3f s (CPU %.3f s) with the surface's "
+        "construction; %lld regions built\n",
+        timer.Wall(), timer.Cpu(), static_cast<long long>(fresh.num_regions()));
+    if (warm.ok() && cold.ok()) {
+      std::printf("  integrals: convex %.9g saddle %.9g area %.9g\n",
+                  cold->convex, cold->saddle, cold->area);
+    }
+  }
   // Agreement with the reference on the first sample.
-  pieces.EvaluateMany(few, &out, nullptr);
+  pieces->EvaluateMany(few, &out, nullptr);
   double worst = 0.0;
   for (Eigen::Index r = 0; r < few.rows(); ++r) {
     worst = std::max(worst, (out.row(r) - reference.row(r)).norm() /

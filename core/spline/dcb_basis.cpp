@@ -408,6 +408,8 @@ bool DcbBasis::AddPiecePolynomial(int i, const Eigen::Vector3d& q,
   double piece[kSize];
   bool any = false;
   const int size = PolynomialSize(degree_);
+  // Outside the hull by a margin every leaf of the recursion vanishes at q.
+  if (OutsideHull(i, q.normalized())) return false;
   if (weights_[i] != 0.0 && splines_[i]->PiecePolynomial(q, o, e1, e2, piece)) {
     for (int c = 0; c < size; ++c) out[c] += weights_[i] * piece[c];
     any = true;

@@ -21,6 +21,7 @@
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/core/spline/simplex_spline.h"
+#include "sdcb/core/spline/simplex_spline_forest.h"
 
 namespace sdcb {
 

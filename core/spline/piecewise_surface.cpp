@@ -9,6 +9,7 @@
 #include <cmath>
 #include <mutex>
 
+#include "sdcb/core/spline/piecewise_surface_cells.h"
 #include "sdcb/core/spline/simplex_spline.h"
 
 namespace sdcb {
@@ -18,7 +19,6 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxLines = 64;    // bits of a region key
 constexpr int kSplitLines = 40;  // cells with more lines are split
 constexpr int kMaxDepth = 8;
-constexpr Eigen::Index kChunk = Eigen::Index{1} << 18;  // EvaluateMany
 
 // Cube face f: axis a = sign * e_k (f = 2k + (sign < 0)) and e1 = e_i1,
 // e2 = e_i2 with e1 x e2 = a, so the chart (u, v) -> a + u e1 + v e2 is
@@ -53,93 +53,7 @@ bool CapsMayMeet(const Eigen::Vector3d& a, double cos_a, double sin_a,
   return !(a.dot(b) < limit);
 }
 
-uint64_t Hash(uint64_t key) { return key * 0x9E3779B97F4A7C15ULL; }
-
 }  // namespace
-
-// Quadtree node in (u, v) of a cube face: centre (uc, vc), half side h. An
-// inner node's children are child .. child + 3, quadrant (u >= uc) + 2 (v
-// >= vc); a leaf has child = -1 and its index in leaves_.
-struct PiecewiseSurface::Node {
-  double uc = 0.0, vc = 0.0, h = 1.0;
-  int child = -1;
-  int leaf = -1;
-};
-
-// Open-addressing map from region key to coefficients. Written only under
-// the leaf's mutex; read without it: a slot's value is stored (release)
-// after its key, so a reader that sees the value sees the key. A full table
-// is replaced by a larger copy (the old one stays alive until the surface
-// is destroyed, for readers still probing it).
-struct PiecewiseSurface::Table {
-  struct Slot {
-    std::atomic<uint64_t> key{0};
-    std::atomic<const double*> value{nullptr};
-  };
-  explicit Table(int log2)
-      : shift(64 - log2),
-        mask((uint64_t{1} << log2) - 1),
-        slots(new Slot[uint64_t{1} << log2]) {}
-  const double* Find(uint64_t key) const {
-    for (uint64_t i = Hash(key) >> shift;; i = (i + 1) & mask) {
-      const double* v = slots[i].value.load(std::memory_order_acquire);
-      if (v == nullptr) return nullptr;
-      if (slots[i].key.load(std::memory_order_relaxed) == key) return v;
-    }
-  }
-  void Insert(uint64_t key, const double* value) {
-    uint64_t i = Hash(key) >> shift;
-    while (slots[i].value.load(std::memory_order_relaxed) != nullptr) {
-      i = (i + 1) & mask;
-    }
-    slots[i].key.store(key, std::memory_order_relaxed);
-    slots[i].value.store(value, std::memory_order_release);
-    ++count;
-  }
-  int shift;
-  uint64_t mask;
-  std::unique_ptr<Slot[]> slots;
-  int64_t count = 0;
-};
-
-// What building a leaf's regions needs (made on its first region, under the
-// leaf's mutex).
-struct PiecewiseSurface::Builder {
-  // For the j-th basis function of the leaf: the positions in leaf.lines of
-  // its knot segments, set_lines[set_start[j] .. set_start[j + 1]).
-  std::vector<int> set_start, set_lines;
-  // For the j-th basis function, its pieces built so far (a few): (signs
-  // against its lines, offset of the piece polynomial in piece_data or -1
-  // if it vanishes there).
-  std::vector<std::vector<std::pair<uint32_t, int>>> pieces;
-  std::vector<double> piece_data;
-  std::vector<std::unique_ptr<Table>> tables;  // the last one is current
-  // Region coefficients in blocks of 2, 2, 4, 8, ... regions (a leaf has
-  // ~10 on average, some a few hundred).
-  std::vector<std::unique_ptr<double[]>> blocks;
-  int block_capacity = 0, block_used = 0;
-};
-
-// EvaluateMany's buffers for one chunk of rows.
-struct PiecewiseSurface::Scratch {
-  std::vector<uint64_t> order, by_leaf;  // leaf << 32 | row in the chunk
-  std::vector<uint32_t> start;           // counting sort by leaf
-  std::vector<uint32_t> position_of;     // row in the chunk -> place in order
-  std::vector<double> sorted, results;   // directions, results in order
-};
-
-struct PiecewiseSurface::Leaf {
-  Eigen::Vector3d origin, e1, e2;  // local chart o + s e1 + t e2
-  std::vector<int> lines;          // indices into segments_, ascending
-  // Per line: t_a x t_b, then twice PerturbedDetSign's filter (beyond it the
-  // float sign is the exact one; within it PerturbedDetSign decides).
-  std::vector<double> planes;
-  std::vector<int> sets;  // basis functions meeting the cell
-  bool slow = false;      // too many lines: use the spline
-  mutable std::atomic<const Table*> table{nullptr};
-  mutable std::mutex mutex;
-  mutable std::unique_ptr<Builder> builder;
-};
 
 PiecewiseSurface::PiecewiseSurface(const SphericalSpline& spline, int grid)
     : spline_(spline) {
@@ -156,6 +70,19 @@ PiecewiseSurface::PiecewiseSurface(const SphericalSpline& spline, int grid)
   std::sort(segments_.begin(), segments_.end());
   segments_.erase(std::unique(segments_.begin(), segments_.end()),
                   segments_.end());
+  set_segment_start_.push_back(0);
+  for (int i = 0; i < basis.size(); ++i) {
+    const auto& k = basis.configuration_set(i).knots;
+    for (size_t a = 0; a < k.size(); ++a)
+      for (size_t b = a + 1; b < k.size(); ++b) {
+        const std::array<int, 2> pair = {std::min(k[a], k[b]),
+                                         std::max(k[a], k[b])};
+        set_segments_.push_back(static_cast<int>(
+            std::lower_bound(segments_.begin(), segments_.end(), pair) -
+            segments_.begin()));
+      }
+    set_segment_start_.push_back(static_cast<int>(set_segments_.size()));
+  }
   const int ns = static_cast<int>(segments_.size());
   // Each segment's bounding cap: its midpoint and half its length.
   std::vector<Eigen::Vector3d> mid(ns), normal(ns);
@@ -255,6 +182,7 @@ PiecewiseSurface::PiecewiseSurface(const SphericalSpline& spline, int grid)
     }
     auto leaf = std::make_unique<Leaf>();
     leaf->origin = origin;
+    leaf->axis = a;
     leaf->e1 = h * e1;
     leaf->e2 = h * e2;
     leaf->slow = mine.lines.size() > kMaxLines;
@@ -312,7 +240,7 @@ int64_t PiecewiseSurface::num_regions() const {
     const Table* table = leaf->table.load(std::memory_order_acquire);
     if (table == nullptr) continue;
     std::lock_guard<std::mutex> lock(leaf->mutex);
-    n += leaf->builder->tables.back()->count;
+    n += table->count;
   }
   return n;
 }
@@ -379,296 +307,47 @@ const double* PiecewiseSurface::BuildRegion(const Leaf& leaf,
                                             const Eigen::Vector3d& p,
                                             uint64_t key) const {
   std::lock_guard<std::mutex> lock(leaf.mutex);
-  const DcbBasis& basis = spline_.basis();
   if (!leaf.builder) {
-    auto builder = std::make_unique<Builder>();
-    builder->set_start.push_back(0);
+    // Each set's lines: the bits of its segments among the leaf's lines.
+    thread_local std::vector<int> bit_of;  // segment -> bit, or -1
+    bit_of.resize(segments_.size(), -1);
+    for (size_t l = 0; l < leaf.lines.size(); ++l) {
+      bit_of[leaf.lines[l]] = static_cast<int>(l);
+    }
+    std::vector<int8_t> pair_bits;
     for (int b : leaf.sets) {
-      const auto& k = basis.configuration_set(b).knots;
-      for (size_t x = 0; x < k.size(); ++x)
-        for (size_t y = x + 1; y < k.size(); ++y) {
-          const std::array<int, 2> pair = {std::min(k[x], k[y]),
-                                           std::max(k[x], k[y])};
-          const int s = static_cast<int>(
-              std::lower_bound(segments_.begin(), segments_.end(), pair) -
-              segments_.begin());
-          const auto it =
-              std::lower_bound(leaf.lines.begin(), leaf.lines.end(), s);
-          if (it != leaf.lines.end() && *it == s) {
-            builder->set_lines.push_back(
-                static_cast<int>(it - leaf.lines.begin()));
-          }
-        }
-      builder->set_start.push_back(static_cast<int>(builder->set_lines.size()));
+      for (int x = set_segment_start_[b]; x < set_segment_start_[b + 1]; ++x) {
+        pair_bits.push_back(static_cast<int8_t>(bit_of[set_segments_[x]]));
+      }
     }
-    builder->pieces.resize(leaf.sets.size());
-    builder->tables.push_back(std::make_unique<Table>(4));
-    leaf.builder = std::move(builder);
+    for (int line : leaf.lines) bit_of[line] = -1;
+    leaf.builder = std::make_unique<PiecewiseRegionBuilder>(
+        spline_, leaf.origin, leaf.e1, leaf.e2, leaf.sets, pair_bits, p,
+        &arena_);
   }
-  Builder& builder = *leaf.builder;
-  Table* table = builder.tables.back().get();
-  if (const double* found = table->Find(key)) return found;
-
-  // N = sum B_i c_i and I = sum B_i on p's region. B_i's piece depends only
-  // on p's signs against B_i's own segments (those that do not cross the
-  // cell do not change B_i's degree-0 leaves in it), so it is built once per
-  // sign pattern and does not depend on which point of the region built it.
-  const int size = size_;
-  thread_local std::vector<double> poly;
-  poly.assign(4 * size, 0.0);
-  for (size_t j = 0; j < leaf.sets.size(); ++j) {
-    uint32_t signs = 0;
-    for (int x = builder.set_start[j]; x < builder.set_start[j + 1]; ++x) {
-      signs |= static_cast<uint32_t>((key >> builder.set_lines[x]) & 1)
-               << (x - builder.set_start[j]);
-    }
-    const int b = leaf.sets[j];
-    auto& known = builder.pieces[j];
-    auto it = std::find_if(known.begin(), known.end(),
-                           [&](const auto& e) { return e.first == signs; });
-    if (it == known.end()) {
-      const size_t offset = builder.piece_data.size();
-      builder.piece_data.resize(offset + size, 0.0);
-      const bool any =
-          basis.AddPiecePolynomial(b, p, leaf.origin, leaf.e1, leaf.e2,
-                                   builder.piece_data.data() + offset);
-      if (!any) builder.piece_data.resize(offset);
-      known.emplace_back(signs, any ? static_cast<int>(offset) : -1);
-      it = known.end() - 1;
-    }
-    if (it->second < 0) continue;
-    const double* piece = builder.piece_data.data() + it->second;
-    const Eigen::RowVector3d c = spline_.control_points().row(b);
-    for (int m = 0; m < size; ++m) {
-      for (int d = 0; d < 3; ++d) poly[d * size + m] += c[d] * piece[m];
-      poly[3 * size + m] += piece[m];
-    }
-  }
-  if (builder.block_used == builder.block_capacity) {
-    builder.block_capacity = std::max<int>(2, table->count);
-    builder.blocks.emplace_back(new double[builder.block_capacity * 4 * size]);
-    builder.block_used = 0;
+  Table* table = leaf.table.load(std::memory_order_relaxed);
+  if (table == nullptr) {
+    table = Table::Make(4, &arena_);
+  } else if (const double* found = table->Find(key)) {
+    return found;  // built since this thread looked
   }
   double* coefficients =
-      builder.blocks.back().get() + 4 * size * builder.block_used++;
-  for (int m = 0; m < size; ++m)
-    for (int d = 0; d < 4; ++d) coefficients[4 * m + d] = poly[d * size + m];
+      static_cast<double*>(arena_.Allocate(4 * size_ * sizeof(double)));
+  leaf.builder->Build(p, key, coefficients);
   if (2 * (table->count + 1) > static_cast<int64_t>(table->mask + 1)) {
     // Grow: a new table, filled before it is published.
-    auto larger = std::make_unique<Table>(64 - table->shift + 1);
+    Table* larger = Table::Make(64 - table->shift + 1, &arena_);
     for (uint64_t i = 0; i <= table->mask; ++i) {
       const double* v = table->slots[i].value.load(std::memory_order_relaxed);
       if (v != nullptr) {
         larger->Insert(table->slots[i].key.load(std::memory_order_relaxed), v);
       }
     }
-    builder.tables.push_back(std::move(larger));
-    table = builder.tables.back().get();
+    table = larger;
   }
   table->Insert(key, coefficients);
   leaf.table.store(table, std::memory_order_release);
   return coefficients;
-}
-
-template <int K>
-void PiecewiseSurface::EvalDegree(const Eigen::Vector3d& p,
-                                  Eigen::Vector3d* position,
-                                  Eigen::Vector3d* normal) const {
-  double s, t;
-  const Leaf& leaf = *leaves_[Locate(p, &s, &t)];
-  if (leaf.slow) {
-    // The same position with or without the normal.
-    *position = spline_.Evaluate(p.normalized());
-    if (normal != nullptr) {
-      *normal =
-          spline_.EvaluateDifferential(p.normalized(), JetOrder::kGradient)
-              .normal;
-    }
-    return;
-  }
-  const double* c = Region(leaf, p);
-  constexpr int kSize = PolynomialSize(K);
-  double sp[K + 1], tp[K + 1];
-  sp[0] = tp[0] = 1.0;
-  for (int e = 1; e <= K; ++e) {
-    sp[e] = sp[e - 1] * s;
-    tp[e] = tp[e - 1] * t;
-  }
-  double mono[kSize];
-  for (int n = 0; n <= K; ++n)
-    for (int j = 0; j <= n; ++j)
-      mono[MonomialIndex(n - j, j)] = sp[n - j] * tp[j];
-  double v[4] = {0, 0, 0, 0}, vs[4] = {0, 0, 0, 0}, vt[4] = {0, 0, 0, 0};
-  for (int m = 0; m < kSize; ++m)
-    for (int d = 0; d < 4; ++d) v[d] += c[4 * m + d] * mono[m];
-  if (normal != nullptr) {
-    double ds[kSize], dt[kSize];
-    for (int n = 0; n <= K; ++n)
-      for (int j = 0; j <= n; ++j) {
-        const int i = n - j, m = MonomialIndex(i, j);
-        ds[m] = i > 0 ? i * sp[i - 1] * tp[j] : 0.0;
-        dt[m] = j > 0 ? j * sp[i] * tp[j - 1] : 0.0;
-      }
-    for (int m = 0; m < kSize; ++m)
-      for (int d = 0; d < 4; ++d) {
-        vs[d] += c[4 * m + d] * ds[m];
-        vt[d] += c[4 * m + d] * dt[m];
-      }
-  }
-  if (spline_.basis_form() == BasisForm::kRaw) {
-    // F = N / |x|^k (the raw basis extended homogeneously of degree 0) at
-    // the point x of the cell's plane, with its derivatives in s and t.
-    const Eigen::Vector3d x = leaf.origin + s * leaf.e1 + t * leaf.e2;
-    const double r2 = x.squaredNorm();
-    const double rk = std::pow(r2, 0.5 * K);
-    v[3] = rk;
-    vs[3] = K * rk / r2 * x.dot(leaf.e1);
-    vt[3] = K * rk / r2 * x.dot(leaf.e2);
-  }
-  const double inv = 1.0 / v[3];
-  *position = Eigen::Vector3d(v[0], v[1], v[2]) * inv;
-  if (normal == nullptr) return;
-  Eigen::Vector3d fs, ft;
-  for (int d = 0; d < 3; ++d) {
-    fs[d] = (vs[d] - (*position)[d] * vs[3]) * inv;
-    ft[d] = (vt[d] - (*position)[d] * vt[3]) * inv;
-  }
-  const Eigen::Vector3d cross = fs.cross(ft);
-  const double len = cross.norm();
-  *normal = len > 0 ? Eigen::Vector3d(cross / len) : Eigen::Vector3d::Zero();
-}
-
-void PiecewiseSurface::Eval(const Eigen::Vector3d& p, Eigen::Vector3d* position,
-                            Eigen::Vector3d* normal) const {
-  switch (spline_.degree()) {
-    case 0:
-      return EvalDegree<0>(p, position, normal);
-    case 1:
-      return EvalDegree<1>(p, position, normal);
-    case 2:
-      return EvalDegree<2>(p, position, normal);
-    case 3:
-      return EvalDegree<3>(p, position, normal);
-    case 4:
-      return EvalDegree<4>(p, position, normal);
-    default:
-      return EvalDegree<5>(p, position, normal);
-  }
-}
-
-Eigen::Vector3d PiecewiseSurface::Evaluate(const Eigen::Vector3d& p) const {
-  Eigen::Vector3d position;
-  Eval(p, &position, nullptr);
-  return position;
-}
-
-void PiecewiseSurface::EvaluateWithNormal(const Eigen::Vector3d& p,
-                                          Eigen::Vector3d* position,
-                                          Eigen::Vector3d* normal) const {
-  Eval(p, position, normal);
-}
-
-void PiecewiseSurface::EvaluateMany(const Eigen::MatrixX3d& directions,
-                                    Eigen::MatrixX3d* positions,
-                                    Eigen::MatrixX3d* normals) const {
-  const Eigen::Index rows = directions.rows();
-  positions->resize(rows, 3);
-  if (normals) normals->resize(rows, 3);
-  const auto parallel = [](Eigen::Index n, Eigen::Index grain,
-                           const auto& body) {
-    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, grain),
-                      [&](const tbb::blocked_range<Eigen::Index>& range) {
-                        for (Eigen::Index r = range.begin(); r < range.end();
-                             ++r) {
-                          body(r);
-                        }
-                      });
-  };
-  const auto evaluate_row = [&](Eigen::Index r) {
-    Eigen::Vector3d x, n;
-    Eval(directions.row(r).transpose(), &x, normals ? &n : nullptr);
-    positions->row(r) = x.transpose();
-    if (normals) normals->row(r) = n.transpose();
-  };
-  if (rows < 64) {
-    for (Eigen::Index r = 0; r < rows; ++r) evaluate_row(r);
-    return;
-  }
-  // In chunks of up to kChunk rows, leaf by leaf (stable), so that a leaf's
-  // regions stay in cache: the chunk's directions are copied to that order
-  // (x, y, z together), the results written in it and copied back. The
-  // buffers are reused from call to call (fresh pages cost more than the
-  // evaluation of a small batch).
-  std::unique_ptr<Scratch> scratch;
-  {
-    std::lock_guard<std::mutex> lock(scratch_mutex_);
-    if (!scratch_.empty()) {
-      scratch = std::move(scratch_.back());
-      scratch_.pop_back();
-    }
-  }
-  if (!scratch) scratch = std::make_unique<Scratch>();
-  const int width = normals ? 6 : 3;
-  std::vector<uint64_t>& order = scratch->order;
-  std::vector<uint32_t>& position_of = scratch->position_of;
-  std::vector<double>& sorted = scratch->sorted;
-  std::vector<double>& results = scratch->results;
-  for (Eigen::Index begin = 0; begin < rows; begin += kChunk) {
-    const Eigen::Index n = std::min(kChunk, rows - begin);
-    if (static_cast<Eigen::Index>(order.size()) < n) {
-      order.resize(n);
-      position_of.resize(n);
-      sorted.resize(3 * n);
-    }
-    if (static_cast<Eigen::Index>(results.size()) < width * n) {
-      results.resize(width * n);
-    }
-    parallel(n, 4096, [&](Eigen::Index r) {
-      double s, t;
-      const int leaf = Locate(directions.row(begin + r).transpose(), &s, &t);
-      order[r] = static_cast<uint64_t>(leaf) << 32 | static_cast<uint64_t>(r);
-    });
-    if (n < static_cast<Eigen::Index>(leaves_.size())) {
-      std::sort(order.begin(), order.begin() + n);
-    } else {
-      // Counting sort by leaf (n >= #leaves: linear).
-      std::vector<uint32_t>& start = scratch->start;
-      std::vector<uint64_t>& by_leaf = scratch->by_leaf;
-      start.assign(leaves_.size() + 1, 0);
-      for (Eigen::Index r = 0; r < n; ++r) ++start[(order[r] >> 32) + 1];
-      for (size_t l = 0; l < leaves_.size(); ++l) start[l + 1] += start[l];
-      by_leaf.resize(order.size());
-      for (Eigen::Index r = 0; r < n; ++r) {
-        by_leaf[start[order[r] >> 32]++] = order[r];
-      }
-      order.swap(by_leaf);
-    }
-    parallel(n, 4096, [&](Eigen::Index o) {
-      const uint32_t r = static_cast<uint32_t>(order[o]);
-      position_of[r] = static_cast<uint32_t>(o);
-      for (int d = 0; d < 3; ++d) sorted[3 * o + d] = directions(begin + r, d);
-    });
-    parallel(n, 256, [&](Eigen::Index o) {
-      Eigen::Vector3d x, nrm;
-      Eval(Eigen::Vector3d(sorted[3 * o], sorted[3 * o + 1], sorted[3 * o + 2]),
-           &x, normals ? &nrm : nullptr);
-      double* out = &results[width * o];
-      for (int d = 0; d < 3; ++d) out[d] = x[d];
-      if (normals) {
-        for (int d = 0; d < 3; ++d) out[3 + d] = nrm[d];
-      }
-    });
-    // Back to row order: sequential writes, one gathered read per row.
-    parallel(n, 4096, [&](Eigen::Index r) {
-      const double* in = &results[width * Eigen::Index{position_of[r]}];
-      for (int d = 0; d < 3; ++d) (*positions)(begin + r, d) = in[d];
-      if (normals) {
-        for (int d = 0; d < 3; ++d) (*normals)(begin + r, d) = in[3 + d];
-      }
-    });
-  }
-  std::lock_guard<std::mutex> lock(scratch_mutex_);
-  scratch_.push_back(std::move(scratch));
 }
 
 }  // namespace sdcb

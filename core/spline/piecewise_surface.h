@@ -10,16 +10,15 @@
 // whose support meets it; a point's exact, perturbed signs against those
 // segments' great circles (the predicate SimplexSpline uses) name its region,
 // and each region gets, the first time a point falls in it, the bivariate
-// polynomials of N and I in the cell's local gnomonic coordinates. A basis
-// function's piece depends only on the signs against its own segments, so a
-// cell builds each piece once (simplex-spline recursion applied to
-// polynomials) and a region is a weighted sum of the pieces it holds.
-// Evaluating is a few sign tests, a lock-free hash probe and two polynomial
-// evaluations; positions agree with SphericalSpline::Evaluate to rounding
-// (~1e-13 relative). Cells still crossed by more than 64 segments after 8
-// splits fall back to SphericalSpline. Thread-safe (regions are added under a
-// per-cell lock and published atomically); results do not depend on the
-// evaluation order or thread count.
+// polynomials of N and I in the cell's local gnomonic coordinates
+// (PiecewiseRegionBuilder). Evaluating is a few sign tests, a lock-free hash
+// probe and two polynomial evaluations; positions agree with
+// SphericalSpline::Evaluate to rounding (~1e-13 relative), and so do
+// normals and curvatures, from the polynomials' first and second
+// derivatives, to the rounding of those. Cells still crossed by more than 64
+// segments after 8 splits fall back to SphericalSpline. Thread-safe (regions
+// are added under a per-cell lock and published atomically); results do not
+// depend on the evaluation order or thread count.
 #ifndef SDCB_CORE_SPLINE_PIECEWISE_SURFACE_H_
 #define SDCB_CORE_SPLINE_PIECEWISE_SURFACE_H_
 
@@ -30,7 +29,9 @@
 #include <mutex>
 #include <vector>
 
+#include "sdcb/core/spline/block_arena.h"
 #include "sdcb/core/spline/spherical_spline.h"
+#include "sdcb/core/spline/surface_shape.h"
 
 namespace sdcb {
 
@@ -59,11 +60,23 @@ class PiecewiseSurface {
                     Eigen::MatrixX3d* positions,
                     Eigen::MatrixX3d* normals) const;
 
+  // The surface's shape at the direction of p: position, normal,
+  // fundamental forms and curvatures in the chart of
+  // SphericalSpline::EvaluateShape (the tangent frame of p / |p|), from the
+  // first and second derivatives of the region's polynomials.
+  SurfaceShape EvaluateShape(const Eigen::Vector3d& p) const;
+  // EvaluateShape at each row of `directions` (#P by 3), in parallel.
+  void EvaluateShapeMany(const Eigen::MatrixX3d& directions,
+                         std::vector<SurfaceShape>* shapes) const;
+  // Only the Gaussian and mean curvatures of EvaluateShapeMany (#P each).
+  void EvaluateCurvatureMany(const Eigen::MatrixX3d& directions,
+                             Eigen::VectorXd* gaussian,
+                             Eigen::VectorXd* mean) const;
+
  private:
   struct Node;
   struct Leaf;
   struct Table;
-  struct Builder;
   struct Scratch;
   // The leaf cell of p and p's local coordinates (s, t) in it, in [-1, 1]^2.
   int Locate(const Eigen::Vector3d& p, double* s, double* t) const;
@@ -77,6 +90,20 @@ class PiecewiseSurface {
   template <int K>
   void EvalDegree(const Eigen::Vector3d& p, Eigen::Vector3d* position,
                   Eigen::Vector3d* normal) const;
+  template <int K>
+  SurfaceShape ShapeDegree(const Eigen::Vector3d& p) const;
+  // store(r, shape) for each row r of `directions`, by ByLeaf.
+  template <typename Store>
+  void ShapesByLeaf(const Eigen::MatrixX3d& directions,
+                    const Store& store) const;
+  // Calls evaluate(o, r, p, out) for each row r of `directions` (p: the
+  // row), leaf by leaf, in parallel, with o < kChunk its place in its chunk
+  // and `width` doubles at `out` for its result; then finish(n, rows,
+  // results) once per chunk of n rows, rows[o] and results + width * o for
+  // o < n.
+  template <typename EvaluateRow, typename FinishChunk>
+  void ByLeaf(const Eigen::MatrixX3d& directions, int width,
+              const EvaluateRow& evaluate, const FinishChunk& finish) const;
 
   const SphericalSpline& spline_;
   int grid_ = 0;
@@ -84,7 +111,12 @@ class PiecewiseSurface {
   std::vector<Node> nodes_;                    // 6 * grid^2 roots first
   std::vector<std::unique_ptr<Leaf>> leaves_;  // depth-first per root
   std::vector<std::array<int, 2>> segments_;   // knot pairs a < b
-  // EvaluateMany's buffers, kept for the next call.
+  // CSR: the segments (indices into segments_) of basis function i are
+  // set_segments_[set_segment_start_[i] .. set_segment_start_[i + 1]).
+  std::vector<int> set_segment_start_, set_segments_;
+  // The regions' coefficients and their tables.
+  mutable BlockArena arena_;
+  // The batch evaluations' buffers, kept for the next call.
   mutable std::mutex scratch_mutex_;
   mutable std::vector<std::unique_ptr<Scratch>> scratch_;
 };

@@ -3,10 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <functional>
-#include <limits>
 #include <map>
 #include <string>
 
@@ -18,11 +16,6 @@ namespace {
 
 constexpr int kMax = SimplexSpline::kMaxKnots;
 
-// Index of the pair i < j among m knots: 0 .. m (m - 1) / 2 - 1, increasing
-// in the order (0,1), (0,2), ..., (0,m-1), (1,2), ...
-int PairIndex(int i, int j, int m) {
-  return i * (2 * m - i - 1) / 2 + j - i - 1;
-}
 constexpr int kMaxPairs = kMax * (kMax - 1) / 2;
 
 // Fixed generic axes of the half-open perturbation.
@@ -30,28 +23,6 @@ const Eigen::Vector3d kAxis1(0.5773502691896258, 0.3141592653589793,
                              0.7548776662466927);
 const Eigen::Vector3d kAxis2(-0.2718281828459045, 0.8660254037844386,
                              0.1414213562373095);
-
-// Sign of p . n where n = a x b was rounded: exact beyond kSignFilter
-// |p|_1 |a|_1 |b|_1 (the rounding error is below ~10 ulps of that).
-constexpr double kSignFilter = 1e-13;
-
-int ExactPerturbedSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                       const Eigen::Vector3d& b) {
-  int s = Det3Sign(p, a, b);
-  if (s != 0) return s;
-  s = Det3Sign(kAxis1.cross(p), a, b);
-  if (s != 0) return s;
-  return Det3Sign(kAxis2.cross(p), a, b);
-}
-
-// Sign of v = p . n, n = a x b rounded, with the error bound `bound` (see
-// kSignFilter); exact (CGAL) and perturbed when |v| is within it.
-int FilteredSign(double v, double bound, const Eigen::Vector3d& p,
-                 const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  if (v > bound) return 1;
-  if (v < -bound) return -1;
-  return ExactPerturbedSign(p, a, b);
-}
 
 std::uint32_t Mix(std::uint32_t x) {
   x ^= x >> 16;
@@ -80,6 +51,15 @@ bool KnotsSpanR3(const Eigen::MatrixX3d& knots) {
         }
       }
   return false;
+}
+
+int ExactPerturbedDetSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                          const Eigen::Vector3d& b) {
+  int s = Det3Sign(p, a, b);
+  if (s != 0) return s;
+  s = Det3Sign(kAxis1.cross(p), a, b);
+  if (s != 0) return s;
+  return Det3Sign(kAxis2.cross(p), a, b);
 }
 
 int PerturbedDetSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
@@ -221,19 +201,29 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
     return index;
   };
   build((1u << m) - 1);
-  // Leaves first (stable; still children before parents), so an evaluation
-  // can stop once all degree-0 values are known to vanish.
+  // Leaves first, so an evaluation can stop once all degree-0 values are
+  // known to vanish; then the internal nodes by size (children before
+  // parents), each size's first at level_start_[size - 3].
   std::vector<int> new_index(s.nodes_.size());
   std::vector<Node> ordered;
-  for (int pass = 0; pass < 2; ++pass) {
+  for (size_t i = 0; i < s.nodes_.size(); ++i) {
+    if (s.nodes_[i].matrix < 0) {
+      new_index[i] = static_cast<int>(ordered.size());
+      ordered.push_back(s.nodes_[i]);
+    }
+  }
+  s.num_leaves_ = static_cast<int>(ordered.size());
+  for (int size = 4; size <= m; ++size) {
+    s.level_start_[size - 3] = static_cast<int>(ordered.size());
     for (size_t i = 0; i < s.nodes_.size(); ++i) {
-      if ((s.nodes_[i].matrix < 0) == (pass == 0)) {
+      if (s.nodes_[i].matrix >= 0 &&
+          __builtin_popcount(s.nodes_[i].mask) == size) {
         new_index[i] = static_cast<int>(ordered.size());
         ordered.push_back(s.nodes_[i]);
       }
     }
-    if (pass == 0) s.num_leaves_ = static_cast<int>(ordered.size());
   }
+  s.level_start_[m - 2] = static_cast<int>(ordered.size());
   for (Node& node : ordered) {
     for (int& c : node.child) {
       if (c >= 0) c = new_index[c];
@@ -364,327 +354,142 @@ ScalarJet SimplexSpline::Evaluate(const Eigen::Vector3d& p,
   return jet;
 }
 
+template <int K>
+bool SimplexSpline::PieceOfDegree(const Eigen::Vector3d& q,
+                                  const Eigen::Vector3d& o,
+                                  const Eigen::Vector3d& e1,
+                                  const Eigen::Vector3d& e2,
+                                  double* out) const {
+  double leaves[256];
+  if (!LeafValues(q, leaves)) return false;
+  // Each node's polynomial (degree = its size - 3) at slot[node] in poly, or
+  // -1 where all its leaves vanish.
+  int slot[256];
+  double poly[256 * PolynomialSize(K > 0 ? K - 1 : 0) + 64];
+  int used = 0;
+  for (int i = 0; i < num_leaves_; ++i) {
+    slot[i] = leaves[i] != 0.0 ? used : -1;
+    if (leaves[i] != 0.0) poly[used++] = leaves[i];
+  }
+  const auto level = [&](auto degree) {
+    constexpr int D = decltype(degree)::value;
+    for (int i = level_start_[D]; i < level_start_[D + 1]; ++i) {
+      const Node& node = nodes_[i];
+      const int* c = node.child;
+      slot[i] = -1;
+      if (slot[c[0]] < 0 && slot[c[1]] < 0 && slot[c[2]] < 0) continue;
+      double* result = D == K ? out : poly + used;
+      std::fill(result, result + PolynomialSize(D), 0.0);
+      // Eq. 3 with b_j(p(s, t)) = g_j . o + s g_j . e1 + t g_j . e2.
+      const Eigen::Matrix3d& g = matrices_[node.matrix];
+      for (int j = 0; j < 3; ++j) {
+        if (slot[c[j]] < 0) continue;
+        const Eigen::Vector3d gj = g.row(j).transpose();
+        AddAffineProduct<D>(gj.dot(o), gj.dot(e1), gj.dot(e2),
+                            poly + slot[c[j]], result);
+      }
+      slot[i] = used;
+      if (D < K) used += PolynomialSize(D);
+    }
+  };
+  if constexpr (K >= 1) level(std::integral_constant<int, 1>());
+  if constexpr (K >= 2) level(std::integral_constant<int, 2>());
+  if constexpr (K >= 3) level(std::integral_constant<int, 3>());
+  if constexpr (K >= 4) level(std::integral_constant<int, 4>());
+  if constexpr (K >= 5) level(std::integral_constant<int, 5>());
+  const int count = static_cast<int>(nodes_.size());
+  if (slot[count - 1] < 0) {
+    // Every path to a nonzero leaf passes a zero node: M vanishes here.
+    std::fill(out, out + PolynomialSize(K), 0.0);
+  } else if (K == 0) {
+    out[0] = poly[slot[count - 1]];
+  }
+  return true;
+}
+
+SimplexSpline::Leaf SimplexSpline::leaf(int i) const {
+  const Node& node = nodes_[i];
+  Leaf out;
+  out.knots = {node.local[0], node.local[1], node.local[2]};
+  out.orientation = node.orientation;
+  out.inv_abs_det = node.inv_abs_det;
+  return out;
+}
+
+template <int K>
+void SimplexSpline::PathsOfDegree(const Eigen::Vector3d& o,
+                                  const Eigen::Vector3d& e1,
+                                  const Eigen::Vector3d& e2, const bool* wanted,
+                                  double* out) const {
+  constexpr int kSize = PolynomialSize(K);
+  const int count = static_cast<int>(nodes_.size());
+  // Only the nodes above a wanted leaf carry a polynomial: a node of size
+  // |S| one of degree k + 3 - |S|, at slot[node] in poly.
+  bool useful[256];
+  for (int i = 0; i < num_leaves_; ++i) {
+    useful[i] = wanted[i];
+    if (wanted[i]) std::fill(out + i * kSize, out + (i + 1) * kSize, 0.0);
+  }
+  double poly[256 * PolynomialSize(K > 0 ? K - 1 : 0) + 64];
+  int slot[256];
+  int used = 0;
+  for (int i = num_leaves_; i < count; ++i) {
+    const int* c = nodes_[i].child;
+    useful[i] = useful[c[0]] || useful[c[1]] || useful[c[2]];
+    if (!useful[i]) continue;
+    slot[i] = used;
+    used += PolynomialSize(K - (__builtin_popcount(nodes_[i].mask) - 3));
+  }
+  if (!useful[count - 1]) return;
+  if constexpr (K == 0) {
+    out[0] = 1.0;  // V is its only leaf
+    return;
+  } else {
+    std::fill(poly, poly + used, 0.0);
+    poly[slot[count - 1]] = 1.0;
+    // Parents before children (sizes descending): each passes its polynomial
+    // times b_j(p(s, t)) = g_j . o + s g_j . e1 + t g_j . e2 to child j.
+    const auto level = [&](auto degree) {
+      constexpr int D = decltype(degree)::value;  // the parents' degree
+      for (int i = level_start_[K - D]; i < level_start_[K - D + 1]; ++i) {
+        if (!useful[i]) continue;
+        const Node& node = nodes_[i];
+        const Eigen::Matrix3d& g = matrices_[node.matrix];
+        for (int j = 0; j < 3; ++j) {
+          const int c = node.child[j];
+          if (!useful[c]) continue;
+          const Eigen::Vector3d gj = g.row(j).transpose();
+          double* target = c < num_leaves_ ? out + c * kSize : poly + slot[c];
+          AddAffineProduct<D + 1>(gj.dot(o), gj.dot(e1), gj.dot(e2),
+                                  poly + slot[i], target);
+        }
+      }
+    };
+    level(std::integral_constant<int, 0>());
+    if constexpr (K >= 2) level(std::integral_constant<int, 1>());
+    if constexpr (K >= 3) level(std::integral_constant<int, 2>());
+    if constexpr (K >= 4) level(std::integral_constant<int, 3>());
+    if constexpr (K >= 5) level(std::integral_constant<int, 4>());
+  }
+}
+
+void SimplexSpline::LeafPathPolynomials(const Eigen::Vector3d& o,
+                                        const Eigen::Vector3d& e1,
+                                        const Eigen::Vector3d& e2,
+                                        const bool* wanted, double* out) const {
+  WithDegree(degree(), [&](auto k) {
+    PathsOfDegree<decltype(k)::value>(o, e1, e2, wanted, out);
+  });
+}
+
 bool SimplexSpline::PiecePolynomial(const Eigen::Vector3d& q,
                                     const Eigen::Vector3d& o,
                                     const Eigen::Vector3d& e1,
                                     const Eigen::Vector3d& e2,
                                     double* out) const {
-  double leaves[256];
-  if (!LeafValues(q, leaves)) return false;
-  constexpr int kSize = PolynomialSize(kMax - 3);
-  const int count = static_cast<int>(nodes_.size());
-  // Reused per thread: this runs once per region and basis function.
-  thread_local std::vector<std::array<double, kSize>> poly;
-  if (static_cast<int>(poly.size()) < count) poly.resize(count);
-  for (int i = 0; i < num_leaves_; ++i) {
-    poly[i].fill(0.0);
-    poly[i][0] = leaves[i];
-  }
-  for (int i = num_leaves_; i < count; ++i) {
-    const Node& node = nodes_[i];
-    poly[i].fill(0.0);
-    // Eq. 3 with b_j(p(s, t)) = g_j . o + s g_j . e1 + t g_j . e2.
-    const int child_degree = __builtin_popcount(node.mask) - 4;
-    const Eigen::Matrix3d& g = matrices_[node.matrix];
-    for (int j = 0; j < 3; ++j) {
-      const Eigen::Vector3d gj = g.row(j).transpose();
-      AccumulateAffineProduct(gj.dot(o), gj.dot(e1), gj.dot(e2),
-                              poly[node.child[j]].data(), child_degree,
-                              poly[i].data());
-    }
-  }
-  const std::array<double, kSize>& top = poly[count - 1];
-  std::copy(top.begin(), top.begin() + PolynomialSize(degree()), out);
-  return true;
-}
-
-}  // namespace sdcb
-
-namespace sdcb {
-namespace {
-
-std::uint64_t NextForestId() {
-  static std::atomic<std::uint64_t> next{0};
-  return ++next;
-}
-
-std::array<int, 8> SubsetKey(std::uint32_t mask,
-                             const std::vector<int>& global) {
-  std::array<int, 8> key;
-  key.fill(-1);
-  int n = 0;
-  for (size_t j = 0; j < global.size(); ++j) {
-    if (mask & (1u << j)) key[n++] = global[j];
-  }
-  return key;
-}
-
-}  // namespace
-
-// One point's memo: a node, pair or generation entry is valid iff its stamp
-// equals `generation`, which changes with the point, the order or the forest.
-struct SimplexSplineForest::Scratch {
-  std::uint64_t forest = 0;
-  int order = -1;
-  Eigen::Vector3d p =
-      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  double bound = 0.0;  // The sign filter's bound for p (PairSigns).
-  std::uint64_t generation = 0;
-  // A node's stamp and value side by side: one cache line per lookup.
-  struct NodeMemo {
-    std::uint64_t stamp = 0;
-    double value = 0.0;
-  };
-  struct PairMemo {
-    std::uint64_t stamp = 0;
-    int sign = 0;
-  };
-  std::vector<NodeMemo> node;
-  std::vector<char> live;
-  std::vector<std::array<double, 3>> gradient;
-  std::vector<std::array<double, 9>> hessian;
-  std::vector<PairMemo> pair;
-};
-
-std::size_t SimplexSplineForest::KeyHash::operator()(
-    const std::array<int, 8>& key) const {
-  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-  for (int v : key) {
-    h ^= static_cast<std::uint64_t>(static_cast<std::uint32_t>(v)) +
-         0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
-  }
-  return static_cast<std::size_t>(h);
-}
-
-SimplexSplineForest::SimplexSplineForest() : id_(NextForestId()) {}
-
-int SimplexSplineForest::Add(const SimplexSpline& spline,
-                             const std::vector<int>& global) {
-  id_ = NextForestId();  // the memo of an earlier copy no longer applies
-  const int m = static_cast<int>(spline.knots_.rows());
-  std::vector<int> pair_map(spline.pair_normals_.size());
-  for (int i = 0, k = 0; i < m; ++i)
-    for (int j = i + 1; j < m; ++j, ++k) {
-      std::array<int, 8> key;
-      key.fill(-1);
-      key[0] = global[i];
-      key[1] = global[j];
-      auto [it, added] = pair_of_.emplace(key, static_cast<int>(pairs_.size()));
-      if (added) {
-        pairs_.push_back({global[i], global[j]});
-        pair_knots_.push_back(spline.knots_.row(i).transpose());
-        pair_knots_.push_back(spline.knots_.row(j).transpose());
-        pair_normals_.push_back(spline.pair_normals_[k]);
-      }
-      pair_map[k] = it->second;
-    }
-  // Children come before parents in spline.nodes_.
-  std::vector<int> node_map(spline.nodes_.size());
-  for (size_t i = 0; i < spline.nodes_.size(); ++i) {
-    const SimplexSpline::Node& local = spline.nodes_[i];
-    auto [it, added] = node_of_.emplace(SubsetKey(local.mask, global),
-                                        static_cast<int>(nodes_.size()));
-    node_map[i] = it->second;
-    if (!added) continue;
-    Node node;
-    if (local.matrix < 0) {
-      node.orientation = local.orientation;
-      node.inv_abs_det = local.inv_abs_det;
-      if (local.pair[0] >= 0) {
-        for (int j = 0; j < 3; ++j) node.pair[j] = pair_map[local.pair[j]];
-      }
-    } else {
-      std::array<int, 8> key;
-      key.fill(-1);
-      for (int j = 0; j < 3; ++j) key[j] = global[local.local[j]];
-      auto [mit, madded] =
-          matrix_of_.emplace(key, static_cast<int>(matrices_.size()));
-      if (madded) matrices_.push_back(spline.matrices_[local.matrix]);
-      node.matrix = mit->second;
-      for (int j = 0; j < 3; ++j) node.child[j] = node_map[local.child[j]];
-    }
-    nodes_.push_back(node);
-  }
-  tops_.push_back(node_map.back());
-  return static_cast<int>(tops_.size()) - 1;
-}
-
-void SimplexSplineForest::FinishAdding() {
-  node_of_ = {};
-  matrix_of_ = {};
-  pair_of_ = {};
-}
-
-SimplexSplineForest::Scratch& SimplexSplineForest::Begin(
-    const Eigen::Vector3d& p, int order) const {
-  static thread_local Scratch value_scratch, jet_scratch;
-  Scratch& s = order == 0 ? value_scratch : jet_scratch;
-  if (s.forest != id_ || s.order != order || !(s.p.x() == p.x()) ||
-      !(s.p.y() == p.y()) || !(s.p.z() == p.z())) {
-    ++s.generation;
-    s.forest = id_;
-    s.order = order;
-    s.p = p;
-    s.bound = kSignFilter * 3.01 * p.cwiseAbs().sum();
-  }
-  if (s.node.size() < nodes_.size()) {
-    s.node.resize(nodes_.size());
-    s.live.resize(nodes_.size());
-  }
-  if (order > 0 && s.gradient.size() < nodes_.size()) {
-    s.gradient.resize(nodes_.size());
-  }
-  if (order > 1 && s.hessian.size() < nodes_.size()) {
-    s.hessian.resize(nodes_.size());
-  }
-  if (s.pair.size() < pairs_.size()) {
-    s.pair.resize(pairs_.size());
-  }
-  return s;
-}
-
-int SimplexSplineForest::PairSign(int pair, Scratch& s) const {
-  Scratch::PairMemo& memo = s.pair[pair];
-  if (memo.stamp != s.generation) {
-    memo.stamp = s.generation;
-    memo.sign =
-        (FilteredSign(s.p.dot(pair_normals_[pair]), s.bound, s.p,
-                      pair_knots_[2 * pair], pair_knots_[2 * pair + 1]));
-  }
-  return memo.sign;
-}
-
-// Degree 0: 1 / |det| inside [ta, tb, tc) (SimplexSpline::LeafValue), else
-// 0. A pair's memo is read here; PairSign computes it when it is stale.
-inline double SimplexSplineForest::LeafValue(const Node& n, Scratch& s) const {
-  const auto sign = [&](int pair) {
-    const Scratch::PairMemo& memo = s.pair[pair];
-    return memo.stamp == s.generation ? memo.sign : PairSign(pair, s);
-  };
-  const int o = n.orientation;
-  return o != 0 && sign(n.pair[0]) == o && sign(n.pair[1]) == -o &&
-                 sign(n.pair[2]) == o
-             ? n.inv_abs_det
-             : 0.0;
-}
-
-double SimplexSplineForest::NodeValue(int g, Scratch& s) const {
-  if (s.node[g].stamp == s.generation) return s.node[g].value;
-  const Node& n = nodes_[g];
-  double v = 0.0;
-  if (n.matrix < 0) {
-    v = LeafValue(n, s);
-  } else {
-    // Most children were computed for an earlier node of the point: their
-    // memo is read here rather than in a call; a stale leaf is computed
-    // here too (no call).
-    const auto child = [&](int c) {
-      Scratch::NodeMemo& memo = s.node[c];
-      if (memo.stamp == s.generation) return memo.value;
-      const Node& cn = nodes_[c];
-      if (cn.matrix >= 0) return NodeValue(c, s);
-      memo = {s.generation, LeafValue(cn, s)};
-      return memo.value;
-    };
-    const double v0 = child(n.child[0]);
-    const double v1 = child(n.child[1]);
-    const double v2 = child(n.child[2]);
-    if (!(v0 == 0.0 && v1 == 0.0 && v2 == 0.0)) {
-      const Eigen::Vector3d b = matrices_[n.matrix] * s.p;
-      v = b[0] * v0 + b[1] * v1 + b[2] * v2;
-    }
-  }
-  s.node[g] = {s.generation, v};
-  return v;
-}
-
-void SimplexSplineForest::NodeJet(int g, Scratch& s) const {
-  if (s.node[g].stamp == s.generation) return;
-  const Node& n = nodes_[g];
-  const bool hessian = s.order > 1;
-  double value = 0.0;
-  double gradient[3] = {0.0, 0.0, 0.0};
-  double hess[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-  bool live = false;
-  if (n.matrix < 0) {
-    const auto sign = [&](int pair) {  // as in NodeValue
-      const Scratch::PairMemo& memo = s.pair[pair];
-      return memo.stamp == s.generation ? memo.sign : PairSign(pair, s);
-    };
-    const int o = n.orientation;
-    if (o != 0 && sign(n.pair[0]) == o && sign(n.pair[1]) == -o &&
-        sign(n.pair[2]) == o) {
-      value = n.inv_abs_det;
-    }
-    live = value != 0.0;
-  } else {
-    for (int j = 0; j < 3; ++j) {
-      const int c = n.child[j];
-      if (s.node[c].stamp != s.generation) NodeJet(c, s);
-      live = live || s.live[c];
-    }
-    if (live) {
-      // As SimplexSpline::Evaluate.
-      const Eigen::Matrix3d& g = matrices_[n.matrix];
-      const Eigen::Vector3d b = g * s.p;
-      for (int j = 0; j < 3; ++j) {
-        const int c = n.child[j];
-        if (!s.live[c]) continue;
-        const double gj[3] = {g(j, 0), g(j, 1), g(j, 2)};
-        const double vc = s.node[c].value;
-        const std::array<double, 3>& gc = s.gradient[c];
-        value += b[j] * vc;
-        for (int r = 0; r < 3; ++r) gradient[r] += gj[r] * vc + b[j] * gc[r];
-        if (hessian) {
-          const std::array<double, 9>& hc = s.hessian[c];
-          for (int r = 0; r < 3; ++r)
-            for (int q = 0; q < 3; ++q) {
-              hess[3 * r + q] +=
-                  gj[r] * gc[q] + gc[r] * gj[q] + b[j] * hc[3 * r + q];
-            }
-        }
-      }
-    }
-  }
-  s.node[g] = {s.generation, value};
-  s.live[g] = live;
-  s.gradient[g] = {gradient[0], gradient[1], gradient[2]};
-  if (hessian) std::copy(hess, hess + 9, s.hessian[g].begin());
-}
-
-double SimplexSplineForest::Value(int handle, const Eigen::Vector3d& p) const {
-  Scratch& s = Begin(p, 0);
-  return NodeValue(tops_[handle], s);
-}
-
-SimplexSplineForest::PointValues SimplexSplineForest::At(
-    const Eigen::Vector3d& p) const {
-  return PointValues(this, &Begin(p, 0));
-}
-
-double SimplexSplineForest::PointValues::value(int handle) const {
-  return forest_->NodeValue(forest_->tops_[handle],
-                            *static_cast<Scratch*>(scratch_));
-}
-
-ScalarJet SimplexSplineForest::Evaluate(int handle, const Eigen::Vector3d& p,
-                                        JetOrder order) const {
-  ScalarJet jet;
-  if (order == JetOrder::kValue) {
-    jet.value = Value(handle, p);
-    return jet;
-  }
-  Scratch& s = Begin(p, static_cast<int>(order));
-  const int top = tops_[handle];
-  NodeJet(top, s);
-  jet.value = s.node[top].value;
-  jet.gradient = Eigen::Vector3d(s.gradient[top][0], s.gradient[top][1],
-                                 s.gradient[top][2]);
-  if (order == JetOrder::kHessian) {
-    for (int r = 0; r < 3; ++r)
-      for (int q = 0; q < 3; ++q) jet.hessian(r, q) = s.hessian[top][3 * r + q];
-  }
-  return jet;
+  return WithDegree(degree(), [&](auto k) {
+    return PieceOfDegree<decltype(k)::value>(q, o, e1, e2, out);
+  });
 }
 
 }  // namespace sdcb

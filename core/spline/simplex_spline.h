@@ -23,7 +23,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
-#include <unordered_map>
+#include <type_traits>
 #include <vector>
 
 #include "sdcb/core/common/status.h"
@@ -63,6 +63,51 @@ inline void AccumulateAffineProduct(double alpha, double beta, double gamma,
     }
 }
 
+// f(std::integral_constant<int, degree>()), for the degrees 0 .. 5 of
+// SimplexSpline (kMaxKnots - 3; larger ones are taken as 5): code
+// specialized by degree, chosen at run time.
+template <typename F>
+decltype(auto) WithDegree(int degree, F&& f) {
+  switch (degree) {
+    case 0:
+      return f(std::integral_constant<int, 0>());
+    case 1:
+      return f(std::integral_constant<int, 1>());
+    case 2:
+      return f(std::integral_constant<int, 2>());
+    case 3:
+      return f(std::integral_constant<int, 3>());
+    case 4:
+      return f(std::integral_constant<int, 4>());
+    default:
+      return f(std::integral_constant<int, 5>());
+  }
+}
+
+// Index of the pair i < j among m knots: 0 .. m (m - 1) / 2 - 1, increasing
+// in the order (0,1), (0,2), ..., (0,m-1), (1,2), ...
+inline constexpr int PairIndex(int i, int j, int m) {
+  return i * (2 * m - i - 1) / 2 + j - i - 1;
+}
+
+// AccumulateAffineProduct for a fixed degree: out (degree D) += (alpha +
+// beta s + gamma t) * in (degree D - 1). The coefficient of degree n and
+// index j of `in` (at n (n + 1) / 2 + j) multiplies into the same index
+// (alpha), + n + 1 (s) and + n + 2 (t).
+template <int D>
+inline void AddAffineProduct(double alpha, double beta, double gamma,
+                             const double* in, double* out) {
+  for (int n = 0; n < D; ++n) {
+    const int first = n * (n + 1) / 2;
+    for (int j = 0; j <= n; ++j) {
+      const double c = in[first + j];
+      out[first + j] += alpha * c;
+      out[first + n + 1 + j] += beta * c;
+      out[first + n + 2 + j] += gamma * c;
+    }
+  }
+}
+
 // Three unit knots with |det| at or below this count as lying on one great
 // circle (a zero node of the recursion). The rounding of det is ~1e-16, so
 // 1 / |det| and the barycentric matrix of such a triple are not
@@ -79,6 +124,25 @@ bool SpansR3(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 // Whether some three rows of `knots` (#knots by 3 unit vectors) satisfy
 // SpansR3, i.e. the knots do not all lie on one great circle.
 bool KnotsSpanR3(const Eigen::MatrixX3d& knots);
+
+// The sign of p . (a x b) computed in doubles (a, b unit vectors) is exact
+// when its magnitude exceeds kSignFilter |p|_1 |a|_1 |b|_1 (the rounding
+// error is below ~10 ulps of that).
+inline constexpr double kSignFilter = 1e-13;
+
+// PerturbedDetSign computed exactly (CGAL), without a floating-point filter.
+int ExactPerturbedDetSign(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                          const Eigen::Vector3d& b);
+
+// Sign of det(p, a, b) given v = p . (a x b) in doubles and a bound on its
+// rounding error (see kSignFilter): the sign of v beyond the bound, the exact
+// perturbed sign within it.
+inline int FilteredSign(double v, double bound, const Eigen::Vector3d& p,
+                        const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  if (v > bound) return 1;
+  if (v < -bound) return -1;
+  return ExactPerturbedDetSign(p, a, b);
+}
 
 // Sign of det(p, a, b) under the half-open perturbation described above:
 // +1 or -1, or 0 only in degenerate cases (a, b dependent).
@@ -137,6 +201,29 @@ class SimplexSpline {
                        const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
                        double* out) const;
 
+  // The recursion unrolled: M(p | V) = sum over its leaves T (the subsets
+  // the recursion ends at) of P_T(p) chi_T(p) / |det T|, where chi_T is the
+  // half-open triangle's indicator and P_T(p), homogeneous of degree k, sums
+  // over the recursion's paths from V to T the products of the barycentric
+  // coordinates b_j(p | W) met on the way.
+  struct Leaf {
+    std::array<int, 3> knots = {-1, -1, -1};  // local, ascending
+    int orientation = 0;       // exact sign of det(t_a, t_b, t_c); 0: zero leaf
+    double inv_abs_det = 0.0;  // 1 / |det(t_a, t_b, t_c)|
+  };
+  int num_leaves() const { return num_leaves_; }
+  // The perturbed signs of det(p, t_i, t_j) for the pairs i < j, at
+  // PairIndex(i, j, k + 3) (as Value(p) decides them).
+  void PairSigns(const Eigen::Vector3d& p, int* signs) const;
+  Leaf leaf(int i) const;
+  // P_T in the chart p(s, t) = o + s e1 + t e2 of each leaf i with
+  // wanted[i] (num_leaves() flags): PolynomialSize(degree()) coefficients
+  // at out + i * PolynomialSize(degree()); the other leaves' are left as
+  // they are.
+  void LeafPathPolynomials(const Eigen::Vector3d& o, const Eigen::Vector3d& e1,
+                           const Eigen::Vector3d& e2, const bool* wanted,
+                           double* out) const;
+
  private:
   friend class SimplexSplineForest;
   struct Node {
@@ -153,8 +240,14 @@ class SimplexSpline {
   };
 
   SimplexSpline() = default;
-  // Fills per-pair perturbed signs sigma(i, j) of det(p, t_i, t_j), i < j.
-  void PairSigns(const Eigen::Vector3d& p, int* signs) const;
+  template <int K>
+  void PathsOfDegree(const Eigen::Vector3d& o, const Eigen::Vector3d& e1,
+                     const Eigen::Vector3d& e2, const bool* wanted,
+                     double* out) const;
+  template <int K>
+  bool PieceOfDegree(const Eigen::Vector3d& q, const Eigen::Vector3d& o,
+                     const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
+                     double* out) const;
   double LeafValue(const Node& node, const int* signs) const;
   // Degree-0 values of the num_leaves_ leaves into `values`; false if all
   // are zero.
@@ -167,87 +260,9 @@ class SimplexSpline {
   // Children before parents; the num_leaves_ leaves (3 knots) first.
   std::vector<Node> nodes_;
   int num_leaves_ = 0;
-};
-
-// Many simplex splines over one global knot set with their recursions
-// merged: every subset of knots (a node of eq. 3), pair sign and barycentric
-// matrix is stored once, keyed by global knot indices, and the evaluations
-// of any of the splines at one point share them (memoized per thread and
-// point). A basis function's support overlaps ~50 others' at a point, all
-// built from the same few knots, so most of their nodes coincide.
-//
-// Values are bit-for-bit those of SimplexSpline::Value / Evaluate when the
-// splines were built with the default SimplexSplineOptions and their local
-// knot order is the ascending global order: a subset's W is then chosen from
-// the subset alone (the first spanning triple of largest |det|, ascending).
-class SimplexSplineForest {
- public:
-  SimplexSplineForest();
-
-  // Adds `spline`, whose local knot j is global knot global[j] (strictly
-  // ascending, one per knot); returns its handle (0, 1, ... in call order).
-  int Add(const SimplexSpline& spline, const std::vector<int>& global);
-
-  // Frees the lookup tables that Add uses to share nodes (splines added
-  // later are still correct, but share nothing with earlier ones).
-  void FinishAdding();
-
-  int size() const { return static_cast<int>(tops_.size()); }
-  // Distinct nodes over all splines added (for benchmarks).
-  int num_nodes() const { return static_cast<int>(nodes_.size()); }
-
-  // SimplexSpline::Value / Evaluate of the spline `handle`. Thread-safe;
-  // consecutive calls at the same p on one thread reuse each other's nodes.
-  double Value(int handle, const Eigen::Vector3d& p) const;
-
-  // Values of many splines at one point p: value(handle) is Value(handle, p),
-  // without checking the point again for every spline. Valid on the thread
-  // that called At, until that thread evaluates this forest at another point.
-  class PointValues {
-   public:
-    double value(int handle) const;
-
-   private:
-    friend class SimplexSplineForest;
-    PointValues(const SimplexSplineForest* forest, void* scratch)
-        : forest_(forest), scratch_(scratch) {}
-    const SimplexSplineForest* forest_;
-    void* scratch_;
-  };
-  PointValues At(const Eigen::Vector3d& p) const;
-  ScalarJet Evaluate(int handle, const Eigen::Vector3d& p,
-                     JetOrder order) const;
-
- private:
-  struct Node {
-    int child[3] = {-1, -1, -1};  // Internal: S \ {w_j} (node indices).
-    int pair[3] = {-1, -1, -1};   // Leaf: pairs (b,c), (a,c), (a,b).
-    int orientation = 0;          // Leaf: sign of det(t_a, t_b, t_c).
-    double inv_abs_det = 0.0;     // Leaf: 1 / |det|.
-    int matrix = -1;              // Internal: index into matrices_.
-  };
-  struct Scratch;
-  struct KeyHash {
-    std::size_t operator()(const std::array<int, 8>& key) const;
-  };
-  Scratch& Begin(const Eigen::Vector3d& p, int order) const;
-  int PairSign(int pair, Scratch& s) const;
-  double LeafValue(const Node& node, Scratch& s) const;
-  double NodeValue(int node, Scratch& s) const;
-  void NodeJet(int node, Scratch& s) const;
-
-  // Distinguishes forests in the per-thread memo (copies share it: they
-  // hold the same nodes).
-  std::uint64_t id_ = 0;
-  std::vector<Node> nodes_;
-  std::vector<int> tops_;  // Node of each spline's full knot set.
-  std::vector<Eigen::Matrix3d> matrices_;
-  std::vector<std::array<int, 2>> pairs_;      // Global knots (a, b), a < b.
-  std::vector<Eigen::Vector3d> pair_knots_;    // t_a, t_b of each pair.
-  std::vector<Eigen::Vector3d> pair_normals_;  // t_a x t_b.
-  std::unordered_map<std::array<int, 8>, int, KeyHash> node_of_;
-  std::unordered_map<std::array<int, 8>, int, KeyHash> matrix_of_;
-  std::unordered_map<std::array<int, 8>, int, KeyHash> pair_of_;
+  // The internal nodes of size d + 3 are level_start_[d] ..
+  // level_start_[d + 1] - 1 (d = 1 .. k).
+  std::array<int, kMaxKnots - 1> level_start_{};
 };
 
 }  // namespace sdcb

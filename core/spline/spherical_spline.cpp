@@ -54,8 +54,27 @@ SurfacePoint SphericalSpline::EvaluateDifferential(const Eigen::Vector3d& p,
     out.position = Evaluate(p);
     return out;
   }
-  const bool second = order == JetOrder::kHessian;
+  const SurfaceShape shape = Shape(p, order == JetOrder::kHessian);
+  out.position = shape.position;
+  TangentFrame(p.normalized(), &out.frame_u, &out.frame_v);
+  out.du = shape.du;
+  out.dv = shape.dv;
+  out.normal = shape.normal;
+  if (order == JetOrder::kHessian) {
+    out.mean_curvature = shape.mean_curvature;
+    out.gaussian_curvature = shape.gaussian_curvature;
+  }
+  return out;
+}
+
+SurfaceShape SphericalSpline::EvaluateShape(const Eigen::Vector3d& p) const {
+  return Shape(p, true);
+}
+
+SurfaceShape SphericalSpline::Shape(const Eigen::Vector3d& p,
+                                    bool second) const {
   const bool raw = form_ == BasisForm::kRaw;
+  const JetOrder order = second ? JetOrder::kHessian : JetOrder::kGradient;
   // The raw form's jets below assume |p| = 1.
   const Eigen::Vector3d q = raw ? Eigen::Vector3d(p.normalized()) : p;
   thread_local std::vector<int> candidates;  // no allocation per point
@@ -88,46 +107,29 @@ SurfacePoint SphericalSpline::EvaluateDifferential(const Eigen::Vector3d& p,
         k * Eigen::Matrix3d::Identity() + k * (k - 2) * q * q.transpose();
   }
   const double inv = 1.0 / total.value;
-  out.position = n * inv;
+  const Eigen::Vector3d position = n * inv;
   // Quotient rule for F = N / D.
   Eigen::Matrix3d df;
   for (int k = 0; k < 3; ++k) {
-    df.row(k) =
-        (dn.row(k) - out.position[k] * total.gradient.transpose()) * inv;
+    df.row(k) = (dn.row(k) - position[k] * total.gradient.transpose()) * inv;
   }
-  TangentFrame(p.normalized(), &out.frame_u, &out.frame_v);
-  out.du = df * out.frame_u;
-  out.dv = df * out.frame_v;
-  const Eigen::Vector3d cross = out.du.cross(out.dv);
-  const double area = cross.norm();
-  if (area > 0) out.normal = cross / area;
-  if (!second) return out;
-  if (area == 0) {
-    out.mean_curvature = out.gaussian_curvature =
-        std::numeric_limits<double>::quiet_NaN();
-    return out;
+  Eigen::Vector3d frame_u, frame_v;
+  TangentFrame(p.normalized(), &frame_u, &frame_v);
+  const Eigen::Vector3d du = df * frame_u, dv = df * frame_v;
+  Eigen::Vector3d fuu = Eigen::Vector3d::Zero(), fuv = fuu, fvv = fuu;
+  if (second) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d dfk = df.row(k).transpose();
+      const Eigen::Matrix3d hf = (hn[k] - position[k] * total.hessian -
+                                  dfk * total.gradient.transpose() -
+                                  total.gradient * dfk.transpose()) *
+                                 inv;
+      fuu[k] = frame_u.dot(hf * frame_u);
+      fuv[k] = frame_u.dot(hf * frame_v);
+      fvv[k] = frame_v.dot(hf * frame_v);
+    }
   }
-  Eigen::Vector3d fuu, fuv, fvv;
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d dfk = df.row(k).transpose();
-    const Eigen::Matrix3d hf =
-        (hn[k] - out.position[k] * total.hessian -
-         dfk * total.gradient.transpose() - total.gradient * dfk.transpose()) *
-        inv;
-    fuu[k] = out.frame_u.dot(hf * out.frame_u);
-    fuv[k] = out.frame_u.dot(hf * out.frame_v);
-    fvv[k] = out.frame_v.dot(hf * out.frame_v);
-  }
-  // First and second fundamental forms.
-  const double e = out.du.dot(out.du), f = out.du.dot(out.dv),
-               g = out.dv.dot(out.dv);
-  const double l = fuu.dot(out.normal), m = fuv.dot(out.normal),
-               nn = fvv.dot(out.normal);
-  const double det = e * g - f * f;
-  out.gaussian_curvature = (l * nn - m * m) / det;
-  // Sign: the outward normal of a sphere gives l = -|du|^2 / R, so H = 1/R.
-  out.mean_curvature = -(e * nn - 2 * f * m + g * l) / (2 * det);
-  return out;
+  return ShapeFromDerivatives(position, du, dv, fuu, fuv, fvv);
 }
 
 Eigen::MatrixX3d SphericalSpline::EvaluateMany(

@@ -22,6 +22,7 @@
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/spline/dcb_basis.h"
 #include "sdcb/core/spline/spline_model.h"
+#include "sdcb/core/spline/surface_shape.h"
 
 namespace sdcb {
 
@@ -65,6 +66,9 @@ class SphericalSpline {
   // the curvatures.
   SurfacePoint EvaluateDifferential(const Eigen::Vector3d& p,
                                     JetOrder order = JetOrder::kHessian) const;
+  // The shape at p (surface_shape.h) in the chart of SurfacePoint:
+  // phi(u, v) = F(p + u e_u + v e_v), (e_u, e_v) = TangentFrame(p / |p|).
+  SurfaceShape EvaluateShape(const Eigen::Vector3d& p) const;
 
   // F at each row of `points` (#P by 3 unit vectors); #P by 3.
   Eigen::MatrixX3d EvaluateMany(const Eigen::MatrixX3d& points) const;
@@ -74,6 +78,9 @@ class SphericalSpline {
       JetOrder order = JetOrder::kHessian) const;
 
  private:
+  // EvaluateShape; without `second`, its second form and curvatures are
+  // those of zero second derivatives.
+  SurfaceShape Shape(const Eigen::Vector3d& p, bool second) const;
   SphericalSpline(DcbBasis basis, Eigen::MatrixX3d control_points,
                   BasisForm form)
       : basis_(std::move(basis)),

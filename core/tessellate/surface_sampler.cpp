@@ -36,10 +36,33 @@ bool SplineSampler::SampleCurvature(const Eigen::MatrixX3d& directions,
   return true;
 }
 
+bool SplineSampler::SampleShape(const Eigen::MatrixX3d& directions,
+                                std::vector<SurfaceShape>* shapes) const {
+  shapes->resize(directions.rows());
+  spline_.basis().ParallelForEachPoint(directions, [&](Eigen::Index r) {
+    (*shapes)[r] = spline_.EvaluateShape(directions.row(r).transpose());
+  });
+  return true;
+}
+
 void PiecewiseSplineSampler::Sample(const Eigen::MatrixX3d& directions,
                                     Eigen::MatrixX3d* positions,
                                     Eigen::MatrixX3d* normals) const {
   pieces_.EvaluateMany(directions, positions, normals);
+}
+
+bool PiecewiseSplineSampler::SampleCurvature(const Eigen::MatrixX3d& directions,
+                                             Eigen::VectorXd* gaussian,
+                                             Eigen::VectorXd* mean) const {
+  pieces_.EvaluateCurvatureMany(directions, gaussian, mean);
+  return true;
+}
+
+bool PiecewiseSplineSampler::SampleShape(
+    const Eigen::MatrixX3d& directions,
+    std::vector<SurfaceShape>* shapes) const {
+  pieces_.EvaluateShapeMany(directions, shapes);
+  return true;
 }
 
 }  // namespace sdcb

@@ -7,6 +7,9 @@
 #define SDCB_CORE_TESSELLATE_SURFACE_SAMPLER_H_
 
 #include <Eigen/Core>
+#include <vector>
+
+#include "sdcb/core/spline/surface_shape.h"
 
 namespace sdcb {
 
@@ -32,6 +35,14 @@ class SurfaceSampler {
                                Eigen::VectorXd* mean) const {
     return false;
   }
+  // The shape (core/spline/surface_shape.h: position, normal, tangents,
+  // fundamental forms, curvatures) at each direction, in the chart of the
+  // tangent frame TangentFrame(direction). Returns false if this sampler
+  // cannot compute it.
+  virtual bool SampleShape(const Eigen::MatrixX3d& directions,
+                           std::vector<SurfaceShape>* shapes) const {
+    return false;
+  }
 };
 
 // Samples a SphericalSpline through EvaluateDifferentialMany (the reference
@@ -44,28 +55,31 @@ class SplineSampler : public SurfaceSampler {
   bool SampleCurvature(const Eigen::MatrixX3d& directions,
                        Eigen::VectorXd* gaussian,
                        Eigen::VectorXd* mean) const override;
+  bool SampleShape(const Eigen::MatrixX3d& directions,
+                   std::vector<SurfaceShape>* shapes) const override;
 
  private:
   const SphericalSpline& spline_;
 };
 
-// Samples a SphericalSpline through its PiecewiseSurface (positions and
-// normals; fast) and the spline itself for curvature.
+// Samples a SphericalSpline through its PiecewiseSurface: positions,
+// normals, curvature and shape from the per-piece polynomials (fast; equal
+// to SplineSampler's to rounding).
 class PiecewiseSplineSampler : public SurfaceSampler {
  public:
+  // `spline`: the spline `pieces` was made from (which holds it).
   PiecewiseSplineSampler(const SphericalSpline& spline,
                          const PiecewiseSurface& pieces)
-      : spline_(spline), pieces_(pieces) {}
+      : pieces_(pieces) {}
   void Sample(const Eigen::MatrixX3d& directions, Eigen::MatrixX3d* positions,
               Eigen::MatrixX3d* normals) const override;
   bool SampleCurvature(const Eigen::MatrixX3d& directions,
                        Eigen::VectorXd* gaussian,
-                       Eigen::VectorXd* mean) const override {
-    return SplineSampler(spline_).SampleCurvature(directions, gaussian, mean);
-  }
+                       Eigen::VectorXd* mean) const override;
+  bool SampleShape(const Eigen::MatrixX3d& directions,
+                   std::vector<SurfaceShape>* shapes) const override;
 
  private:
-  const SphericalSpline& spline_;
   const PiecewiseSurface& pieces_;
 };
 

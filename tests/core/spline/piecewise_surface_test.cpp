@@ -6,39 +6,14 @@
 #include <random>
 #include <vector>
 
-#include "sdcb/core/spline/delaunay_configurations.h"
+#include "testing/random_spline.h"
 #include "testing/spline_model_fixture.h"
 
 namespace sdcb {
 namespace {
 
-// A spline on the knots `k` with random control points (the fit is not the
-// point: any valid spline, folds included).
-SphericalSpline SplineOnKnots(const Eigen::MatrixX3d& k, int degree,
-                              unsigned seed,
-                              BasisForm form = BasisForm::kNormalized) {
-  StatusOr<DelaunayConfigurations> c = ComputeDelaunayConfigurations(k, degree);
-  EXPECT_TRUE(c.ok());
-  StatusOr<DcbBasis> basis = DcbBasis::Create(k, *c);
-  EXPECT_TRUE(basis.ok()) << basis.status().message();
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> g;
-  Eigen::MatrixX3d cp(basis->size(), 3);
-  for (int i = 0; i < basis->size(); ++i) {
-    // Near a sphere of radius 1, perturbed.
-    const Eigen::Vector3d dir = k.row(basis->configuration_set(i).knots[0]);
-    cp.row(i) =
-        (dir + 0.2 * Eigen::Vector3d(g(rng), g(rng), g(rng))).transpose();
-  }
-  return std::move(SphericalSpline::Create(std::move(*basis), cp, form))
-      .value();
-}
-
-SphericalSpline RandomSpline(int degree, int knots, unsigned seed,
-                             BasisForm form = BasisForm::kNormalized) {
-  return SplineOnKnots(testing::RandomUnitVectors(knots, seed), degree, seed,
-                       form);
-}
+using testing::RandomSpline;
+using testing::SplineOnKnots;
 
 TEST(PiecewiseSurfaceTest, AgreesWithTheReferenceEvaluator) {
   for (int degree : {2, 3, 4, -4}) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sdcb/core/sphere/spherical_barycentric.h"
+#include "sdcb/core/spline/simplex_spline_forest.h"
 #include "testing/random_sphere_points.h"
 
 namespace sdcb {
