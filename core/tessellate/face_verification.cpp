@@ -422,23 +422,15 @@ Status VerifyFaces(const SurfaceSampler& surface,
     std::vector<int> next, changed, midpoints;
     std::vector<FaceChange> changes;
     int64_t splits = 0;
+    // First the flips: one of a failing face's edges whose two new faces
+    // pass (their samples and lattices) repairs it without new faces. Once
+    // per face: a flip that passed on the base lattice may fail the finer
+    // one, and flipping back would never end. They run before any split of
+    // the round, whose midpoints are not evaluated yet.
     for (Eigen::Index i = 0; i < n; ++i) {
       const int f = pending[i];
-      if (!failed[i] || !pattern.alive(f)) continue;
-      if (touched[f]) {
-        next.push_back(f);
-        continue;
-      }
-      if (ShortestDomainEdge(pattern, f) < options.min_edge_radians) {
-        settled[f] = 1;
-        continue;
-      }
-      // A flip of one of its edges whose two faces pass (their samples and
-      // lattices) repairs it without new faces.
-      // Once per face: a flip that passed on the base lattice may fail the
-      // finer one, and flipping back would never end.
-      bool flipped = false;
-      for (int e = 0; e < 3 && !flipped && !was_flipped[f]; ++e) {
+      if (!failed[i] || touched[f] || was_flipped[f]) continue;
+      for (int e = 0; e < 3; ++e) {
         const int h = 3 * f + e;
         const int g = pattern.Twin(h) / 3;
         std::array<SphereTriangulation::Face, 2> two;
@@ -457,9 +449,21 @@ Status VerifyFaces(const SurfaceSampler& surface,
         was_flipped[f] = was_flipped[g] = 1;
         changed.push_back(f);
         changed.push_back(g);
-        flipped = true;
+        break;
       }
-      if (flipped) continue;
+    }
+    // Then the splits of the faces still failing.
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const int f = pending[i];
+      if (!failed[i] || !pattern.alive(f)) continue;
+      if (touched[f]) {
+        next.push_back(f);
+        continue;
+      }
+      if (ShortestDomainEdge(pattern, f) < options.min_edge_radians) {
+        settled[f] = 1;
+        continue;
+      }
       const int edge = SplitEdgeOf(samples, f, failed[i] == kAngleFailed);
       const int g = pattern.Twin(edge) / 3;
       if (touched[g]) {
@@ -477,7 +481,6 @@ Status VerifyFaces(const SurfaceSampler& surface,
       ++splits;
       touched.resize(pattern.num_face_slots(), 0);
       was_flipped.resize(pattern.num_face_slots(), 0);
-      faces->Resize();  // a flip later in the round reads the new slots
       for (int x : change.slots) {
         touched[x] = 1;
         was_flipped[x] = 0;
