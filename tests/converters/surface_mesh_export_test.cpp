@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -25,8 +26,10 @@ namespace fs = std::filesystem;
 class SurfaceMeshExportTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
+    // One folder per process: ctest runs the suite's tests in parallel.
     dir_ = new std::string(std::string(SDCB_TEST_TMP) +
-                           "/SurfaceMeshExportTest.model");
+                           "/SurfaceMeshExportTest.model." +
+                           std::to_string(getpid()));
     fs::remove_all(*dir_);
     fs::create_directories(*dir_);
     auto mesh = ReadMesh(testing::MeshPath("blobby.off"));
@@ -40,6 +43,8 @@ class SurfaceMeshExportTest : public ::testing::Test {
   }
   static void TearDownTestSuite() {
     delete model_;
+    std::error_code ignored;
+    fs::remove_all(*dir_, ignored);
     delete dir_;
   }
   static std::string* dir_;

@@ -5,6 +5,7 @@
 // scripts/gltf_tools/node_modules.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -35,7 +36,9 @@ class ExportCliTest : public ::testing::Test {
  protected:
   // One small fitted model for the whole suite (blobby, 1.5 s).
   static void SetUpTestSuite() {
-    dir_ = new std::string(std::string(SDCB_TEST_TMP) + "/ExportCliTest.model");
+    // One folder per process: ctest runs the suite's tests in parallel.
+    dir_ = new std::string(std::string(SDCB_TEST_TMP) +
+                           "/ExportCliTest.model." + std::to_string(getpid()));
     fs::create_directories(*dir_);
     model_ = new std::string(*dir_ + "/blobby.sdcb");
     const auto r = RunSdcb({"fit", testing::MeshPath("blobby.off"), "-o",
@@ -44,6 +47,8 @@ class ExportCliTest : public ::testing::Test {
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   static void TearDownTestSuite() {
+    std::error_code ignored;
+    fs::remove_all(*dir_, ignored);
     delete dir_;
     delete model_;
   }
