@@ -99,7 +99,6 @@ StatusOr<Tessellation> TessellateAdaptively(
   VerificationOptions verification;
   verification.threshold = kVerificationShare * options.tolerance;
   verification.lattice = options.lattice;
-  verification.angle_length = sampling.angle_length_factor * options.tolerance;
   verification.min_edge_radians = options.min_edge_radians;
   verification.max_faces = options.max_faces;
   int64_t measured = 0;

@@ -187,17 +187,6 @@ std::vector<LatticeMeasure> MeasureLattices(const SurfaceSampler& surface,
   return out;
 }
 
-double LongestImageEdge(const SurfaceSamples& samples,
-                        const SphereTriangulation::Face& t) {
-  double longest2 = 0.0;
-  for (int e = 0; e < 3; ++e) {
-    longest2 = std::max(
-        longest2, (samples.positions[t[(e + 1) % 3]] - samples.positions[t[e]])
-                      .squaredNorm());
-  }
-  return std::sqrt(longest2);
-}
-
 // From the farthest lattice point of each face (faces[i], measured[i]),
 // a pattern search over the face's barycentric coordinates for a larger
 // distance: six neighbours at a step of half the lattice spacing, the best
@@ -400,23 +389,17 @@ Status VerifyFaces(const SurfaceSampler& surface,
       const int f = pending[i];
       lattice_error[f] = measured[i].distance;
       face_angle[f] = measured[i].angle;
-      // The angular test, as the samples' rule, holds on faces whose
-      // image is longer than angle_length: below it no split can follow
-      // the normal into a cusp or a fold's edge.
-      const bool angle_ok =
-          measured[i].angle_ok ||
-          LongestImageEdge(samples, pattern.face(f)) <= options.angle_length;
       if (!(measured[i].distance <= options.threshold) ||
           !(faces->error(f) <= options.threshold)) {
         failed[i] = kDistanceFailed;
-      } else if (!angle_ok) {
+      } else if (!measured[i].angle_ok) {
         failed[i] = kAngleFailed;
       }
     }
 
-    // Each failing face has its longest image edge split at the domain
-    // midpoint, with the face across it (each face at most once per round);
-    // the midpoints are evaluated in one batch and the two faces' samples
+    // Each failing face is split (SplitEdgeOf) at the edge's domain midpoint,
+    // with the face across it (each face at most once per round); the
+    // midpoints are evaluated in one batch and the two faces' samples
     // redistributed among the four.
     std::vector<char> touched(pattern.num_face_slots(), 0);
     std::vector<int> next, changed, midpoints;

@@ -24,9 +24,6 @@ namespace sdcb {
 struct VerificationOptions {
   double threshold = 1e-3;  // surface units
   int lattice = 6;          // order, 2..16
-  // The angular test applies to faces with an image edge longer than this
-  // (surface units).
-  double angle_length = 0.0;
   // Faces whose shortest domain edge is below this (radians) are not split.
   double min_edge_radians = 1e-7;
   // kInvalidInput rather than more faces than this.

@@ -110,13 +110,22 @@ int SphereTriangulation::SplitEdge(int h, const Eigen::Vector3d& direction) {
   return m;
 }
 
-void SphereTriangulation::SplitEdgeAt(int h, int m) {
+SphereTriangulation::Quad SphereTriangulation::QuadOf(int h) const {
   const int f = h / 3, t = twin_[h], g = t / 3;
-  const int a = Origin(h), b = Target(h), c = Apex(h), d = Apex(t);
-  const int out_bc = twin_[3 * f + (h % 3 + 1) % 3];
-  const int out_ca = twin_[3 * f + (h % 3 + 2) % 3];
-  const int out_ad = twin_[3 * g + (t % 3 + 1) % 3];
-  const int out_db = twin_[3 * g + (t % 3 + 2) % 3];
+  return {f,
+          g,
+          Origin(h),
+          Target(h),
+          Apex(h),
+          Apex(t),
+          twin_[3 * f + (h % 3 + 1) % 3],
+          twin_[3 * f + (h % 3 + 2) % 3],
+          twin_[3 * g + (t % 3 + 1) % 3],
+          twin_[3 * g + (t % 3 + 2) % 3]};
+}
+
+void SphereTriangulation::SplitEdgeAt(int h, int m) {
+  const auto [f, g, a, b, c, d, out_bc, out_ca, out_ad, out_db] = QuadOf(h);
   const int f2 = AppendFace(), g2 = AppendFace();
   SetFace(f, a, m, c);
   SetFace(f2, m, b, c);
@@ -216,12 +225,7 @@ bool SphereTriangulation::PreviewFlip(int h, std::array<Face, 2>* faces) const {
 }
 
 void SphereTriangulation::Flip(int h) {
-  const int f = h / 3, t = twin_[h], g = t / 3;
-  const int a = Origin(h), b = Target(h), c = Apex(h), d = Apex(t);
-  const int out_bc = twin_[3 * f + (h % 3 + 1) % 3];
-  const int out_ca = twin_[3 * f + (h % 3 + 2) % 3];
-  const int out_ad = twin_[3 * g + (t % 3 + 1) % 3];
-  const int out_db = twin_[3 * g + (t % 3 + 2) % 3];
+  const auto [f, g, a, b, c, d, out_bc, out_ca, out_ad, out_db] = QuadOf(h);
   SetFace(f, a, d, c);
   SetFace(g, d, b, c);
   Link(3 * f, out_ad);

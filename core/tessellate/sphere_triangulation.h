@@ -102,6 +102,13 @@ class SphereTriangulation {
   Eigen::MatrixX3i Faces() const;
 
  private:
+  // The two faces of half-edge h = (a, b): f = (a, b, c) and its twin's
+  // g = (b, a, d), and the twins of their four outer edges.
+  struct Quad {
+    int f, g, a, b, c, d;
+    int out_bc, out_ca, out_ad, out_db;
+  };
+  Quad QuadOf(int h) const;
   void Link(int h, int g) {
     twin_[h] = g;
     if (g >= 0) twin_[g] = h;
