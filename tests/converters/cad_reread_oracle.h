@@ -17,8 +17,14 @@
 
 namespace sdcb::testing {
 
-// The re-read surfaces against the spline (occt_reread.h's
-// CompareWithSpline without its fine adaptive tessellation), in the frame
+struct RereadComparison {
+  bool ok = false;
+  double spline_volume = 0.0, spline_area = 0.0;
+  double to_spline_percent = 0.0, from_spline_percent = 0.0;
+  int64_t surface_points = 0, spline_points = 0;
+};
+
+// The re-read surfaces against the spline, in the frame
 // `transform` maps the spline to (the input's, for a model's file);
 // distances in percent of transform.scale, volume and area in that frame:
 // - the spline's volume and area from its uniform tessellation of `level`

@@ -33,8 +33,6 @@
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/spline_model.h"
-#include "sdcb/core/tessellate/adaptive_tessellation.h"
-#include "sdcb/core/tessellate/surface_sampler.h"
 
 namespace sdcb::testing {
 
@@ -150,81 +148,6 @@ inline double DistanceToFace(const RereadShape& r, int f,
                                         r.surfaces[f], b[0], b[1], b[2], b[3]);
   if (projection.NbPoints() == 0) return HUGE_VAL;
   return projection.LowerDistance();
-}
-
-// A re-read shape against the spline it came from (in the frame `transform`
-// maps the spline to; distances in percent of transform.scale):
-// - the spline's volume and area from a fine adaptive tessellation
-//   (core/tessellate, `tessellation_tolerance` in the normalized frame);
-// - re-read surfaces -> spline at >= `surface_points` exact points of the
-//   re-read surfaces: the distance to that tessellation plus its certified
-//   distance to the spline, an upper bound;
-// - spline -> re-read surfaces at >= `spline_points` vertices of the
-//   tessellation (exact spline points): the nearest lattice triangle names a
-//   face, OpenCASCADE projects the point onto that face's surface (or the
-//   triangle's nearest lattice vertex, an exact surface point, is nearer).
-struct RereadComparison {
-  bool ok = false;
-  double spline_volume = 0.0, spline_area = 0.0;
-  double to_spline_percent = 0.0, from_spline_percent = 0.0;
-  double certified_percent = 0.0;
-  int64_t surface_points = 0, spline_points = 0;
-};
-
-inline RereadComparison CompareWithSpline(const RereadShape& r,
-                                          const SphericalSpline& spline,
-                                          const NormalizingTransform& transform,
-                                          double tessellation_tolerance,
-                                          int64_t surface_points,
-                                          int64_t spline_points) {
-  RereadComparison c;
-  const PiecewiseSurface pieces(spline);
-  const PiecewiseSplineSampler sampler(spline, pieces);
-  TessellationOptions options;
-  options.tolerance = tessellation_tolerance;
-  auto t = TessellateAdaptively(sampler, options);
-  if (!t.ok() || r.faces == 0) return c;
-  TriangleMesh tessellation;
-  tessellation.vertices = transform.ToInput(t->positions);
-  tessellation.faces = t->faces;
-  for (Eigen::Index k = 0; k < t->faces.rows(); ++k) {
-    const Eigen::Vector3d a = tessellation.vertices.row(t->faces(k, 0));
-    const Eigen::Vector3d b = tessellation.vertices.row(t->faces(k, 1));
-    const Eigen::Vector3d d = tessellation.vertices.row(t->faces(k, 2));
-    c.spline_volume += a.dot(b.cross(d)) / 6.0;
-    c.spline_area += 0.5 * (b - a).cross(d - a).norm();
-  }
-  const double percent = 100.0 / transform.scale;
-  c.certified_percent = 100.0 * t->certified_distance;  // normalized frame
-
-  const int n = static_cast<int>(
-      std::ceil(std::sqrt(static_cast<double>(surface_points) / r.faces)));
-  const SurfaceLattice lattice = SampleSurfaces(r, n);
-  c.surface_points = lattice.mesh.vertices.rows();
-  auto spline_mesh = MeshDistance::Create(tessellation);
-  if (!spline_mesh.ok()) return c;
-  c.to_spline_percent =
-      percent * spline_mesh->Distances(lattice.mesh.vertices).maxCoeff() +
-      c.certified_percent;
-
-  auto surface_mesh = MeshDistance::Create(lattice.mesh);
-  if (!surface_mesh.ok()) return c;
-  const Eigen::Index stride =
-      std::max<Eigen::Index>(1, tessellation.vertices.rows() / spline_points);
-  for (Eigen::Index s = 0; s < tessellation.vertices.rows(); s += stride) {
-    const Eigen::Vector3d x = tessellation.vertices.row(s);
-    const MeshDistance::Closest closest = surface_mesh->Find(x);
-    double best = DistanceToFace(r, lattice.triangle_face[closest.face], x);
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d v =
-          lattice.mesh.vertices.row(lattice.mesh.faces(closest.face, k));
-      best = std::min(best, (v - x).norm());
-    }
-    c.from_spline_percent = std::max(c.from_spline_percent, percent * best);
-    ++c.spline_points;
-  }
-  c.ok = true;
-  return c;
 }
 
 }  // namespace sdcb::testing
