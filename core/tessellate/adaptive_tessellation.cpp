@@ -24,11 +24,6 @@ double Since(Clock::time_point t) {
 // what is left covers the surface between the samples, which the
 // verification's lattice then measures.
 constexpr double kSimplificationShare = 0.96;
-// The verification keeps every face within this share of the tolerance at
-// its samples and lattice: the rest covers what both miss between them
-// (measured independently at 40 random points per face: up to 1.2 % of
-// the tolerance on the bunny at 0.1 % with the lattice of order 10).
-constexpr double kVerificationShare = 1.0;
 // Samples per face: the pattern's faces are predicted within this fraction
 // of the tolerance.
 constexpr double kSampleErrorFraction = 1.0 / 8.0;
@@ -97,7 +92,7 @@ StatusOr<Tessellation> TessellateAdaptively(
   start = Clock::now();
 
   VerificationOptions verification;
-  verification.threshold = kVerificationShare * options.tolerance;
+  verification.threshold = options.tolerance;
   verification.lattice = options.lattice;
   verification.min_edge_radians = options.min_edge_radians;
   verification.max_faces = options.max_faces;
