@@ -26,6 +26,7 @@ constexpr double kInset = 1e-6;
 // A spline point farther than this times the distance to the lattice's image
 // starts a closest-point search on the spline.
 constexpr double kRefineRatio = 1.01;
+constexpr double kSearchedShareOfMax = 0.5;
 // The mesh's side is split for at most this many times the samples asked.
 constexpr int64_t kMaxSampleRatio = 8;
 // The mesh -> surface maximum is refined until no piece of the mesh can hold
@@ -183,6 +184,7 @@ struct SplineDistance {
     // order (several times faster than point order; each result the same).
     Eigen::MatrixX3d start(n, 3);
     Eigen::VectorXd image_distance(n);
+    std::vector<int> image_face(n);
     tbb::parallel_for(
         tbb::blocked_range<Eigen::Index>(0, n, 64),
         [&](const tbb::blocked_range<Eigen::Index>& range) {
@@ -199,6 +201,7 @@ struct SplineDistance {
             }
             start.row(i) = p.normalized().transpose();
             image_distance[i] = c.distance;
+            image_face[i] = c.face;
           }
         });
     Eigen::VectorXd distance(n);
@@ -215,19 +218,34 @@ struct SplineDistance {
         floor_weights ? std::sqrt(floor_weights->dot(distance.cwiseAbs2()) /
                                   std::max(floor_weights->sum(), 1e-300))
                       : 0.0;
+    // Beyond the rule above, the points near the largest distance are
+    // searched whatever the image says (again, until the largest is a
+    // searched one): where the lattice's image cuts across a tight fillet,
+    // the image and its spline point are both far from a mesh point that
+    // lies on the spline.
     std::vector<char> refined(n, 0);
+    const auto search = [&](Eigen::Index i) {
+      distance[i] = std::min(
+          distance[i],
+          ClosestOnSpline(surface, points[first + i], start.row(i).transpose(),
+                          options.closest_point_iterations));
+      refined[i] = 1;
+    };
     surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
       const double d = distance[i];
-      if (d < floor ||
-          d <= kRefineRatio * image_distance[i] + 1e-9 * options.length_unit) {
-        return;
+      if (d >= floor &&
+          d > kRefineRatio * image_distance[i] + 1e-9 * options.length_unit) {
+        search(i);
       }
-      distance[i] =
-          std::min(d, ClosestOnSpline(surface, points[first + i],
-                                      start.row(i).transpose(),
-                                      options.closest_point_iterations));
-      refined[i] = 1;
     });
+    while (n > 0) {
+      Eigen::Index largest;
+      const double top = kSearchedShareOfMax * distance.maxCoeff(&largest);
+      if (refined[largest]) break;
+      surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
+        if (!refined[i] && distance[i] >= top) search(i);
+      });
+    }
     for (char r : refined) *searched += r;
     return std::vector<double>(distance.data(), distance.data() + n);
   }
