@@ -6,12 +6,12 @@
 // points (SphereCage::SpherePoint of the same (u, v)).
 //
 // - limit -> spline: each limit point's distance to the spline by a
-//   closest-point search on the spline (converters/closest_surface_points.h)
-//   from its sphere point, and where that ends more than 1 % farther than
-//   its nearest point on an image of the spline (SplineImage) plus half
-//   that image's chord there, or farther than the spline at that point's
-//   sphere point, again from that sphere point; the nearer result counts.
-//   Area-weighted over the limit surface.
+//   closest-point search on the spline
+//   (core/tessellate/closest_surface_points.h) from its sphere point, and where
+//   that ends more than 1 % farther than its nearest point on an image of the
+//   spline (SplineImage) plus half that image's chord there, or farther than
+//   the spline at that point's sphere point, again from that sphere point; the
+//   nearer result counts. Area-weighted over the limit surface.
 // - spline -> limit: each spline point's nearest point on the limit
 //   lattice's triangles gives a face and (u, v), from which Newton steps on
 //   the exact limit surface of that face go to the foot point (or the

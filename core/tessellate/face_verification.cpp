@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "sdcb/core/tessellate/closest_surface_points.h"
+
 namespace sdcb {
 namespace {
 
@@ -116,7 +118,84 @@ struct LatticeMeasure {
   // and the lattice's order.
   std::vector<Eigen::Vector3d> peaks;
   int order = 0;
+  // The mesh's side: the largest distance from the flat triangle's lattice
+  // points to the surface, each the distance to a surface point found (never
+  // below the true one); and that raised by what can hide between the
+  // points (see MeasureMeshSide).
+  double mesh_sampled = 0.0;
+  double mesh_distance = 0.0;
 };
+
+// Gauss-Newton steps of the mesh side's closest-point search; a point's
+// search stops once it is within kMeshSideSearchStop of the threshold.
+constexpr int kClosestPointIterations = 8;
+constexpr double kMeshSideSearchStop = 0.9;
+
+// The mesh's side of faces `which` on their lattices: the flat point of
+// lattice weights w is at most |flat - S(u)| from the surface, u the domain
+// point of the same weights (rows offset[i].. of `directions` / `points`);
+// where that is near the threshold or above (the parameterization's shear
+// moves S(u) along the surface), a closest-point search from u finds a
+// nearer surface point. Fills (*out)[i].mesh_distance.
+void MeasureMeshSide(const SurfaceSampler& surface,
+                     const SurfaceSamples& samples,
+                     const std::vector<int>& which,
+                     const std::vector<std::unique_ptr<Lattice>>& lattices,
+                     const std::vector<int>& orders,
+                     const std::vector<Eigen::Index>& offset,
+                     const Eigen::MatrixX3d& directions,
+                     const Eigen::MatrixX3d& points, double threshold,
+                     std::vector<LatticeMeasure>* out, int64_t* evaluations) {
+  const SphereTriangulation& pattern = samples.pattern;
+  const Eigen::Index total = offset.back();
+  Eigen::MatrixX3d flat(total, 3);
+  Eigen::VectorXd distance(total);
+  tbb::parallel_for(size_t{0}, which.size(), [&](size_t i) {
+    const auto& t = pattern.face(which[i]);
+    const Lattice& l = *lattices[orders[i]];
+    for (size_t k = 0; k < l.weights.size(); ++k) {
+      const Eigen::Vector3d& w = l.weights[k];
+      const Eigen::Index row = offset[i] + static_cast<Eigen::Index>(k);
+      flat.row(row) =
+          (w[0] * samples.positions[t[0]] + w[1] * samples.positions[t[1]] +
+           w[2] * samples.positions[t[2]])
+              .transpose();
+      distance[row] = (flat.row(row) - points.row(row)).norm();
+    }
+  });
+  std::vector<Eigen::Index> far;
+  for (Eigen::Index row = 0; row < total; ++row) {
+    if (distance[row] > kMeshSideSearchStop * threshold) far.push_back(row);
+  }
+  if (!far.empty()) {
+    const Eigen::Index n = static_cast<Eigen::Index>(far.size());
+    Eigen::MatrixX3d x(n, 3), u(n, 3);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      x.row(j) = flat.row(far[j]);
+      u.row(j) = directions.row(far[j]);
+    }
+    const Eigen::VectorXd found =
+        ClosestSurfacePoints(surface, x, kClosestPointIterations, &u,
+                             evaluations, kMeshSideSearchStop * threshold);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      distance[far[j]] = std::min(distance[far[j]], found[j]);
+    }
+  }
+  // Between lattice points (spacing 1/m of the face) the distance of a flat
+  // triangle to a smooth surface is near quadratic, delta (1 - 4 (t - t*)^2)
+  // on a unit edge: its maximum exceeds the largest at the points by a
+  // factor of at most 1 / (1 - 1 / m^2); twice that margin is taken for
+  // what is not quite quadratic.
+  for (size_t i = 0; i < which.size(); ++i) {
+    const double m = orders[i];
+    LatticeMeasure& measure = (*out)[i];
+    measure.mesh_sampled =
+        offset[i + 1] > offset[i]
+            ? distance.segment(offset[i], offset[i + 1] - offset[i]).maxCoeff()
+            : 0.0;
+    measure.mesh_distance = measure.mesh_sampled / (1.0 - 2.0 / (m * m));
+  }
+}
 
 // Measures faces[i] on its lattice of order orders[i] (one batch).
 std::vector<LatticeMeasure> MeasureLattices(const SurfaceSampler& surface,
@@ -184,6 +263,8 @@ std::vector<LatticeMeasure> MeasureLattices(const SurfaceSampler& surface,
     }
     m.stretch = std::sqrt(stretch2);
   });
+  MeasureMeshSide(surface, samples, which, lattices, orders, offset, directions,
+                  points, threshold, &out, evaluations);
   return out;
 }
 
@@ -355,8 +436,9 @@ Status VerifyFaces(const SurfaceSampler& surface,
     std::vector<size_t> again_index;
     for (Eigen::Index i = 0; i < n; ++i) {
       const LatticeMeasure& m = measured[i];
-      if (!m.angle_ok || !(m.distance <= options.threshold)) continue;
-      if (m.distance > kRecheckFraction * options.threshold ||
+      const double distance = std::max(m.distance, m.mesh_sampled);
+      if (!m.angle_ok || !(distance <= options.threshold)) continue;
+      if (distance > kRecheckFraction * options.threshold ||
           m.stretch > kMaxStretch) {
         again.push_back(pending[i]);
         again_index.push_back(i);
@@ -378,6 +460,8 @@ Status VerifyFaces(const SurfaceSampler& surface,
           m.order = finer[j].order;
         }
         m.distance = std::max(m.distance, finer[j].distance);
+        m.mesh_distance = std::max(m.mesh_sampled, finer[j].mesh_distance);
+        m.mesh_sampled = std::max(m.mesh_sampled, finer[j].mesh_sampled);
         m.angle = std::max(m.angle, finer[j].angle);
         m.angle_ok = m.angle_ok && finer[j].angle_ok;
       }
@@ -387,9 +471,10 @@ Status VerifyFaces(const SurfaceSampler& surface,
     std::vector<char> failed(n, kPassed);
     for (Eigen::Index i = 0; i < n; ++i) {
       const int f = pending[i];
-      lattice_error[f] = measured[i].distance;
+      lattice_error[f] =
+          std::max(measured[i].distance, measured[i].mesh_distance);
       face_angle[f] = measured[i].angle;
-      if (!(measured[i].distance <= options.threshold) ||
+      if (!(lattice_error[f] <= options.threshold) ||
           !(faces->error(f) <= options.threshold)) {
         failed[i] = kDistanceFailed;
       } else if (!measured[i].angle_ok) {

@@ -3,12 +3,16 @@
 // barycentric lattice of order `lattice`, mapped by the surface in one
 // batch), against the same rule (core/tessellate/sampled_certificate.h:
 // distance to the mesh near the face; orientation and normal angle where
-// the angular test applies). Faces above `threshold` are split at the
+// the angular test applies), and the mesh's side: the distance from the
+// flat triangle's lattice points to the surface (to S at the domain point
+// of the same weights, or nearer, by a closest-point search from there,
+// core/tessellate/closest_surface_points.h, where that is above the
+// threshold). Faces above `threshold` either way are split at the
 // domain midpoint of their longest image edge (with the face across it),
 // their samples redistributed, and the faces this made are measured the
 // same way, until every face passes or is too small to split. Each face's
-// distance is then the largest at its samples and its lattice: a sampled
-// maximum, not a bound.
+// distance is then the largest at its samples and its lattice, both ways: a
+// sampled maximum, not a bound.
 #ifndef SDCB_CORE_TESSELLATE_FACE_VERIFICATION_H_
 #define SDCB_CORE_TESSELLATE_FACE_VERIFICATION_H_
 

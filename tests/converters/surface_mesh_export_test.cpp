@@ -13,6 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "sdcb/core/fit/spline_fitter.h"
+#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/run_sdcb.h"
@@ -104,6 +106,37 @@ TEST_F(SurfaceMeshExportTest, LibraryMakesWhatTheCommandLineWrites) {
               static_cast<int64_t>(exported->bytes.size()));
     EXPECT_EQ(exported->mesh.faces.rows(), exported->report.triangles);
     EXPECT_LE(exported->report.total_error_bound_percent, 1.0);
+  }
+}
+
+// The tolerance holds both ways, measured as `sdcb compare` measures
+// (core/fit/surface_deviation.h: CGAL's AABB tree over a lattice of the
+// surface, closest points on the exact spline), 40 points per triangle on
+// each side, not by the tessellator's certificate: the mesh's side too
+// (the flat triangles' points to the surface), which the certificate's
+// surface side does not bound.
+TEST_F(SurfaceMeshExportTest, ToleranceHoldsBothWaysMeasuredByCompare) {
+  auto surface = SurfaceFromModel(*model_);
+  ASSERT_TRUE(surface.ok());
+  for (double tolerance : {0.3, 0.05}) {
+    SCOPED_TRACE(tolerance);
+    SurfaceMeshExportOptions options;
+    options.format = ExportFormat::kObj;
+    options.tolerance_percent = tolerance;
+    const auto exported = ExportSurfaceMesh(*model_, options);
+    ASSERT_TRUE(exported.ok()) << exported.status().message();
+    TriangleMesh mesh;
+    mesh.vertices = model_->transform.ToNormalized(exported->mesh.positions);
+    mesh.faces = exported->mesh.faces;
+    DeviationOptions measure;
+    measure.min_surface_samples = 40 * mesh.num_faces();
+    measure.mesh_samples = 40 * mesh.num_faces();
+    const auto d = MeasureSurfaceDeviation(*surface, mesh, measure);
+    ASSERT_TRUE(d.ok()) << d.status().message();
+    EXPECT_LE(d->surface_to_mesh_max_percent, tolerance);
+    EXPECT_LE(d->mesh_to_surface_max_percent, tolerance);
+    // Not trivially within: the mesh uses its tolerance.
+    EXPECT_GE(d->hausdorff_percent, 0.7 * tolerance);
   }
 }
 

@@ -2,12 +2,15 @@
 // its fast evaluator) to points in space, by Gauss-Newton steps on
 // |S(u) - x|^2 over the sphere's tangent plane at u, the Jacobian by
 // finite differences (step 1e-6 along a tangent frame). Used by the
-// exporters' independent measurements (converters/tessellation_deviation.h,
+// tessellator's verification (the mesh's side of each face,
+// core/tessellate/face_verification.h) and the exporters' independent
+// measurements (converters/tessellation_deviation.h,
 // converters/cage_deviation.h).
-#ifndef SDCB_CONVERTERS_CLOSEST_SURFACE_POINTS_H_
-#define SDCB_CONVERTERS_CLOSEST_SURFACE_POINTS_H_
+#ifndef SDCB_CORE_TESSELLATE_CLOSEST_SURFACE_POINTS_H_
+#define SDCB_CORE_TESSELLATE_CLOSEST_SURFACE_POINTS_H_
 
 #include <Eigen/Core>
+#include <cstdint>
 
 #include "sdcb/core/tessellate/surface_sampler.h"
 
@@ -20,12 +23,16 @@ namespace sdcb {
 // after a step shorter than 1e-7 radians (converged). Returns
 // the smallest |x - S(u)| met, the distance to a point of the surface, so
 // never below the true distance; `*directions` holds where it was met.
-// Deterministic; the evaluations are batched.
+// A point also stops once its distance is at most `good_enough` (a caller
+// that needs only to know that much). Deterministic; the evaluations are
+// batched, and added to `*evaluations` if given.
 Eigen::VectorXd ClosestSurfacePoints(const SurfaceSampler& surface,
                                      const Eigen::MatrixX3d& points,
                                      int iterations,
-                                     Eigen::MatrixX3d* directions);
+                                     Eigen::MatrixX3d* directions,
+                                     int64_t* evaluations = nullptr,
+                                     double good_enough = 0.0);
 
 }  // namespace sdcb
 
-#endif  // SDCB_CONVERTERS_CLOSEST_SURFACE_POINTS_H_
+#endif  // SDCB_CORE_TESSELLATE_CLOSEST_SURFACE_POINTS_H_

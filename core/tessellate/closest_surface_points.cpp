@@ -1,4 +1,4 @@
-#include "sdcb/converters/closest_surface_points.h"
+#include "sdcb/core/tessellate/closest_surface_points.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -22,19 +22,23 @@ constexpr double kConverged = 1e-7;
 Eigen::VectorXd ClosestSurfacePoints(const SurfaceSampler& surface,
                                      const Eigen::MatrixX3d& points,
                                      int iterations,
-                                     Eigen::MatrixX3d* directions) {
+                                     Eigen::MatrixX3d* directions,
+                                     int64_t* evaluations, double good_enough) {
   const Eigen::MatrixX3d& x = points;
   Eigen::MatrixX3d& u = *directions;
   const Eigen::Index n = x.rows();
   const double h = 1e-6;
+  int64_t sampled = n;
   Eigen::VectorXd best(n);
   {
     Eigen::MatrixX3d s;
     surface.Sample(u, &s, nullptr);
     best = (x - s).rowwise().norm();
   }
-  std::vector<Eigen::Index> active(n);
-  for (Eigen::Index i = 0; i < n; ++i) active[i] = i;
+  std::vector<Eigen::Index> active;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (best[i] > good_enough) active.push_back(i);
+  }
   for (int iteration = 0; iteration < iterations && !active.empty();
        ++iteration) {
     // The Jacobian at u by forward differences along a tangent frame.
@@ -52,6 +56,7 @@ Eigen::VectorXd ClosestSurfacePoints(const SurfaceSampler& surface,
     }
     Eigen::MatrixX3d s;
     surface.Sample(probe, &s, nullptr);
+    sampled += probe.rows();
     Eigen::MatrixX2d step(m, 2);
     for (Eigen::Index j = 0; j < m; ++j) {
       const Eigen::Vector3d s0 = s.row(3 * j).transpose();
@@ -80,6 +85,7 @@ Eigen::VectorXd ClosestSurfacePoints(const SurfaceSampler& surface,
       }
       Eigen::MatrixX3d c;
       surface.Sample(candidate, &c, nullptr);
+      sampled += t;
       std::vector<Eigen::Index> rejected;
       for (Eigen::Index k = 0; k < t; ++k) {
         const Eigen::Index j = trying[k], i = active[j];
@@ -87,7 +93,9 @@ Eigen::VectorXd ClosestSurfacePoints(const SurfaceSampler& surface,
         if (d < best[i]) {
           best[i] = d;
           u.row(i) = candidate.row(k);
-          if (step.row(j).norm() > kConverged) moved.push_back(j);
+          if (step.row(j).norm() > kConverged && d > good_enough) {
+            moved.push_back(j);
+          }
         } else {
           step.row(j) *= 0.5;
           rejected.push_back(j);
@@ -101,6 +109,7 @@ Eigen::VectorXd ClosestSurfacePoints(const SurfaceSampler& surface,
     for (Eigen::Index j : moved) next.push_back(active[j]);
     active = std::move(next);
   }
+  if (evaluations) *evaluations += sampled;
   return best;
 }
 
