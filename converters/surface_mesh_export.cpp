@@ -193,6 +193,20 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
     const SplineModel& model, const SurfaceMeshExportOptions& options) {
   const Stopwatch start;
   SDCB_RETURN_IF_ERROR(CheckOptions(options));
+  // Across a fold the surface's normal turns over: no flat triangle holds a
+  // tolerance there, and the tessellation would refine the fold without
+  // end. The fit measured the folds; a uniform mesh has no tolerance to
+  // hold.
+  const double folded = model.statistics.final_result.folded_area_percent;
+  if (options.uniform_vertices == 0 && folded > 0.0) {
+    char message[320];
+    std::snprintf(message, sizeof message,
+                  "the surface folds over %.4g %% of its area (as its fit "
+                  "measured), and no mesh holds a tolerance across a fold: "
+                  "refit the mesh, or export a uniform mesh (--uniform N)",
+                  folded);
+    return InvalidInputError(message);
+  }
   const auto progress = [&](const std::string& stage, double fraction) {
     if (options.progress) options.progress(stage, fraction);
   };
@@ -397,14 +411,11 @@ nlohmann::ordered_json SurfaceMeshExportReportToJson(
   j["colors"] = colors;
   j["evaluations"] = r.evaluations;
   j["samples"] = r.samples;
-  j["seconds"] = {{"tessellate", r.seconds.tessellate},
-                  {"samples", r.seconds.samples},
-                  {"simplify", r.seconds.simplify},
-                  {"verify", r.seconds.verify},
-                  {"measure", r.seconds.measure},
-                  {"optimum", r.seconds.optimum},
-                  {"write", r.seconds.write},
-                  {"total", r.seconds.total}};
+  j["seconds"] = {
+      {"tessellate", r.seconds.tessellate}, {"samples", r.seconds.samples},
+      {"simplify", r.seconds.simplify},     {"verify", r.seconds.verify},
+      {"measure", r.seconds.measure},       {"optimum", r.seconds.optimum},
+      {"write", r.seconds.write},           {"total", r.seconds.total}};
   return j;
 }
 

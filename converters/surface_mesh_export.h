@@ -138,8 +138,10 @@ struct SurfaceMeshExport {
 // together (compression without glTF, colors without PLY or glTF, distance
 // colors without a mesh, bits out of range) or a tolerance meshopt cannot
 // keep; kInvalidInput for a model whose surface cannot be built or
-// tessellated within the tessellator's face limit. Deterministic: the same
-// model and options give the same bytes for any thread count.
+// tessellated within the tessellator's face limit, or whose fit measured a
+// folded area (the adaptive tessellation only: a uniform one is made).
+// Deterministic: the same model and options give the same bytes for any thread
+// count.
 StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
     const SplineModel& model, const SurfaceMeshExportOptions& options);
 

@@ -140,6 +140,27 @@ TEST_F(SurfaceMeshExportTest, ToleranceHoldsBothWaysMeasuredByCompare) {
   }
 }
 
+// A model whose fit measured folds is refused at once with one sentence
+// (no tolerance holds across a fold, and refining one would not end); its
+// uniform mesh is still made.
+TEST_F(SurfaceMeshExportTest, FoldedModelIsRefusedUnlessUniform) {
+  SplineModel folded = *model_;
+  folded.statistics.final_result.folded_area_percent = 0.25;
+  SurfaceMeshExportOptions options;
+  options.format = ExportFormat::kObj;
+  options.tolerance_percent = 0.05;
+  const auto refused = ExportSurfaceMesh(folded, options);
+  ASSERT_EQ(refused.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(refused.status().message().find("folds over 0.25 %"),
+            std::string::npos)
+      << refused.status().message();
+  EXPECT_EQ(refused.status().message().find('\n'), std::string::npos);
+  options.uniform_vertices = 2000;
+  const auto uniform = ExportSurfaceMesh(folded, options);
+  ASSERT_TRUE(uniform.ok()) << uniform.status().message();
+  EXPECT_GT(uniform->report.triangles, 2000);
+}
+
 TEST_F(SurfaceMeshExportTest, FileWriterWritesTheSameBytes) {
   SurfaceMeshExportOptions options;
   options.tolerance_percent = 1.0;
