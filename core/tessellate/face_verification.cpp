@@ -129,6 +129,9 @@ struct LatticeMeasure {
 // Gauss-Newton steps of the mesh side's closest-point search; a point's
 // search stops once it is within kMeshSideSearchStop of the threshold.
 constexpr int kClosestPointIterations = 8;
+// Derivative-free steps against the parameterization's shear before it
+// (MeasureMeshSide).
+constexpr int kShearSteps = 3;
 constexpr double kMeshSideSearchStop = 0.9;
 
 // The mesh's side of faces `which` on their lattices: the flat point of
@@ -163,9 +166,75 @@ void MeasureMeshSide(const SurfaceSampler& surface,
       distance[row] = (flat.row(row) - points.row(row)).norm();
     }
   });
+  const double stop = kMeshSideSearchStop * threshold;
   std::vector<Eigen::Index> far;
   for (Eigen::Index row = 0; row < total; ++row) {
-    if (distance[row] > kMeshSideSearchStop * threshold) far.push_back(row);
+    if (distance[row] > stop) far.push_back(row);
+  }
+  // Shear steps: S(u(w)) - flat(w) lies mostly along the face where the
+  // parameterization shears, and the surface's Jacobian in the weights is
+  // the flat triangle's to first order, so w moved by the flat triangle's
+  // least-squares inverse of that offset brings S(u(w)) nearer the flat
+  // point x = flat(w0), without derivatives.
+  std::vector<size_t> face_of(total);
+  for (size_t i = 0; i < which.size(); ++i) {
+    for (Eigen::Index row = offset[i]; row < offset[i + 1]; ++row) {
+      face_of[row] = i;
+    }
+  }
+  const auto weights_of = [&](Eigen::Index row) {
+    return lattices[orders[face_of[row]]]->weights[row - offset[face_of[row]]];
+  };
+  {
+    const Eigen::Index n = static_cast<Eigen::Index>(far.size());
+    std::vector<Eigen::Vector3d> w(n), at(n);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      w[j] = weights_of(far[j]);
+      at[j] = points.row(far[j]).transpose();
+    }
+    std::vector<Eigen::Index> active(n);
+    for (Eigen::Index j = 0; j < n; ++j) active[j] = j;
+    for (int step = 0; step < kShearSteps && !active.empty(); ++step) {
+      const Eigen::Index m = static_cast<Eigen::Index>(active.size());
+      Eigen::MatrixX3d moved(m, 3), image;
+      tbb::parallel_for(Eigen::Index{0}, m, [&](Eigen::Index k) {
+        const Eigen::Index j = active[k];
+        const auto& t = pattern.face(which[face_of[far[j]]]);
+        const Eigen::Vector3d& pa = samples.positions[t[0]];
+        Eigen::Matrix<double, 3, 2> edges;
+        edges.col(0) = samples.positions[t[1]] - pa;
+        edges.col(1) = samples.positions[t[2]] - pa;
+        const Eigen::Vector3d offset_here =
+            at[j] - flat.row(far[j]).transpose();
+        const Eigen::Vector2d d = (edges.transpose() * edges)
+                                      .ldlt()
+                                      .solve(-edges.transpose() * offset_here);
+        if (d.allFinite()) w[j] += Eigen::Vector3d(-d[0] - d[1], d[0], d[1]);
+        moved.row(k) =
+            (w[j][0] * pattern.vertex(t[0]) + w[j][1] * pattern.vertex(t[1]) +
+             w[j][2] * pattern.vertex(t[2]))
+                .normalized()
+                .transpose();
+      });
+      surface.Sample(moved, &image, nullptr);
+      *evaluations += m;
+      std::vector<Eigen::Index> next;
+      for (Eigen::Index k = 0; k < m; ++k) {
+        const Eigen::Index j = active[k];
+        at[j] = image.row(k).transpose();
+        const double d = (flat.row(far[j]) - image.row(k)).norm();
+        distance[far[j]] = std::min(distance[far[j]], d);
+        if (distance[far[j]] > stop) next.push_back(j);
+      }
+      active = std::move(next);
+    }
+    // What the shear steps left above the stop: a closest-point search
+    // from the domain point.
+    std::vector<Eigen::Index> rest;
+    for (Eigen::Index row : far) {
+      if (distance[row] > stop) rest.push_back(row);
+    }
+    far = std::move(rest);
   }
   if (!far.empty()) {
     const Eigen::Index n = static_cast<Eigen::Index>(far.size());
@@ -174,9 +243,8 @@ void MeasureMeshSide(const SurfaceSampler& surface,
       x.row(j) = flat.row(far[j]);
       u.row(j) = directions.row(far[j]);
     }
-    const Eigen::VectorXd found =
-        ClosestSurfacePoints(surface, x, kClosestPointIterations, &u,
-                             evaluations, kMeshSideSearchStop * threshold);
+    const Eigen::VectorXd found = ClosestSurfacePoints(
+        surface, x, kClosestPointIterations, &u, evaluations, stop);
     for (Eigen::Index j = 0; j < n; ++j) {
       distance[far[j]] = std::min(distance[far[j]], found[j]);
     }
