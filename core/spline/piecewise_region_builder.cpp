@@ -98,6 +98,7 @@ PiecewiseRegionBuilder::PiecewiseRegionBuilder(
   const int m = spline.degree() + 3;
   const int pairs = m * (m - 1) / 2;
   fixed_.assign(4 * size_, 0.0);
+  pair_bits_.reserve(pair_bits.size());
   std::vector<double> piece(size_);
   for (size_t j = 0; j < sets.size(); ++j) {
     const int b = sets[j];

@@ -382,7 +382,9 @@ const double* PiecewiseSurface::BuildRegion(const Leaf& leaf,
     for (size_t l = 0; l < leaf.lines.size(); ++l) {
       bit_of[leaf.lines[l]] = static_cast<int>(l);
     }
+    const int m = spline_.degree() + 3;
     std::vector<int8_t> pair_bits;
+    pair_bits.reserve(leaf.sets.size() * (m * (m - 1) / 2));
     for (int b : leaf.sets) {
       for (int x = set_segment_start_[b]; x < set_segment_start_[b + 1]; ++x) {
         pair_bits.push_back(static_cast<int8_t>(bit_of[set_segments_[x]]));

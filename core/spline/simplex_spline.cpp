@@ -128,7 +128,11 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
   index_of.fill(-1);
   std::array<int, kMax * kMax * kMax> matrix_of;
   matrix_of.fill(-1);
-  s.nodes_.reserve(std::size_t{1} << m);
+  // Built in this thread's buffers, kept at their exact sizes.
+  thread_local std::vector<Node> built;
+  thread_local std::vector<Eigen::Matrix3d> matrices;
+  built.clear();
+  matrices.clear();
   const auto build = [&](const auto& self, std::uint32_t mask) -> int {
     if (index_of[mask] >= 0) return index_of[mask];
     int members[kMax];
@@ -170,8 +174,8 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
         // = det(.., p,
         // ..) / det(W) is 0 there). The product is 0: a zero leaf, like a
         // three-knot subset with det = 0 (degree 0, eq. 3).
-        const int index = static_cast<int>(s.nodes_.size());
-        s.nodes_.push_back(node);  // orientation 0: value 0
+        const int index = static_cast<int>(built.size());
+        built.push_back(node);  // orientation 0: value 0
         index_of[mask] = index;
         return index;
       }
@@ -202,8 +206,8 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       const std::array<int, 3> w = spanning[pick];
       int& matrix = matrix_of[(w[0] * kMax + w[1]) * kMax + w[2]];
       if (matrix < 0) {
-        matrix = static_cast<int>(s.matrices_.size());
-        s.matrices_.push_back(
+        matrix = static_cast<int>(matrices.size());
+        matrices.push_back(
             SphericalBarycentricMatrix(t(w[0]), t(w[1]), t(w[2])));
       }
       node.matrix = matrix;
@@ -212,8 +216,8 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
         node.child[j] = self(self, mask & ~(1u << w[j]));
       }
     }
-    const int index = static_cast<int>(s.nodes_.size());
-    s.nodes_.push_back(node);
+    const int index = static_cast<int>(built.size());
+    built.push_back(node);
     index_of[mask] = index;
     return index;
   };
@@ -221,23 +225,22 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
   // Leaves first, so an evaluation can stop once all degree-0 values are
   // known to vanish; then the internal nodes by size (children before
   // parents), each size's first at level_start_[size - 3].
-  std::vector<int> new_index(s.nodes_.size());
-  std::vector<Node> ordered;
-  ordered.reserve(s.nodes_.size());
-  for (size_t i = 0; i < s.nodes_.size(); ++i) {
-    if (s.nodes_[i].matrix < 0) {
+  std::array<int, 1 << kMax> new_index;
+  std::vector<Node>& ordered = s.nodes_;
+  ordered.reserve(built.size());
+  for (size_t i = 0; i < built.size(); ++i) {
+    if (built[i].matrix < 0) {
       new_index[i] = static_cast<int>(ordered.size());
-      ordered.push_back(s.nodes_[i]);
+      ordered.push_back(built[i]);
     }
   }
   s.num_leaves_ = static_cast<int>(ordered.size());
   for (int size = 4; size <= m; ++size) {
     s.level_start_[size - 3] = static_cast<int>(ordered.size());
-    for (size_t i = 0; i < s.nodes_.size(); ++i) {
-      if (s.nodes_[i].matrix >= 0 &&
-          __builtin_popcount(s.nodes_[i].mask) == size) {
+    for (size_t i = 0; i < built.size(); ++i) {
+      if (built[i].matrix >= 0 && __builtin_popcount(built[i].mask) == size) {
         new_index[i] = static_cast<int>(ordered.size());
-        ordered.push_back(s.nodes_[i]);
+        ordered.push_back(built[i]);
       }
     }
   }
@@ -247,7 +250,7 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       if (c >= 0) c = new_index[c];
     }
   }
-  s.nodes_ = std::move(ordered);
+  s.matrices_.assign(matrices.begin(), matrices.end());
   return s;
 }
 
