@@ -98,6 +98,7 @@ PiecewiseRegionBuilder::PiecewiseRegionBuilder(
   const int m = spline.degree() + 3;
   const int pairs = m * (m - 1) / 2;
   fixed_.assign(4 * size_, 0.0);
+  pair_bits_.reserve(pair_bits.size());
   std::vector<double> piece(size_);
   for (size_t j = 0; j < sets.size(); ++j) {
     const int b = sets[j];
@@ -278,6 +279,10 @@ void PiecewiseRegionBuilder::Build(const Eigen::Vector3d& p, uint64_t key,
     kept->num_groups = static_cast<int>(made.groups.size());
     kept->sums = CopyToArena(made.sums, arena_);
     kept_ = kept;
+    // Only MakeCell reads these: freed for the next cells' builders.
+    std::vector<double>().swap(fixed_);
+    std::vector<int>().swap(sets_);
+    std::vector<int8_t>().swap(pair_bits_);
   }
   const Kept* cell = kept_;
   std::copy(cell->base, cell->base + n, out);

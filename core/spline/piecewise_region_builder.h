@@ -72,9 +72,11 @@ class PiecewiseRegionBuilder {
   const SphericalSpline& spline_;
   BlockArena* const arena_;
   Eigen::Vector3d o_, e1_, e2_;
-  int size_ = 0;               // PolynomialSize(degree)
-  std::vector<double> fixed_;  // 4 * size_: the sets without lines
-  // The sets with lines (ascending) whose B = w M, and their pair bits.
+  int size_ = 0;  // PolynomialSize(degree)
+  // Until the first Build (MakeCell's input, then freed): 4 * size_, the
+  // sets without lines; the sets with lines (ascending) whose B = w M, and
+  // their pair bits.
+  std::vector<double> fixed_;
   std::vector<int> sets_;
   std::vector<int8_t> pair_bits_;
   // The sets with lines whose B has limit terms (degenerate knots): their

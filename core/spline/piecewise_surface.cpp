@@ -199,19 +199,87 @@ PiecewiseSurface::PiecewiseSurface(const SphericalSpline& spline, int grid)
     tree.nodes[index].leaf = static_cast<int>(tree.leaves.size());
     tree.leaves.push_back(std::move(leaf));
   };
+  // The candidates of a group of root cells: those of `parent` whose caps may
+  // meet the cap (axis, radius) that holds every cell's cap. A cell's cap
+  // test passing implies the group's (triangle inequality; the 1e-4 rad
+  // slack exceeds the test's own slack and rounding), so each cell filters
+  // the same candidates from the group's as it would from all of them.
+  auto filter = [&](const Eigen::Vector3d& axis, double radius,
+                    const Candidates& parent) {
+    const double cos_r = std::cos(radius), sin_r = std::sin(radius);
+    Candidates mine;
+    for (int s : parent.lines) {
+      if (CapsMayMeet(axis, cos_r, sin_r, radius, mid[s], cos_half[s],
+                      sin_half[s], half[s])) {
+        mine.lines.push_back(s);
+      }
+    }
+    for (int b : parent.sets) {
+      if (CapsMayMeet(axis, cos_r, sin_r, radius, set_axis[b], set_cos[b],
+                      set_sin[b], set_radius[b])) {
+        mine.sets.push_back(b);
+      }
+    }
+    return mine;
+  };
+  // The cap of the root cells [i0, i1) x [j0, j1) of face f: centred at the
+  // block's centre, holding each cell's bounding cap (as `build` makes it).
+  const double h = 1.0 / g;
+  auto block_cap = [&](int f, int i0, int i1, int j0, int j1,
+                       Eigen::Vector3d* axis, double* radius) {
+    Eigen::Vector3d a, e1, e2;
+    FaceFrame(f, &a, &e1, &e2);
+    *axis = (a + (-1.0 + h * (i0 + i1)) * e1 + (-1.0 + h * (j0 + j1)) * e2)
+                .normalized();
+    *radius = 0.0;
+    for (int i = i0; i < i1; ++i)
+      for (int j = j0; j < j1; ++j) {
+        const double uc = -1.0 + h * (2 * i + 1), vc = -1.0 + h * (2 * j + 1);
+        const Eigen::Vector3d center = (a + uc * e1 + vc * e2).normalized();
+        double cell = 0.0;
+        for (int c = 0; c < 4; ++c) {
+          const Eigen::Vector3d corner = a +
+                                         (uc + h * ((c & 1) ? 1 : -1)) * e1 +
+                                         (vc + h * ((c >> 1) ? 1 : -1)) * e2;
+          cell = std::max(cell, Angle(center, corner));
+        }
+        *radius = std::max(*radius, Angle(*axis, center) + cell + 1e-9);
+      }
+    *radius += 1e-4;
+  };
   Candidates all;
   all.lines.resize(ns);
   all.sets.resize(nb);
   for (int s = 0; s < ns; ++s) all.lines[s] = s;
   for (int b = 0; b < nb; ++b) all.sets[b] = b;
+  std::vector<Candidates> face_candidates(6);
+  tbb::parallel_for(0, 6, [&](int f) {
+    Eigen::Vector3d axis;
+    double radius = 0.0;
+    block_cap(f, 0, g, 0, g, &axis, &radius);
+    face_candidates[f] = filter(axis, radius, all);
+  });
+  // Blocks of up to kBlock x kBlock root cells, each filtered from its face.
+  constexpr int kBlock = 4;
+  const int blocks = (g + kBlock - 1) / kBlock;
   const int roots = 6 * g * g;
   std::vector<Subtree> trees(roots);
-  tbb::parallel_for(0, roots, [&](int index) {
-    const int f = index / (g * g), i = (index / g) % g, j = index % g;
-    const double h = 1.0 / g;
-    trees[index].nodes.resize(1);
-    build(build, trees[index], 0, f, -1.0 + h * (2 * i + 1),
-          -1.0 + h * (2 * j + 1), h, all, 0);
+  tbb::parallel_for(0, 6 * blocks * blocks, [&](int index) {
+    const int f = index / (blocks * blocks);
+    const int i0 = (index / blocks) % blocks * kBlock;
+    const int j0 = index % blocks * kBlock;
+    const int i1 = std::min(g, i0 + kBlock), j1 = std::min(g, j0 + kBlock);
+    Eigen::Vector3d axis;
+    double radius = 0.0;
+    block_cap(f, i0, i1, j0, j1, &axis, &radius);
+    const Candidates block = filter(axis, radius, face_candidates[f]);
+    for (int i = i0; i < i1; ++i)
+      for (int j = j0; j < j1; ++j) {
+        Subtree& tree = trees[(f * g + i) * g + j];
+        tree.nodes.resize(1);
+        build(build, tree, 0, f, -1.0 + h * (2 * i + 1), -1.0 + h * (2 * j + 1),
+              h, block, 0);
+      }
   });
   // Roots first, then each root's other nodes; leaves root by root.
   nodes_.resize(roots);
@@ -314,7 +382,9 @@ const double* PiecewiseSurface::BuildRegion(const Leaf& leaf,
     for (size_t l = 0; l < leaf.lines.size(); ++l) {
       bit_of[leaf.lines[l]] = static_cast<int>(l);
     }
+    const int m = spline_.degree() + 3;
     std::vector<int8_t> pair_bits;
+    pair_bits.reserve(leaf.sets.size() * (m * (m - 1) / 2));
     for (int b : leaf.sets) {
       for (int x = set_segment_start_[b]; x < set_segment_start_[b + 1]; ++x) {
         pair_bits.push_back(static_cast<int8_t>(bit_of[set_segments_[x]]));

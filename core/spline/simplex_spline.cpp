@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <functional>
-#include <map>
 #include <string>
 
 #include "sdcb/core/sphere/sphere_geometry.h"
@@ -109,18 +107,41 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       s.pair_normals_[PairIndex(i, j, m)] = t(i).cross(t(j));
     }
 
-  // Depth-first construction, children first; `index_of` memoizes subsets.
-  std::map<std::uint32_t, int> index_of;
-  std::map<std::array<int, 3>, int> matrix_of;
-  std::function<int(std::uint32_t)> build = [&](std::uint32_t mask) -> int {
-    auto it = index_of.find(mask);
-    if (it != index_of.end()) return it->second;
-    std::vector<int> members;
+  // Every triple's determinant, once: det[(a * kMax + b) * kMax + c] for a <
+  // b < c (the same product SpansR3 and Det3 would compute).
+  std::array<double, kMax * kMax * kMax> det;
+  for (int a = 0; a < m; ++a)
+    for (int b = a + 1; b < m; ++b)
+      for (int c = b + 1; c < m; ++c) {
+        det[(a * kMax + b) * kMax + c] = Det3(t(a), t(b), t(c));
+      }
+  const auto triple_det = [&](int a, int b, int c) {
+    return det[(a * kMax + b) * kMax + c];
+  };
+  const auto spans = [&](int a, int b, int c) {
+    return std::abs(triple_det(a, b, c)) > kFlatDeterminant;
+  };
+
+  // Depth-first construction, children first; `index_of` memoizes subsets
+  // (-1: not built yet) and `matrix_of` the matrices of triples.
+  std::array<int, 1 << kMax> index_of;
+  index_of.fill(-1);
+  std::array<int, kMax * kMax * kMax> matrix_of;
+  matrix_of.fill(-1);
+  // Built in this thread's buffers, kept at their exact sizes.
+  thread_local std::vector<Node> built;
+  thread_local std::vector<Eigen::Matrix3d> matrices;
+  built.clear();
+  matrices.clear();
+  const auto build = [&](const auto& self, std::uint32_t mask) -> int {
+    if (index_of[mask] >= 0) return index_of[mask];
+    int members[kMax];
+    int ms = 0;
     for (int i = 0; i < m; ++i)
-      if (mask & (1u << i)) members.push_back(i);
+      if (mask & (1u << i)) members[ms++] = i;
     Node node;
     node.mask = mask;
-    if (members.size() == 3) {
+    if (ms == 3) {
       const int a = members[0], b = members[1], c = members[2];
       node.local[0] = a;
       node.local[1] = b;
@@ -131,40 +152,40 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       // det = 0 (three knots on a great circle, or within kFlatDeterminant of
       // one): a zero leaf, for the reason given below for larger flat
       // subsets.
-      node.orientation =
-          SpansR3(t(a), t(b), t(c)) ? Det3Sign(t(a), t(b), t(c)) : 0;
+      node.orientation = spans(a, b, c) ? Det3Sign(t(a), t(b), t(c)) : 0;
       if (node.orientation != 0) {
-        node.inv_abs_det = 1.0 / std::abs(Det3(t(a), t(b), t(c)));
+        node.inv_abs_det = 1.0 / std::abs(triple_det(a, b, c));
       }
     } else {
       // Spanning triples of S in ascending order; pick one by the rule.
-      std::vector<std::array<int, 3>> spanning;
-      const int ms = static_cast<int>(members.size());
+      std::array<int, 3> spanning[kMax * (kMax - 1) * (kMax - 2) / 6];
+      int num_spanning = 0;
       for (int x = 0; x < ms; ++x)
         for (int y = x + 1; y < ms; ++y)
           for (int z = y + 1; z < ms; ++z) {
-            const std::array<int, 3> w = {members[x], members[y], members[z]};
-            if (SpansR3(t(w[0]), t(w[1]), t(w[2]))) spanning.push_back(w);
+            if (spans(members[x], members[y], members[z])) {
+              spanning[num_spanning++] = {members[x], members[y], members[z]};
+            }
           }
-      if (spanning.empty()) {
+      if (num_spanning == 0) {
         // S lies on a plane P through the origin (up to kFlatDeterminant): M(p
         // | S) is a measure on P, and its coefficient in the parent vanishes on
         // P (the parent's W spans R^3, and its two members in S span P, so b_j
         // = det(.., p,
         // ..) / det(W) is 0 there). The product is 0: a zero leaf, like a
         // three-knot subset with det = 0 (degree 0, eq. 3).
-        const int index = static_cast<int>(s.nodes_.size());
-        s.nodes_.push_back(node);  // orientation 0: value 0
+        const int index = static_cast<int>(built.size());
+        built.push_back(node);  // orientation 0: value 0
         index_of[mask] = index;
         return index;
       }
       // Default: the triple of largest |det|, whose barycentric coordinates
       // stay small over the hull of S (the recursion then cancels little).
-      size_t pick = 0;
+      int pick = 0;
       double largest = -1.0;
-      for (size_t x = 0; x < spanning.size(); ++x) {
+      for (int x = 0; x < num_spanning; ++x) {
         const auto& w = spanning[x];
-        const double v = std::abs(Det3(t(w[0]), t(w[1]), t(w[2])));
+        const double v = std::abs(triple_det(w[0], w[1], w[2]));
         if (v > largest) {
           largest = v;
           pick = x;
@@ -173,53 +194,53 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       if (options.split_seed != 0) {
         // Any W gives the same M; skip triples so thin that rounding would
         // dominate (|det| below a quarter of the largest).
-        std::vector<size_t> fair;
-        for (size_t x = 0; x < spanning.size(); ++x) {
+        std::vector<int> fair;
+        for (int x = 0; x < num_spanning; ++x) {
           const auto& w = spanning[x];
-          if (std::abs(Det3(t(w[0]), t(w[1]), t(w[2]))) >= 0.25 * largest) {
+          if (std::abs(triple_det(w[0], w[1], w[2])) >= 0.25 * largest) {
             fair.push_back(x);
           }
         }
         pick = fair[Mix(options.split_seed * 0x9e3779b9U ^ mask) % fair.size()];
       }
       const std::array<int, 3> w = spanning[pick];
-      auto mit = matrix_of.find(w);
-      if (mit == matrix_of.end()) {
-        mit = matrix_of.emplace(w, static_cast<int>(s.matrices_.size())).first;
-        s.matrices_.push_back(
+      int& matrix = matrix_of[(w[0] * kMax + w[1]) * kMax + w[2]];
+      if (matrix < 0) {
+        matrix = static_cast<int>(matrices.size());
+        matrices.push_back(
             SphericalBarycentricMatrix(t(w[0]), t(w[1]), t(w[2])));
       }
-      node.matrix = mit->second;
+      node.matrix = matrix;
       for (int j = 0; j < 3; ++j) {
         node.local[j] = w[j];
-        node.child[j] = build(mask & ~(1u << w[j]));
+        node.child[j] = self(self, mask & ~(1u << w[j]));
       }
     }
-    const int index = static_cast<int>(s.nodes_.size());
-    s.nodes_.push_back(node);
+    const int index = static_cast<int>(built.size());
+    built.push_back(node);
     index_of[mask] = index;
     return index;
   };
-  build((1u << m) - 1);
+  build(build, (1u << m) - 1);
   // Leaves first, so an evaluation can stop once all degree-0 values are
   // known to vanish; then the internal nodes by size (children before
   // parents), each size's first at level_start_[size - 3].
-  std::vector<int> new_index(s.nodes_.size());
-  std::vector<Node> ordered;
-  for (size_t i = 0; i < s.nodes_.size(); ++i) {
-    if (s.nodes_[i].matrix < 0) {
+  std::array<int, 1 << kMax> new_index;
+  std::vector<Node>& ordered = s.nodes_;
+  ordered.reserve(built.size());
+  for (size_t i = 0; i < built.size(); ++i) {
+    if (built[i].matrix < 0) {
       new_index[i] = static_cast<int>(ordered.size());
-      ordered.push_back(s.nodes_[i]);
+      ordered.push_back(built[i]);
     }
   }
   s.num_leaves_ = static_cast<int>(ordered.size());
   for (int size = 4; size <= m; ++size) {
     s.level_start_[size - 3] = static_cast<int>(ordered.size());
-    for (size_t i = 0; i < s.nodes_.size(); ++i) {
-      if (s.nodes_[i].matrix >= 0 &&
-          __builtin_popcount(s.nodes_[i].mask) == size) {
+    for (size_t i = 0; i < built.size(); ++i) {
+      if (built[i].matrix >= 0 && __builtin_popcount(built[i].mask) == size) {
         new_index[i] = static_cast<int>(ordered.size());
-        ordered.push_back(s.nodes_[i]);
+        ordered.push_back(built[i]);
       }
     }
   }
@@ -229,7 +250,7 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       if (c >= 0) c = new_index[c];
     }
   }
-  s.nodes_ = std::move(ordered);
+  s.matrices_.assign(matrices.begin(), matrices.end());
   return s;
 }
 

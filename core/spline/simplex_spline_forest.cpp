@@ -67,14 +67,15 @@ int SimplexSplineForest::Add(const SimplexSpline& spline,
                              const std::vector<int>& global) {
   id_ = NextForestId();  // the memo of an earlier copy no longer applies
   const int m = static_cast<int>(spline.knots_.rows());
-  std::vector<int> pair_map(spline.pair_normals_.size());
+  int pair_map[SimplexSpline::kMaxKnots * (SimplexSpline::kMaxKnots - 1) / 2];
   for (int i = 0, k = 0; i < m; ++i)
     for (int j = i + 1; j < m; ++j, ++k) {
       std::array<int, 8> key;
       key.fill(-1);
       key[0] = global[i];
       key[1] = global[j];
-      auto [it, added] = pair_of_.emplace(key, static_cast<int>(pairs_.size()));
+      auto [it, added] =
+          pair_of_.try_emplace(key, static_cast<int>(pairs_.size()));
       if (added) {
         pairs_.push_back({global[i], global[j]});
         pair_knots_.push_back(spline.knots_.row(i).transpose());
@@ -84,11 +85,11 @@ int SimplexSplineForest::Add(const SimplexSpline& spline,
       pair_map[k] = it->second;
     }
   // Children come before parents in spline.nodes_.
-  std::vector<int> node_map(spline.nodes_.size());
+  int node_map[1 << SimplexSpline::kMaxKnots];
   for (size_t i = 0; i < spline.nodes_.size(); ++i) {
     const SimplexSpline::Node& local = spline.nodes_[i];
-    auto [it, added] = node_of_.emplace(SubsetKey(local.mask, global),
-                                        static_cast<int>(nodes_.size()));
+    auto [it, added] = node_of_.try_emplace(SubsetKey(local.mask, global),
+                                            static_cast<int>(nodes_.size()));
     node_map[i] = it->second;
     if (!added) continue;
     Node node;
@@ -103,14 +104,14 @@ int SimplexSplineForest::Add(const SimplexSpline& spline,
       key.fill(-1);
       for (int j = 0; j < 3; ++j) key[j] = global[local.local[j]];
       auto [mit, madded] =
-          matrix_of_.emplace(key, static_cast<int>(matrices_.size()));
+          matrix_of_.try_emplace(key, static_cast<int>(matrices_.size()));
       if (madded) matrices_.push_back(spline.matrices_[local.matrix]);
       node.matrix = mit->second;
       for (int j = 0; j < 3; ++j) node.child[j] = node_map[local.child[j]];
     }
     nodes_.push_back(node);
   }
-  tops_.push_back(node_map.back());
+  tops_.push_back(node_map[spline.nodes_.size() - 1]);
   return static_cast<int>(tops_.size()) - 1;
 }
 

@@ -48,6 +48,40 @@ TEST(PiecewiseSurfaceTest, AgreesWithTheReferenceEvaluator) {
   }
 }
 
+// The root cells take their candidate segments and basis functions from
+// their face's and their block's (4 x 4 root cells) caps: a segment dropped
+// there would leave a cell without a line that crosses it, and at degree 0
+// (the surface jumps across every segment) its region would then be wrong by
+// O(1) near the line. Grids smaller than, equal to and not multiples of the
+// block, many knots (short segments, small caps).
+TEST(PiecewiseSurfaceTest, AgreesForEveryGridSize) {
+  const Eigen::MatrixX3d points = testing::RandomUnitVectors(3000, 5);
+  for (int degree : {0, 2}) {
+    const SphericalSpline spline = RandomSpline(degree, 150, 31 + degree);
+    const std::vector<SurfacePoint> exact =
+        spline.EvaluateDifferentialMany(points, JetOrder::kValue);
+    for (int grid : {1, 2, 3, 4, 5, 7, 9, 13, 24}) {
+      SCOPED_TRACE(::testing::Message()
+                   << "degree " << degree << " grid " << grid);
+      const PiecewiseSurface fast(spline, grid);
+      ASSERT_EQ(fast.grid(), grid);
+      Eigen::MatrixX3d positions;
+      fast.EvaluateMany(points, &positions, nullptr);
+      int wrong = 0;
+      for (Eigen::Index r = 0; r < points.rows(); ++r) {
+        const double scale = std::max(1.0, exact[r].position.norm());
+        // !(error <= bound) so that NaN counts as wrong.
+        if (!((positions.row(r).transpose() - exact[r].position).norm() /
+                  scale <=
+              1e-12)) {
+          ++wrong;
+        }
+      }
+      EXPECT_EQ(wrong, 0);
+    }
+  }
+}
+
 // Points where a wrong region or a wrong cell would show: exactly on knots
 // and on knot segments' great circles (the exact, perturbed signs decide
 // there), on cube-face edges and corners and on the grid's cell boundaries.
