@@ -31,8 +31,8 @@ timed() {
   shift
   /usr/bin/time -f "%e %U %S" -o "$log" "$@"
 }
-wall() { awk '{print $1}' "$1"; }
-cpu() { awk '{printf "%.2f", $2 + $3}' "$1"; }
+wall() { tail -n 1 "$1" | awk '{print $1}'; }
+cpu() { tail -n 1 "$1" | awk '{printf "%.2f", $2 + $3}'; }
 rmse() { [ "$1" = bunny00 ] && echo 0.067 || echo 0.1; }
 
 for m in $MODELS; do

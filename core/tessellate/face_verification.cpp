@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "sdcb/core/tessellate/closest_surface_points.h"
+#include "sdcb/core/tessellate/mesh_side_distance.h"
 
 namespace sdcb {
 namespace {
@@ -126,20 +126,14 @@ struct LatticeMeasure {
   double mesh_distance = 0.0;
 };
 
-// Gauss-Newton steps of the mesh side's closest-point search; a point's
-// search stops once it is within kMeshSideSearchStop of the threshold.
-constexpr int kClosestPointIterations = 8;
-// Derivative-free steps against the parameterization's shear before it
-// (MeasureMeshSide).
-constexpr int kShearSteps = 3;
+// Flat points whose distance S(u) reads above this share of the threshold
+// are searched for a nearer surface point
+// (core/tessellate/mesh_side_distance.h).
 constexpr double kMeshSideSearchStop = 0.9;
 
-// The mesh's side of faces `which` on their lattices: the flat point of
-// lattice weights w is at most |flat - S(u)| from the surface, u the domain
-// point of the same weights (rows offset[i].. of `directions` / `points`);
-// where that is near the threshold or above (the parameterization's shear
-// moves S(u) along the surface), a closest-point search from u finds a
-// nearer surface point. Fills (*out)[i].mesh_distance.
+// The mesh's side of faces `which` on their lattices (rows offset[i].. of
+// `directions` / `points`, S at the lattice's domain points): fills
+// (*out)[i].mesh_sampled and mesh_distance.
 void MeasureMeshSide(const SurfaceSampler& surface,
                      const SurfaceSamples& samples,
                      const std::vector<int>& which,
@@ -149,106 +143,18 @@ void MeasureMeshSide(const SurfaceSampler& surface,
                      const Eigen::MatrixX3d& directions,
                      const Eigen::MatrixX3d& points, double threshold,
                      std::vector<LatticeMeasure>* out, int64_t* evaluations) {
-  const SphereTriangulation& pattern = samples.pattern;
-  const Eigen::Index total = offset.back();
-  Eigen::MatrixX3d flat(total, 3);
-  Eigen::VectorXd distance(total);
-  tbb::parallel_for(size_t{0}, which.size(), [&](size_t i) {
-    const auto& t = pattern.face(which[i]);
+  std::vector<int> faces(offset.back());
+  std::vector<Eigen::Vector3d> weights(offset.back());
+  for (size_t i = 0; i < which.size(); ++i) {
     const Lattice& l = *lattices[orders[i]];
     for (size_t k = 0; k < l.weights.size(); ++k) {
-      const Eigen::Vector3d& w = l.weights[k];
-      const Eigen::Index row = offset[i] + static_cast<Eigen::Index>(k);
-      flat.row(row) =
-          (w[0] * samples.positions[t[0]] + w[1] * samples.positions[t[1]] +
-           w[2] * samples.positions[t[2]])
-              .transpose();
-      distance[row] = (flat.row(row) - points.row(row)).norm();
-    }
-  });
-  const double stop = kMeshSideSearchStop * threshold;
-  std::vector<Eigen::Index> far;
-  for (Eigen::Index row = 0; row < total; ++row) {
-    if (distance[row] > stop) far.push_back(row);
-  }
-  // Shear steps: S(u(w)) - flat(w) lies mostly along the face where the
-  // parameterization shears, and the surface's Jacobian in the weights is
-  // the flat triangle's to first order, so w moved by the flat triangle's
-  // least-squares inverse of that offset brings S(u(w)) nearer the flat
-  // point x = flat(w0), without derivatives.
-  std::vector<size_t> face_of(total);
-  for (size_t i = 0; i < which.size(); ++i) {
-    for (Eigen::Index row = offset[i]; row < offset[i + 1]; ++row) {
-      face_of[row] = i;
+      faces[offset[i] + k] = which[i];
+      weights[offset[i] + k] = l.weights[k];
     }
   }
-  const auto weights_of = [&](Eigen::Index row) {
-    return lattices[orders[face_of[row]]]->weights[row - offset[face_of[row]]];
-  };
-  {
-    const Eigen::Index n = static_cast<Eigen::Index>(far.size());
-    std::vector<Eigen::Vector3d> w(n), at(n);
-    for (Eigen::Index j = 0; j < n; ++j) {
-      w[j] = weights_of(far[j]);
-      at[j] = points.row(far[j]).transpose();
-    }
-    std::vector<Eigen::Index> active(n);
-    for (Eigen::Index j = 0; j < n; ++j) active[j] = j;
-    for (int step = 0; step < kShearSteps && !active.empty(); ++step) {
-      const Eigen::Index m = static_cast<Eigen::Index>(active.size());
-      Eigen::MatrixX3d moved(m, 3), image;
-      tbb::parallel_for(Eigen::Index{0}, m, [&](Eigen::Index k) {
-        const Eigen::Index j = active[k];
-        const auto& t = pattern.face(which[face_of[far[j]]]);
-        const Eigen::Vector3d& pa = samples.positions[t[0]];
-        Eigen::Matrix<double, 3, 2> edges;
-        edges.col(0) = samples.positions[t[1]] - pa;
-        edges.col(1) = samples.positions[t[2]] - pa;
-        const Eigen::Vector3d offset_here =
-            at[j] - flat.row(far[j]).transpose();
-        const Eigen::Vector2d d = (edges.transpose() * edges)
-                                      .ldlt()
-                                      .solve(-edges.transpose() * offset_here);
-        if (d.allFinite()) w[j] += Eigen::Vector3d(-d[0] - d[1], d[0], d[1]);
-        moved.row(k) =
-            (w[j][0] * pattern.vertex(t[0]) + w[j][1] * pattern.vertex(t[1]) +
-             w[j][2] * pattern.vertex(t[2]))
-                .normalized()
-                .transpose();
-      });
-      surface.Sample(moved, &image, nullptr);
-      *evaluations += m;
-      std::vector<Eigen::Index> next;
-      for (Eigen::Index k = 0; k < m; ++k) {
-        const Eigen::Index j = active[k];
-        at[j] = image.row(k).transpose();
-        const double d = (flat.row(far[j]) - image.row(k)).norm();
-        distance[far[j]] = std::min(distance[far[j]], d);
-        if (distance[far[j]] > stop) next.push_back(j);
-      }
-      active = std::move(next);
-    }
-    // What the shear steps left above the stop: a closest-point search
-    // from the domain point.
-    std::vector<Eigen::Index> rest;
-    for (Eigen::Index row : far) {
-      if (distance[row] > stop) rest.push_back(row);
-    }
-    far = std::move(rest);
-  }
-  if (!far.empty()) {
-    const Eigen::Index n = static_cast<Eigen::Index>(far.size());
-    Eigen::MatrixX3d x(n, 3), u(n, 3);
-    for (Eigen::Index j = 0; j < n; ++j) {
-      x.row(j) = flat.row(far[j]);
-      u.row(j) = directions.row(far[j]);
-    }
-    const Eigen::VectorXd found = ClosestSurfacePoints(
-        surface, x, kClosestPointIterations, &u, evaluations, stop);
-    for (Eigen::Index j = 0; j < n; ++j) {
-      distance[far[j]] = std::min(distance[far[j]], found[j]);
-    }
-  }
+  const Eigen::VectorXd distance = FlatToSurfaceDistances(
+      surface, samples, faces, weights, directions, points,
+      kMeshSideSearchStop * threshold, evaluations);
   // Between lattice points (spacing 1/m of the face) the distance of a flat
   // triangle to a smooth surface is near quadratic, delta (1 - 4 (t - t*)^2)
   // on a unit edge: its maximum exceeds the largest at the points by a
