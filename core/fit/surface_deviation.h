@@ -123,9 +123,6 @@ struct SurfaceDeviation {
   // CoveringRadius.
   double mesh_to_surface_max_bound_percent = 0.0;
   int lattice_level = 0;
-  // Largest distance between the spline and its lattice image measured at
-  // the lattice triangles' centroids, percent.
-  double lattice_error_percent = 0.0;
   // Mesh vertices whose closest point needed Gauss-Newton steps.
   int64_t refined_vertices = 0;
   // Mesh -> surface distance of every mesh vertex, percent (the input's
