@@ -77,8 +77,9 @@ commands:
                              unless --qp); per-vertex colors (.ply/.gltf/
                              .glb): distance to --mesh, mean or Gaussian
                              curvature. The report's distance is measured
-                             at N (default 4) random points per face.
-                             docs/EXPORT.md.
+                             at N (default 4) random points per face. A
+                             model whose fit measured folds: exit 1
+                             unless --uniform. docs/EXPORT.md.
   export MODEL.sdcb -o OUT.{step,stp,igs,iges} [--tolerance PCT]
       [--angle DEG] [--max-patches N] [--json FILE] [--quiet]
                              The surface as bicubic B-spline patches in one

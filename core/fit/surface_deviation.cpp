@@ -26,6 +26,7 @@ constexpr double kInset = 1e-6;
 // A spline point farther than this times the distance to the lattice's image
 // starts a closest-point search on the spline.
 constexpr double kRefineRatio = 1.01;
+// Points at or above this share of the largest distance are searched too.
 constexpr double kSearchedShareOfMax = 0.5;
 // The mesh's side is split for at most this many times the samples asked.
 constexpr int64_t kMaxSampleRatio = 8;
@@ -184,7 +185,6 @@ struct SplineDistance {
     // order (several times faster than point order; each result the same).
     Eigen::MatrixX3d start(n, 3);
     Eigen::VectorXd image_distance(n);
-    std::vector<int> image_face(n);
     tbb::parallel_for(
         tbb::blocked_range<Eigen::Index>(0, n, 64),
         [&](const tbb::blocked_range<Eigen::Index>& range) {
@@ -201,7 +201,6 @@ struct SplineDistance {
             }
             start.row(i) = p.normalized().transpose();
             image_distance[i] = c.distance;
-            image_face[i] = c.face;
           }
         });
     Eigen::VectorXd distance(n);
