@@ -27,6 +27,11 @@ constexpr double kSimplificationShare = 0.96;
 // Samples per face: the pattern's faces are predicted within this fraction
 // of the tolerance.
 constexpr double kSampleErrorFraction = 1.0 / 8.0;
+// The simplification starts from the samples' coarse pattern, whose faces
+// pass criteria this many times looser (a third of the tolerance
+// predicted), with the other samples inside them: the same certificates,
+// without the collapses of the first passes.
+constexpr double kCoarseScale = 3.0;
 
 }  // namespace
 
@@ -63,6 +68,7 @@ StatusOr<Tessellation> TessellateAdaptively(
   sampling.angle_degrees = options.angle_degrees;
   sampling.error_fraction = kSampleErrorFraction;
   sampling.min_edge_radians = options.min_edge_radians;
+  sampling.coarse_scale = kCoarseScale;
   // Each final face holds many samples; a budget of faces bounds them.
   sampling.max_vertices = std::max<int64_t>(1'000'000, 8 * options.max_faces);
   sampling.progress = [&](int64_t vertices) {
@@ -80,6 +86,7 @@ StatusOr<Tessellation> TessellateAdaptively(
   certificate.tolerance = options.tolerance;
   certificate.angle_degrees = options.angle_degrees;
   SampledFaces faces(&samples, certificate);
+  if (!samples.coarse_faces.empty()) faces.StartFromCoarse();
   SimplificationOptions simplification;
   simplification.threshold = kSimplificationShare * options.tolerance;
   simplification.lattice_surface = &surface;

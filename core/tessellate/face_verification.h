@@ -10,9 +10,12 @@
 // threshold). Faces above `threshold` either way are split at the
 // domain midpoint of their longest image edge (with the face across it),
 // their samples redistributed, and the faces this made are measured the
-// same way, until every face passes or is too small to split. Each face's
-// distance is then the largest at its samples and its lattice, both ways: a
-// sampled maximum, not a bound.
+// same way, until every face passes or is too small to split; a face
+// outside the angle only (by at most 90 degrees) is split for it at most
+// eight times down its lineage, then left with its measured angle
+// (VerificationResult::max_angle). Each
+// face's distance is then the largest at its samples and its lattice, both
+// ways: a sampled maximum, not a bound.
 #ifndef SDCB_CORE_TESSELLATE_FACE_VERIFICATION_H_
 #define SDCB_CORE_TESSELLATE_FACE_VERIFICATION_H_
 

@@ -1,5 +1,7 @@
 #include "sdcb/core/tessellate/sampled_certificate.h"
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -70,6 +72,41 @@ void SampledFaces::SetLattice(const SurfaceSampler* surface, int order) {
       lattice_weights_.emplace_back(double(i) / order, double(j) / order,
                                     double(k) / order);
     }
+}
+
+void SampledFaces::StartFromCoarse() {
+  SurfaceSamples& s = *samples_;
+  const int nv = s.pattern.num_vertices();
+  const int nf = static_cast<int>(s.coarse_faces.size());
+  Eigen::MatrixX3d directions(nv, 3);
+  for (int v = 0; v < nv; ++v) directions.row(v) = s.pattern.vertex(v);
+  Eigen::MatrixX3i faces(nf, 3);
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) faces(f, k) = s.coarse_faces[f][k];
+  }
+  // The coarse faces are a triangulation of the sphere (a pattern the
+  // dense one refines): FromFaces accepts them.
+  s.pattern = SphereTriangulation::FromFaces(directions, faces, true).value();
+  inside_.assign(nf, {});
+  errors_.assign(nf, 0.0);
+  worst_.assign(nf, -1);
+  leans_.assign(nf, 0);
+  std::vector<std::vector<int>> members(nf);
+  for (int v = 0; v < nv; ++v) {
+    if (s.coarse_face_of[v] >= 0) members[s.coarse_face_of[v]].push_back(v);
+  }
+  tbb::parallel_for(0, nf, [&](int f) {
+    FaceChange change;
+    change.faces = {s.pattern.face(f)};
+    change.slots = {f};
+    change.freed.swap(members[f]);
+    ChangeResult result;
+    Measure(change, std::numeric_limits<double>::infinity(), true, &result);
+    inside_[f].swap(result.samples[0]);
+    errors_[f] = result.errors[0];
+    worst_[f] = result.worst_sample[0];
+    leans_[f] = result.leans[0];
+  });
 }
 
 void SampledFaces::Resize() {

@@ -103,6 +103,11 @@ class SampledFaces {
                        Eigen::Index count, double threshold, bool* angle_ok,
                        double* angle, Eigen::Index* worst) const;
 
+  // Makes the samples' coarse pattern (SurfaceSamples::coarse_faces) the
+  // pattern, each of the other vertices a sample inside its coarse face,
+  // and measures every face. The samples must have a coarse pattern.
+  void StartFromCoarse();
+
   // Grows the per-face state to the pattern's face slots (after splits).
   void Resize();
   // From now on Evaluate also measures each new face on the barycentric

@@ -16,7 +16,8 @@ SphereTriangulation SphereTriangulation::Icosphere(int subdivisions) {
 }
 
 StatusOr<SphereTriangulation> SphereTriangulation::FromFaces(
-    const Eigen::MatrixX3d& directions, const Eigen::MatrixX3i& faces) {
+    const Eigen::MatrixX3d& directions, const Eigen::MatrixX3i& faces,
+    bool allow_unused) {
   SphereTriangulation t;
   const int nv = static_cast<int>(directions.rows());
   const int nf = static_cast<int>(faces.rows());
@@ -58,7 +59,7 @@ StatusOr<SphereTriangulation> SphereTriangulation::FromFaces(
     t.twin_[h] = it->second;
   }
   for (int v = 0; v < nv; ++v) {
-    if (t.vertex_face_[v] < 0) {
+    if (t.vertex_face_[v] < 0 && !allow_unused) {
       return InvalidArgumentError("vertex " + std::to_string(v) +
                                   " is in no face");
     }

@@ -34,9 +34,11 @@ class SphereTriangulation {
   // A triangulation from unit `directions` (#V by 3) and `faces` (#F by 3,
   // counter-clockwise seen from outside). kInvalidArgument unless every
   // directed edge is used once and its reverse once (closed, manifold,
-  // consistently oriented) and every vertex is used.
+  // consistently oriented) and every vertex is used, or, with
+  // `allow_unused`, vertices in no face are kept as removed ones.
   static StatusOr<SphereTriangulation> FromFaces(
-      const Eigen::MatrixX3d& directions, const Eigen::MatrixX3i& faces);
+      const Eigen::MatrixX3d& directions, const Eigen::MatrixX3i& faces,
+      bool allow_unused = false);
 
   int num_vertices() const { return static_cast<int>(vertices_.size()); }
   // Face slots, including dead ones (see alive()).

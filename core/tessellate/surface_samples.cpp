@@ -87,6 +87,31 @@ SurfaceSamples SpatiallyOrdered(const SurfaceSamples& s) {
   out.pattern = std::move(pattern).value();
   out.size = s.size;
   out.evaluations = s.evaluations;
+  if (!s.coarse_faces.empty()) {
+    const int nc = static_cast<int>(s.coarse_faces.size());
+    std::vector<SphereTriangulation::Face> coarse(nc);
+    for (int c = 0; c < nc; ++c) {
+      SphereTriangulation::Face t;
+      for (int k = 0; k < 3; ++k) t[k] = rank[s.coarse_faces[c][k]];
+      while (t[0] > t[1] || t[0] > t[2]) t = {t[1], t[2], t[0]};
+      coarse[c] = t;
+    }
+    std::vector<int> by_first(nc);
+    std::iota(by_first.begin(), by_first.end(), 0);
+    std::sort(by_first.begin(), by_first.end(),
+              [&](int a, int b) { return coarse[a] < coarse[b]; });
+    std::vector<int> new_index(nc);
+    out.coarse_faces.resize(nc);
+    for (int c = 0; c < nc; ++c) {
+      new_index[by_first[c]] = c;
+      out.coarse_faces[c] = coarse[by_first[c]];
+    }
+    out.coarse_face_of.assign(n, -1);
+    for (int v = 0; v < n; ++v) {
+      const int c = s.coarse_face_of[v];
+      out.coarse_face_of[rank[v]] = c < 0 ? -1 : new_index[c];
+    }
+  }
   return out;
 }
 
@@ -143,13 +168,25 @@ StatusOr<SurfaceSamples> SampleSurface(const SurfaceSampler& surface,
   if (!std::isfinite(s.size)) {
     return InvalidInputError("the surface has a non-finite point");
   }
-  const double max_length =
-      options.length_factor * std::sqrt(options.tolerance * s.size);
-  const double max_error = options.error_fraction * options.tolerance;
+  const bool coarse_first = options.coarse_scale > 1.0;
   const bool test_angle = options.angle_degrees < 180.0;
   const double angle_length = options.angle_length_factor * options.tolerance;
-  const double min_cos =
-      std::cos(options.angle_degrees / options.angle_divisions * kPi / 180.0);
+  // The criteria, `scale` times looser than the options' (errors times it,
+  // lengths and angles times its square root, angles at most the final one).
+  double max_length = 0.0, max_error = 0.0, min_cos = 1.0;
+  const auto set_criteria = [&](double scale) {
+    max_length =
+        options.length_factor * std::sqrt(scale * options.tolerance * s.size);
+    max_error = scale * options.error_fraction * options.tolerance;
+    min_cos = std::cos(std::min(options.angle_degrees,
+                                options.angle_degrees * std::sqrt(scale) /
+                                    options.angle_divisions) *
+                       kPi / 180.0);
+  };
+  set_criteria(coarse_first ? options.coarse_scale : 1.0);
+  // Once the coarse pattern is done: per face slot, the coarse face it
+  // belongs to (empty before).
+  std::vector<int> ancestor;
 
   // Whether face f fails (see the header). Faces whose image is within the
   // error share of a point are left: at a singular point of the surface
@@ -201,8 +238,16 @@ StatusOr<SurfaceSamples> SampleSurface(const SurfaceSampler& surface,
     const int a = s.pattern.Origin(h), b = s.pattern.Target(h);
     touched->push_back(h / 3);
     touched->push_back(s.pattern.Twin(h) / 3);
+    const int f = h / 3, g = s.pattern.Twin(h) / 3;
     s.pattern.SplitEdge(
         h, (s.pattern.vertex(a) + s.pattern.vertex(b)).normalized());
+    if (!ancestor.empty()) {
+      const int slots = s.pattern.num_face_slots();
+      ancestor.resize(slots);
+      ancestor[slots - 2] = ancestor[f];
+      ancestor[slots - 1] = ancestor[g];
+      s.coarse_face_of.push_back(ancestor[f]);
+    }
   };
   // LEPP: walks from f across longest edges until two faces share their
   // longest edge, splits it, and starts again until f itself is split.
@@ -229,35 +274,49 @@ StatusOr<SurfaceSamples> SampleSurface(const SurfaceSampler& surface,
   std::vector<int> pending(s.pattern.num_face_slots());
   for (int f = 0; f < s.pattern.num_face_slots(); ++f) pending[f] = f;
   std::vector<char> failing;
-  while (!pending.empty()) {
-    failing.assign(pending.size(), 0);
-    tbb::parallel_for(size_t{0}, pending.size(), [&](size_t i) {
-      failing[i] = s.pattern.alive(pending[i]) && fails(pending[i]);
-    });
-    const int first_vertex = s.pattern.num_vertices();
-    const int first_face = s.pattern.num_face_slots();
-    std::vector<int> touched;
-    for (size_t i = 0; i < pending.size(); ++i) {
-      // A split earlier in this round may have split this face already.
-      const SphereTriangulation::Face& t = s.pattern.face(pending[i]);
-      if (failing[i] && s.pattern.alive(pending[i]) &&
-          std::max({t[0], t[1], t[2]}) < first_vertex) {
-        bisect(pending[i], &touched);
+  for (bool coarse = coarse_first;; coarse = false) {
+    while (!pending.empty()) {
+      failing.assign(pending.size(), 0);
+      tbb::parallel_for(size_t{0}, pending.size(), [&](size_t i) {
+        failing[i] = s.pattern.alive(pending[i]) && fails(pending[i]);
+      });
+      const int first_vertex = s.pattern.num_vertices();
+      const int first_face = s.pattern.num_face_slots();
+      std::vector<int> touched;
+      for (size_t i = 0; i < pending.size(); ++i) {
+        // A split earlier in this round may have split this face already.
+        const SphereTriangulation::Face& t = s.pattern.face(pending[i]);
+        if (failing[i] && s.pattern.alive(pending[i]) &&
+            std::max({t[0], t[1], t[2]}) < first_vertex) {
+          bisect(pending[i], &touched);
+        }
       }
+      if (s.pattern.num_vertices() > options.max_vertices) {
+        return InvalidInputError("the tolerance needs more than " +
+                                 std::to_string(options.max_vertices) +
+                                 " surface samples");
+      }
+      EvaluateNewVertices(surface, first_vertex, &s);
+      for (int f = first_face; f < s.pattern.num_face_slots(); ++f) {
+        touched.push_back(f);
+      }
+      std::sort(touched.begin(), touched.end());
+      touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+      pending = std::move(touched);
+      if (options.progress) options.progress(s.pattern.num_vertices());
     }
-    if (s.pattern.num_vertices() > options.max_vertices) {
-      return InvalidInputError("the tolerance needs more than " +
-                               std::to_string(options.max_vertices) +
-                               " surface samples");
+    if (!coarse) break;
+    // The coarse pattern is done: its faces, then the dense criteria.
+    ancestor.assign(s.pattern.num_face_slots(), -1);
+    for (int f = 0; f < s.pattern.num_face_slots(); ++f) {
+      if (!s.pattern.alive(f)) continue;
+      ancestor[f] = static_cast<int>(s.coarse_faces.size());
+      s.coarse_faces.push_back(s.pattern.face(f));
     }
-    EvaluateNewVertices(surface, first_vertex, &s);
-    for (int f = first_face; f < s.pattern.num_face_slots(); ++f) {
-      touched.push_back(f);
-    }
-    std::sort(touched.begin(), touched.end());
-    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-    pending = std::move(touched);
-    if (options.progress) options.progress(s.pattern.num_vertices());
+    s.coarse_face_of.assign(s.pattern.num_vertices(), -1);
+    set_criteria(1.0);
+    pending.resize(s.pattern.num_face_slots());
+    std::iota(pending.begin(), pending.end(), 0);
   }
   return SpatiallyOrdered(s);
 }

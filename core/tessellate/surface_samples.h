@@ -47,6 +47,11 @@ struct SurfaceSampleOptions {
   double length_factor = 0.5;
   double angle_divisions = 2.0;
   double angle_length_factor = 0.25;
+  // > 1: the refinement first stops where every face passes criteria
+  // `coarse_scale` times looser (errors times it, lengths and angles times
+  // its square root, angles at most angle_degrees) and keeps that pattern (SurfaceSamples::coarse_faces) before it
+  // goes on to the dense one.
+  double coarse_scale = 0.0;
   // The icosphere level the refinement starts from.
   int initial_level = 3;
   // Edges shorter than this on the domain (radians) are not split.
@@ -65,6 +70,12 @@ struct SurfaceSamples {
   // Diameter of the sampled surface (largest side of the samples' box).
   double size = 0.0;
   int64_t evaluations = 0;
+  // With SurfaceSampleOptions::coarse_scale: the coarser pattern's faces (a
+  // triangulation of the sphere by some of the pattern's vertices), and per
+  // vertex the coarse face whose domain triangle holds it (-1 for the
+  // coarse pattern's own vertices).
+  std::vector<SphereTriangulation::Face> coarse_faces;
+  std::vector<int> coarse_face_of;
 };
 
 // Refines the icosphere of `initial_level` until every face passes (see
