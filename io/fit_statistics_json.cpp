@@ -238,6 +238,11 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
   report["final"] = std::move(final_round);
   report["rounds"] = std::move(rounds);
   report["options"] = record["options"];
+  report["features"] = {{"angle_degrees", fit.features.angle_degrees},
+                        {"edges", fit.features.edges.size()},
+                        {"curves", fit.features.curves.size()},
+                        {"corners", fit.features.corners.size()},
+                        {"used", false}};
   const StageTimings& t = fit.timings;
   report["timings"] = {{"parameterization", t.parameterization},
                        {"knot_placement", t.knot_placement},

@@ -10,9 +10,11 @@
 //            "vertex_max_error_percent", "folded_area_percent"}
 // The report adds "seconds" to every ROUND, "timings": {"parameterization",
 // "knot_placement", "configurations", "basis", "solve", "total"} and
-// "round_details", "basis_form" and, when the target was missed,
-// "shortfall". Doubles are written with the shortest representation that
-// parses back to the same bits.
+// "round_details", "basis_form", "features": {"angle_degrees", "edges",
+// "curves", "corners", "used"} (the input's sharp features,
+// core/mesh/feature_curves.h; "used": whether the fit kept them sharp) and,
+// when the target was missed, "shortfall". Doubles are written with the
+// shortest representation that parses back to the same bits.
 #ifndef SDCB_IO_FIT_STATISTICS_JSON_H_
 #define SDCB_IO_FIT_STATISTICS_JSON_H_
 

@@ -3,7 +3,8 @@
 //          [--knots-growth G] [--max-rounds R] [--max-control-points M]
 //          [--lambda L]
 //          [--threads T] [--regularization R] [--store-parameters]
-//          [--quantize BITS] [--json FILE] [--plot FILE.svg] [--quiet]
+//          [--quantize BITS] [--feature-angle DEG] [--json FILE] [--plot
+//          FILE.svg] [--quiet]
 //          [--accept-folds] [--repair] [--max-file-mb N] [--max-memory-mb N]
 #include <tbb/task_arena.h>
 
@@ -28,7 +29,8 @@ const CommandOptions& FitOptionNames() {
   static const CommandOptions names = {
       Concat({"output", "degree", "rmse", "max-error", "knots-per-round",
               "knots-growth", "max-rounds", "max-control-points", "lambda",
-              "threads", "json", "plot", "regularization", "quantize"},
+              "threads", "json", "plot", "regularization", "quantize",
+              "feature-angle"},
              kMeshValueOptions),
       Concat({"quiet", "store-parameters", "accept-folds"}, kMeshFlagOptions)};
   return names;
@@ -62,6 +64,8 @@ int RunFit(const std::vector<std::string>& argv) {
   // most of a file's bytes and needed only to check the vertex errors.
   options.store_parameters = args.Has("store-parameters");
   options.fallback_accepts_folds = args.Has("accept-folds");
+  options.feature_angle_degrees =
+      args.GetDouble("feature-angle", options.feature_angle_degrees, 1e-3, 180);
   SdcbWriteOptions write_options;
   write_options.store_parameters = options.store_parameters;
   write_options.quantize_bits = args.GetInt("quantize", 0, 8, 30);
@@ -136,6 +140,12 @@ int RunFit(const std::vector<std::string>& argv) {
         "configurations %.2f s, basis %.2f s, solve %.2f s, measure %.2f s\n",
         t.parameterization, t.knot_placement, t.configurations, t.basis,
         t.solve, t.measure);
+    const MeshFeatures& features = fit->features;
+    std::printf(
+        "  sharp features (normals turning by > %g deg): %zu edges, %zu "
+        "curves, %zu corners (detected; the surface is smooth across them)\n",
+        features.angle_degrees, features.edges.size(), features.curves.size(),
+        features.corners.size());
     if (!quantization.lossless()) {
       std::printf(
           "  control points quantized to %d bits: the stored surface is "

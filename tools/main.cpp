@@ -33,7 +33,8 @@ commands:
   fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--max-error PCT] [--knots-per-round N]
       [--knots-growth G] [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
       [--regularization R] [--store-parameters] [--quantize BITS]
-      [--accept-folds] [--json FILE] [--plot FILE.svg] [--quiet] [--repair]
+      [--accept-folds] [--feature-angle DEG] [--json FILE] [--plot FILE.svg]
+      [--quiet] [--repair]
                              Fit one smooth spherical DCB-spline (defaults:
                              degree 4, rmse 0.05 %, max error 10 x rmse,
                              100 knots per round or
@@ -44,7 +45,9 @@ commands:
                              points in BITS bits, the error bound reported;
                              --accept-folds: a missed target returns the
                              most accurate round even if it folds;
-                             --repair as for check.
+                             --feature-angle DEG (default 30) reports the
+                             input's sharp edges, curves and corners (not
+                             yet kept sharp); --repair as for check.
   info MODEL.sdcb [--json FILE]
                              Summary of a model (format version, size,
                              quantization bound).

@@ -587,6 +587,8 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   model.source.num_vertices = mesh.num_vertices();
   model.source.num_faces = mesh.num_faces();
   model.source.hash = HashTriangleMesh(mesh);
+  SDCB_ASSIGN_OR_RETURN(s.result.features,
+                        DetectFeatures(mesh, o.feature_angle_degrees));
   model.statistics.options = RecordFitOptions(o);
   model.statistics.error_measure = ErrorMeasure::kDenseTwoSided;
   for (Eigen::Index f = 0; f < s.mesh.faces.rows(); ++f) {

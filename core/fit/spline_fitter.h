@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/mesh/feature_curves.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/spline/spline_model.h"
 
@@ -111,6 +112,11 @@ struct FitOptions {
   // TBB settings of the program are never changed.
   int threads = 0;
   bool store_parameters = true;  // keep the sphere point of every vertex
+  // Edges of the input where its normals turn by more than this (degrees,
+  // (0, 180]; 180: none) are detected as sharp features and reported
+  // (FitResult::features, core/mesh/feature_curves.h). The fit does not
+  // use them yet: the surface is smooth across them.
+  double feature_angle_degrees = 30.0;
   // Called at the start of every stage (from the calling thread).
   std::function<void(const FitProgress&)> progress;
 };
@@ -182,6 +188,8 @@ struct FitResult {
   Eigen::VectorXd vertex_errors_percent;
   // Why the target was not reached (empty when it was).
   std::string shortfall;
+  // The input's sharp features at FitOptions::feature_angle_degrees.
+  MeshFeatures features;
   // model.statistics.reached_target: the target was met.
   bool reached_target() const { return model.statistics.reached_target; }
 };

@@ -86,6 +86,38 @@ TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
   EXPECT_NE(svg.find("polyline"), std::string::npos);
 }
 
+// The report names the input's sharp features (core/mesh/feature_curves.h):
+// the cube's 12 edges, each a curve between two of its 8 corners; none at
+// --feature-angle 180; an angle outside (0, 180] is a usage error.
+TEST(FitCliTest, ReportCountsTheCubesSharpFeatures) {
+  const std::string dir = FreshTestDir();
+  const auto fit = [&](const std::string& angle) {
+    std::vector<std::string> args = {
+        "fit", MeshPath("cube.off"), "-o", dir + "/c.sdcb", "--rmse",
+        "5",   "--max-rounds",       "1",  "--json",        dir + "/c.json"};
+    if (!angle.empty()) {
+      args.push_back("--feature-angle");
+      args.push_back(angle);
+    }
+    return RunSdcb(args, dir);
+  };
+  RunResult r = fit("");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto features = nlohmann::json::parse(ReadBytes(dir + "/c.json"))["features"];
+  EXPECT_EQ(features["angle_degrees"], 30.0);
+  EXPECT_EQ(features["edges"], 12);
+  EXPECT_EQ(features["curves"], 12);
+  EXPECT_EQ(features["corners"], 8);
+  EXPECT_EQ(features["used"], false);
+  r = fit("180");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  features = nlohmann::json::parse(ReadBytes(dir + "/c.json"))["features"];
+  EXPECT_EQ(features["edges"], 0);
+  EXPECT_EQ(features["corners"], 0);
+  r = fit("0");
+  EXPECT_EQ(r.exit_code, 2);
+}
+
 // Without --quiet the summary prints the seconds of every stage: the
 // report's values, and together no more than the whole fit (the stages run
 // one after the other).
