@@ -148,20 +148,29 @@ int RunExport(const std::vector<std::string>& argv) {
     }
   }
   if (!quiet) {
+    std::printf("%s -> %s: %lld triangles, %lld vertices, %lld bytes\n",
+                model_path.c_str(), output.c_str(),
+                static_cast<long long>(report.triangles),
+                static_cast<long long>(report.vertices),
+                static_cast<long long>(report.bytes));
+    if (options.uniform_vertices > 0) {
+      // A uniform mesh has no tolerance to hold or optimum to compare.
+      std::printf(
+          "  uniform, no tolerance  measured max distance %.4g%%  "
+          "%.2f s\n",
+          report.max_distance_percent, report.seconds.total);
+    } else {
+      std::printf(
+          "  tolerance %.4g%%  measured max distance %.4g%%  %.2f x optimum  "
+          "%.2f s\n",
+          report.tolerance_percent, report.max_distance_percent,
+          report.triangles_vs_optimum, report.seconds.total);
+    }
     std::printf(
-        "%s -> %s: %lld triangles, %lld vertices, %lld bytes\n"
-        "  tolerance %.4g%%  measured max distance %.4g%%  %.2f x optimum  "
-        "%.2f s\n"
         "  seconds: samples %.2f, simplify %.2f, verify %.2f, measure %.2f, "
         "optimum %.2f, encode and write %.2f\n",
-        model_path.c_str(), output.c_str(),
-        static_cast<long long>(report.triangles),
-        static_cast<long long>(report.vertices),
-        static_cast<long long>(report.bytes), report.tolerance_percent,
-        report.max_distance_percent, report.triangles_vs_optimum,
-        report.seconds.total, report.seconds.samples, report.seconds.simplify,
-        report.seconds.verify, report.seconds.measure, report.seconds.optimum,
-        report.seconds.write);
+        report.seconds.samples, report.seconds.simplify, report.seconds.verify,
+        report.seconds.measure, report.seconds.optimum, report.seconds.write);
   }
   return kExitOk;
 }
