@@ -6,16 +6,10 @@
 // Distances (percent of the largest side): max over the input's vertices of
 // the distance to the candidate mesh, and over the candidate's vertices and
 // face centroids of the distance to the input (CGAL AABB trees).
-#include <CGAL/Simple_cartesian.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
-#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
-
-#include <Eigen/Geometry>
 #include <cstdio>
 #include <filesystem>
 
+#include "bench/garland_heckbert.h"
 #include "sdcb/converters/gltf_export.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/spline/piecewise_surface.h"
@@ -24,45 +18,6 @@
 #include "sdcb/io/sdcb_file.h"
 
 namespace {
-
-using Kernel = CGAL::Simple_cartesian<double>;
-using Mesh = CGAL::Surface_mesh<Kernel::Point_3>;
-namespace SMS = CGAL::Surface_mesh_simplification;
-
-sdcb::TriangleMesh Decimate(const sdcb::TriangleMesh& input, int faces) {
-  Mesh m;
-  std::vector<Mesh::Vertex_index> v;
-  for (Eigen::Index i = 0; i < input.vertices.rows(); ++i) {
-    v.push_back(m.add_vertex(Kernel::Point_3(
-        input.vertices(i, 0), input.vertices(i, 1), input.vertices(i, 2))));
-  }
-  for (Eigen::Index f = 0; f < input.faces.rows(); ++f) {
-    m.add_face(v[input.faces(f, 0)], v[input.faces(f, 1)],
-               v[input.faces(f, 2)]);
-  }
-  SMS::GarlandHeckbert_plane_policies<Mesh, Kernel> policies(m);
-  // Closed triangle meshes: E = 3F / 2.
-  SMS::Count_stop_predicate<Mesh> stop(3 * static_cast<std::size_t>(faces) / 2);
-  SMS::edge_collapse(m, stop,
-                     CGAL::parameters::get_cost(policies.get_cost())
-                         .get_placement(policies.get_placement()));
-  m.collect_garbage();
-  sdcb::TriangleMesh out;
-  out.vertices.resize(m.number_of_vertices(), 3);
-  for (auto x : m.vertices()) {
-    const auto& p = m.point(x);
-    out.vertices.row(x.idx()) << p.x(), p.y(), p.z();
-  }
-  out.faces.resize(m.number_of_faces(), 3);
-  int r = 0;
-  for (auto f : m.faces()) {
-    int k = 0;
-    for (auto x : vertices_around_face(m.halfedge(f), m))
-      out.faces(r, k++) = x.idx();
-    ++r;
-  }
-  return out;
-}
 
 // Two-sided distance between `a` and the input (see the header comment).
 double Distance(const sdcb::TriangleMesh& a, const sdcb::TriangleMesh& input,
@@ -137,7 +92,9 @@ int main(int argc, char** argv) {
   sdcb::TriangleMesh best = *input;
   for (int it = 0; it < 14 && hi - lo > std::max(8, hi / 200); ++it) {
     const int mid = (lo + hi) / 2;
-    sdcb::TriangleMesh d = Decimate(*input, mid);
+    // Closed triangle meshes: E = 3F / 2.
+    sdcb::TriangleMesh d = sdcb_bench::DecimateToEdges(
+        *input, 3 * static_cast<std::size_t>(mid) / 2);
     if (Distance(d, *input, to_input) <= target) {
       hi = mid;
       best = std::move(d);

@@ -1,7 +1,8 @@
 // Writes small valid .sdcb models (degrees 0..3, a few knots, with and
-// without sphere parameters) into the directory given as the argument: the
-// seeds of corpus/sdcb. The models come from the tests' fixture, whose
-// configurations are found by brute force.
+// without sphere parameters; format version 3's grid knots and predicted
+// control points, version 2's quantized ones) into the directory given as
+// the argument: the seeds of corpus/sdcb. The models come from the tests'
+// fixture, whose configurations are found by brute force.
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -27,6 +28,29 @@ int main(int argc, char** argv) {
     const std::string path = std::string(argv[1]) + "/degree" +
                              std::to_string(m.degree) + "_knots" +
                              std::to_string(m.knots) + ".sdcb";
+    std::ofstream(path, std::ios::binary) << *bytes;
+    std::printf("%s: %zu bytes\n", path.c_str(), bytes->size());
+  }
+  // Format version 3: knots on a grid (QKNT), control points predicted and
+  // range-coded (PCTL); and version 2's quantized chunk (QCTL).
+  const struct {
+    const char* name;
+    int degree, knots, quantize_bits, format_version;
+  } quantized[] = {{"v3_grid_knots_degree2", 2, 9, 0, 3},
+                   {"v3_grid_knots_pctl_degree1", 1, 8, 12, 3},
+                   {"v3_grid_knots_pctl_degree3", 3, 9, 20, 3},
+                   {"v2_qctl_degree2", 2, 8, 10, 2}};
+  for (const auto& q : quantized) {
+    sdcb::SdcbWriteOptions options;
+    options.quantize_bits = q.quantize_bits;
+    options.format_version = q.format_version;
+    const auto bytes = sdcb::SerializeSdcb(
+        sdcb::testing::MakeGridTestModel(q.degree, q.knots, 16), options);
+    if (!bytes.ok()) {
+      std::fprintf(stderr, "%s\n", bytes.status().message().c_str());
+      return 1;
+    }
+    const std::string path = std::string(argv[1]) + "/" + q.name + ".sdcb";
     std::ofstream(path, std::ios::binary) << *bytes;
     std::printf("%s: %zu bytes\n", path.c_str(), bytes->size());
   }

@@ -53,6 +53,42 @@ Eigen::MatrixX3d DequantizeControlPoints(const Eigen::Vector3d& origin,
 
 StatusOr<QuantizedControlPoints> QuantizeControlPoints(const SplineModel& model,
                                                        int bits) {
+  if (model.basis_form == BasisForm::kNormalized) {
+    return QuantizeControlPoints(model, bits, 1.0, false);
+  }
+  StatusOr<double> max_sum = MeasureMaxBasisSum(model);
+  if (!max_sum.ok()) return max_sum.status();
+  return QuantizeControlPoints(model, bits, *max_sum, true);
+}
+
+StatusOr<QuantizedControlPoints> QuantizeControlPointsWithin(
+    const SplineModel& model, double max_bound) {
+  if (!(max_bound > 0) || !std::isfinite(max_bound)) {
+    return InvalidArgumentError(
+        "cannot quantize within a bound that is not finite and > 0");
+  }
+  double max_sum = 1.0;
+  if (model.basis_form == BasisForm::kRaw) {
+    StatusOr<double> measured = MeasureMaxBasisSum(model);
+    if (!measured.ok()) return measured.status();
+    max_sum = *measured;
+  }
+  const bool measured = model.basis_form == BasisForm::kRaw;
+  for (int bits = kMinQuantizationBits; bits <= kMaxQuantizationBits; ++bits) {
+    StatusOr<QuantizedControlPoints> q =
+        QuantizeControlPoints(model, bits, max_sum, measured);
+    if (!q.ok()) return q.status();
+    if (q->quantization.surface_error_bound() <= max_bound) return q;
+  }
+  return InvalidArgumentError("cannot quantize the control points within " +
+                              std::to_string(100 * max_bound) + " % even at " +
+                              std::to_string(kMaxQuantizationBits) + " bits");
+}
+
+StatusOr<QuantizedControlPoints> QuantizeControlPoints(const SplineModel& model,
+                                                       int bits,
+                                                       double max_basis_sum,
+                                                       bool measured) {
   if (bits < kMinQuantizationBits || bits > kMaxQuantizationBits) {
     return InvalidArgumentError(
         "cannot quantize control points to " + std::to_string(bits) +
@@ -89,15 +125,8 @@ StatusOr<QuantizedControlPoints> QuantizeControlPoints(const SplineModel& model,
   }
   out.values = DequantizeControlPoints(q.origin, q.step, out.codes);
   q.max_displacement = (out.values - points).rowwise().norm().maxCoeff();
-  if (model.basis_form == BasisForm::kNormalized) {
-    q.max_basis_sum = 1.0;
-    q.basis_sum_measured = false;
-  } else {
-    StatusOr<double> max_sum = MeasureMaxBasisSum(model);
-    if (!max_sum.ok()) return max_sum.status();
-    q.max_basis_sum = *max_sum;
-    q.basis_sum_measured = true;
-  }
+  q.max_basis_sum = max_basis_sum;
+  q.basis_sum_measured = measured;
   return out;
 }
 

@@ -77,6 +77,21 @@ struct QuantizedControlPoints {
 // points; for kRaw plus one evaluation of the basis at the samples.
 StatusOr<QuantizedControlPoints> QuantizeControlPoints(const SplineModel& model,
                                                        int bits);
+// The same with max_p I(p) given (`max_basis_sum`, `measured` as in
+// ControlPointQuantization): no evaluation of the basis.
+StatusOr<QuantizedControlPoints> QuantizeControlPoints(const SplineModel& model,
+                                                       int bits,
+                                                       double max_basis_sum,
+                                                       bool measured);
+
+// The fewest bits (kMinQuantizationBits..kMaxQuantizationBits) whose
+// surface_error_bound() is at most `max_bound` (normalized frame, > 0), and
+// their quantization. kInvalidArgument as QuantizeControlPoints, or if even
+// kMaxQuantizationBits exceed `max_bound`. For kRaw the basis sum is
+// measured once. Cost: at most 32 quantizations, linear in the control
+// points each.
+StatusOr<QuantizedControlPoints> QuantizeControlPointsWithin(
+    const SplineModel& model, double max_bound);
 
 // c'_i from a grid and codes (laid out as QuantizedControlPoints::codes);
 // codes.size() must be a multiple of 3.

@@ -134,7 +134,8 @@ json FitStatisticsToJson(const FitStatistics& s) {
                 {"fallback_accepts_folds", o.fallback_accepts_folds},
                 {"round_samples_per_knot", o.round_samples_per_knot},
                 {"final_surface_samples", o.final_surface_samples},
-                {"final_mesh_samples", o.final_mesh_samples}}},
+                {"final_mesh_samples", o.final_mesh_samples},
+                {"knot_grid_bits", o.knot_grid_bits}}},
               {"error_measure", ErrorMeasureName(s.error_measure)},
               {"reached_target", s.reached_target}};
 }
@@ -191,6 +192,8 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
                                    &so.final_surface_samples, GetInt));
   SDCB_RETURN_IF_ERROR(GetOptional(*o, "final_mesh_samples", ow,
                                    &so.final_mesh_samples, GetInt));
+  SDCB_RETURN_IF_ERROR(
+      GetOptional(*o, "knot_grid_bits", ow, &so.knot_grid_bits, GetInt));
 
   // Version 1 measured at the vertices and did not store the outcome.
   s.error_measure = ErrorMeasure::kVertices;

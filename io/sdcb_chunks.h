@@ -13,7 +13,9 @@
 #include <vector>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/sphere/unit_vector_grid.h"
 #include "sdcb/core/spline/spline_model.h"
+#include "sdcb/io/control_point_quantization.h"
 
 namespace sdcb::sdcb_internal {
 
@@ -24,7 +26,9 @@ constexpr ChunkType kHead = {'H', 'E', 'A', 'D'};
 constexpr ChunkType kKnot = {'K', 'N', 'O', 'T'};
 constexpr ChunkType kBsis = {'B', 'S', 'I', 'S'};  // version 1 only
 constexpr ChunkType kCtrl = {'C', 'T', 'R', 'L'};
-constexpr ChunkType kQctl = {'Q', 'C', 'T', 'L'};  // version 2
+constexpr ChunkType kQctl = {'Q', 'C', 'T', 'L'};  // versions 2 and 3
+constexpr ChunkType kPctl = {'P', 'C', 'T', 'L'};  // version 3
+constexpr ChunkType kQknt = {'Q', 'K', 'N', 'T'};  // version 3
 constexpr ChunkType kXfrm = {'X', 'F', 'R', 'M'};
 constexpr ChunkType kStat = {'S', 'T', 'A', 'T'};
 constexpr ChunkType kSrcm = {'S', 'R', 'C', 'M'};
@@ -35,7 +39,8 @@ constexpr size_t kHeaderBytes = 12;      // magic + version
 constexpr size_t kChunkFrameBytes = 16;  // type + length + CRC
 constexpr size_t kXfrmPayloadBytes = 32;
 constexpr size_t kSrcmFixedBytes = 24;
-constexpr size_t kPointBytes = 24;  // three f64
+constexpr size_t kPointBytes = 24;      // three f64
+constexpr uint64_t kCodeRowBytes = 12;  // three u32 codes
 // Counts must also be valid `int` indices.
 constexpr uint64_t kMaxCount = 0x7fffffff;
 
@@ -172,6 +177,39 @@ std::string SourcePayload(const SourceMeshInfo& s);
 StatusOr<SourceMeshInfo> ParseSource(std::string_view payload);
 // The STAT JSON text (io/fit_statistics_json.h).
 StatusOr<FitStatistics> ParseStatistics(std::string_view json_text);
+
+// Packed payloads (docs/FORMAT.md): u64 inflated length L, then a zlib
+// stream of L bytes. Unpacked checks L against `expected` (if >= 0), the
+// length the counts imply; `chunk` names it in messages.
+std::string Packed(const std::string& inflated);
+StatusOr<std::string> Unpacked(std::string_view payload, int64_t expected,
+                               const char* chunk);
+// Points as doubles by coordinate (all x, then all y, then all z), in byte
+// planes, packed; UnpackPoints needs exactly `rows` of them.
+std::string PackPoints(const Eigen::MatrixX3d& points);
+StatusOr<Eigen::MatrixX3d> UnpackPoints(std::string_view payload, uint64_t rows,
+                                        const char* chunk);
+
+// QCTL (zigzag deltas of the previous point's codes, packed) and PCTL
+// (codes predicted from the adjacent basis functions', range-coded,
+// io/control_point_coding.h). The parsers fill `g` and return the stored
+// control points; `rows` / the configurations give their number.
+std::string QuantizedPayload(const QuantizedControlPoints& q);
+StatusOr<Eigen::MatrixX3d> ParseQuantized(std::string_view payload,
+                                          uint64_t rows, BasisForm form,
+                                          ControlPointQuantization* g);
+std::string PredictedPayload(const QuantizedControlPoints& q,
+                             const DelaunayConfigurations& configurations);
+StatusOr<Eigen::MatrixX3d> ParsePredicted(
+    std::string_view payload, const DelaunayConfigurations& configurations,
+    BasisForm form, ControlPointQuantization* g);
+
+// QKNT: knots on the octahedral grid of `bits` bits
+// (core/sphere/unit_vector_grid.h), 2 x bits bits each; ParseKnotGrid needs
+// exactly `rows` knots and sets *grid_bits.
+std::string KnotGridPayload(const std::vector<UnitVectorCode>& codes, int bits);
+StatusOr<Eigen::MatrixX3d> ParseKnotGrid(std::string_view payload,
+                                         uint64_t rows, int* grid_bits);
 
 // Decodes the chunks of a version 1 file (io/sdcb_file_v1.cpp).
 StatusOr<SplineModel> DecodeVersion1(std::string_view bytes);

@@ -22,11 +22,6 @@ using namespace sdcb_internal;  // NOLINT: the chunk codec of this file
 
 // Version 2 (docs/FORMAT.md).
 constexpr size_t kHeadPayloadBytes = 40;
-constexpr size_t kPackedLengthBytes = 8;  // u64 inflated length
-// QCTL before its packed codes: u32 bits, 3 f64 origin, 3 f64 step, f64 D,
-// f64 max basis sum.
-constexpr size_t kQctlFixedBytes = 4 + 24 + 24 + 8 + 8;
-constexpr uint64_t kCodeRowBytes = 12;  // three u32 codes
 
 std::string Hex64(uint64_t v) {
   char buffer[19];
@@ -35,154 +30,20 @@ std::string Hex64(uint64_t v) {
   return buffer;
 }
 
-// ---------------------------------------------------------------------------
-// Packed payloads: u64 inflated length L, then a zlib stream of L bytes.
-
-std::string Packed(const std::string& inflated) {
-  ByteWriter w;
-  w.U64(inflated.size());
-  w.Bytes(ZlibCompress(inflated));
-  return std::move(w.str());
-}
-
-// Inflates a packed payload; `expected` (if >= 0) is the length the counts
-// imply.
-StatusOr<std::string> Unpacked(std::string_view payload, int64_t expected,
-                               const char* chunk) {
-  ByteReader r(payload);
-  uint64_t length = 0;
-  if (!r.U64(&length)) {
-    return Corrupt(std::string("the ") + chunk + " chunk has " +
-                   Str(payload.size()) +
-                   " bytes, too few for its inflated length");
+StatusOr<QuantizedControlPoints> QuantizeForOptions(
+    const SplineModel& model, const SdcbWriteOptions& options) {
+  if (options.quantize_bits != kQuantizeBitsAuto) {
+    return QuantizeControlPoints(model, options.quantize_bits);
   }
-  if (expected >= 0 && length != static_cast<uint64_t>(expected)) {
-    return Corrupt(std::string("the ") + chunk + " chunk declares " +
-                   Str(length) + " inflated bytes; HEAD's counts need " +
-                   Str(expected));
+  const double rms = model.statistics.final_result.rmse_percent / 100;
+  const double fraction = options.quantize_fraction_of_rms;
+  if (!(rms > 0) || !std::isfinite(rms) || !(fraction > 0) ||
+      !std::isfinite(fraction)) {
+    return InvalidArgumentError(
+        "cannot choose the quantization bits: it needs the fit's rms (> 0) "
+        "and a fraction of it > 0");
   }
-  StatusOr<std::string> inflated = ZlibDecompress(r.Rest(), length);
-  if (!inflated.ok()) {
-    return Corrupt(std::string("the ") + chunk +
-                   " chunk: " + inflated.status().message());
-  }
-  return inflated;
-}
-
-// Points as doubles by coordinate (all x, then all y, then all z), in byte
-// planes.
-std::string PackPoints(const Eigen::MatrixX3d& points) {
-  ByteWriter w;
-  for (int c = 0; c < 3; ++c) {
-    for (Eigen::Index i = 0; i < points.rows(); ++i) w.F64(points(i, c));
-  }
-  return Packed(ToBytePlanes(w.str(), 8));
-}
-
-StatusOr<Eigen::MatrixX3d> UnpackPoints(std::string_view payload, uint64_t rows,
-                                        const char* chunk) {
-  SDCB_ASSIGN_OR_RETURN(
-      const std::string planes,
-      Unpacked(payload, static_cast<int64_t>(rows * kPointBytes), chunk));
-  const std::string values = FromBytePlanes(planes, 8);
-  ByteReader r(values);
-  Eigen::MatrixX3d m(static_cast<Eigen::Index>(rows), 3);
-  for (int c = 0; c < 3; ++c) {
-    for (Eigen::Index i = 0; i < m.rows(); ++i) (void)r.F64(&m(i, c));
-  }
-  return m;
-}
-
-// Zigzag code of a difference taken modulo 2^32 (read as int32): small
-// differences of either sign give small codes.
-uint32_t Zigzag(uint32_t difference) {
-  return (difference << 1) ^ (0u - (difference >> 31));
-}
-uint32_t Unzigzag(uint32_t z) { return (z >> 1) ^ (0u - (z & 1u)); }
-
-// QCTL: the grid, then the codes of each coordinate as zigzag differences
-// from the previous control point's (control points of neighbouring sets
-// share knots and lie close), u32 in byte planes.
-std::string QuantizedPayload(const QuantizedControlPoints& q) {
-  ByteWriter w;
-  const ControlPointQuantization& g = q.quantization;
-  w.U32(static_cast<uint32_t>(g.bits));
-  for (int c = 0; c < 3; ++c) w.F64(g.origin[c]);
-  for (int c = 0; c < 3; ++c) w.F64(g.step[c]);
-  w.F64(g.max_displacement);
-  w.F64(g.max_basis_sum);
-  ByteWriter codes;
-  const size_t rows = q.codes.size() / 3;
-  for (int c = 0; c < 3; ++c) {
-    uint32_t previous = 0;
-    for (size_t i = 0; i < rows; ++i) {
-      const uint32_t code = q.codes[c * rows + i];
-      codes.U32(Zigzag(code - previous));
-      previous = code;
-    }
-  }
-  w.Bytes(Packed(ToBytePlanes(codes.str(), 4)));
-  return std::move(w.str());
-}
-
-StatusOr<Eigen::MatrixX3d> ParseQuantized(std::string_view payload,
-                                          uint64_t rows, BasisForm form,
-                                          ControlPointQuantization* g) {
-  if (payload.size() < kQctlFixedBytes) {
-    return Corrupt("the QCTL chunk has " + Str(payload.size()) +
-                   " bytes; it needs at least " + Str(kQctlFixedBytes));
-  }
-  ByteReader r(payload);
-  uint32_t bits = 0;
-  (void)r.U32(&bits);
-  for (int c = 0; c < 3; ++c) (void)r.F64(&g->origin[c]);
-  for (int c = 0; c < 3; ++c) (void)r.F64(&g->step[c]);
-  (void)r.F64(&g->max_displacement);
-  (void)r.F64(&g->max_basis_sum);
-  if (bits < kMinQuantizationBits || bits > kMaxQuantizationBits) {
-    return Corrupt("the QCTL chunk declares " + Str(bits) + " bits; " +
-                   Str(kMinQuantizationBits) + ".." +
-                   Str(kMaxQuantizationBits) + " are valid");
-  }
-  g->bits = static_cast<int>(bits);
-  if (!g->origin.allFinite() || !g->step.allFinite() ||
-      (g->step.array() < 0).any()) {
-    return Corrupt(
-        "the QCTL chunk's grid needs a finite origin and finite steps >= 0");
-  }
-  g->basis_sum_measured = form == BasisForm::kRaw;
-  if (!std::isfinite(g->max_displacement) || !(g->max_displacement >= 0) ||
-      !std::isfinite(g->max_basis_sum) ||
-      (form == BasisForm::kNormalized ? g->max_basis_sum != 1.0
-                                      : !(g->max_basis_sum > 0))) {
-    return Corrupt(
-        "the QCTL chunk's error bound is invalid (the displacement must be "
-        "finite and >= 0, the basis sum 1 for the normalized basis, finite "
-        "and > 0 for the raw one)");
-  }
-  SDCB_ASSIGN_OR_RETURN(
-      const std::string planes,
-      Unpacked(r.Rest(), static_cast<int64_t>(rows * kCodeRowBytes), "QCTL"));
-  const std::string zigzags = FromBytePlanes(planes, 4);
-  ByteReader codes_reader(zigzags);
-  std::vector<uint32_t> codes(3 * rows);
-  const uint64_t top = (uint64_t{1} << bits) - 1;
-  for (int c = 0; c < 3; ++c) {
-    uint32_t previous = 0;
-    for (uint64_t i = 0; i < rows; ++i) {
-      uint32_t z = 0;
-      (void)codes_reader.U32(&z);
-      const uint32_t code = previous + Unzigzag(z);
-      if (code > top) {
-        return Corrupt("the QCTL chunk's code " + Str(code) +
-                       " of control point " + Str(i) + " exceeds " + Str(bits) +
-                       " bits");
-      }
-      codes[c * rows + i] = code;
-      previous = code;
-    }
-  }
-  return DequantizeControlPoints(g->origin, g->step, codes);
+  return QuantizeControlPointsWithin(model, fraction * rms);
 }
 
 // ---------------------------------------------------------------------------
@@ -208,10 +69,12 @@ std::string HeadPayload(const Head& h) {
   return std::move(w.str());
 }
 
-StatusOr<Head> ParseHead(std::string_view payload, size_t file_size) {
+StatusOr<Head> ParseHead(std::string_view payload, uint32_t version,
+                         size_t file_size) {
   if (payload.size() != kHeadPayloadBytes) {
     return Corrupt("the HEAD chunk has " + Str(payload.size()) +
-                   " bytes; version 2 needs " + Str(kHeadPayloadBytes));
+                   " bytes; version " + Str(version) + " needs " +
+                   Str(kHeadPayloadBytes));
   }
   ByteReader r(payload);
   uint32_t degree = 0, form = 0;
@@ -256,33 +119,73 @@ std::string ConfigurationDifference(const DelaunayConfigurations& a,
   return "";
 }
 
-StatusOr<SplineModel> DecodeVersion2(std::string_view bytes,
-                                     ControlPointQuantization* quantization) {
-  Chunks chunks({kHead, kKnot, kCtrl, kQctl, kXfrm, kStat, kSrcm, kParm, kEnd});
+// Versions 2 and 3 (version 3 adds QKNT and PCTL).
+StatusOr<SplineModel> DecodeVersion2Or3(std::string_view bytes,
+                                        uint32_t version,
+                                        SdcbFileInfo* file_info) {
+  ControlPointQuantization* quantization = &file_info->quantization;
+  std::vector<ChunkType> known = {kHead, kKnot, kCtrl, kQctl, kXfrm,
+                                  kStat, kSrcm, kParm, kEnd};
+  if (version >= 3) {
+    known.push_back(kQknt);
+    known.push_back(kPctl);
+  }
+  Chunks chunks(known);
   SDCB_RETURN_IF_ERROR(SplitChunks(bytes, &chunks));
-  for (const ChunkType& required : {kKnot, kXfrm, kSrcm, kEnd}) {
+  for (const ChunkType& required : {kXfrm, kSrcm, kEnd}) {
     if (!chunks.Has(required)) {
       return Corrupt("the required chunk " + TypeName(required) +
                      " is missing");
     }
   }
-  if (chunks.Has(kCtrl) == chunks.Has(kQctl)) {
-    return Corrupt(chunks.Has(kCtrl)
-                       ? "the file has both a 'CTRL' and a 'QCTL' chunk"
-                       : "the required chunk 'CTRL' (or 'QCTL') is missing");
+  const bool knot_grid = version >= 3 && chunks.Has(kQknt);
+  if (chunks.Has(kKnot) == knot_grid) {
+    return Corrupt(knot_grid ? "the file has both a 'KNOT' and a 'QKNT' chunk"
+                   : version >= 3
+                       ? "the required chunk 'KNOT' (or 'QKNT') is missing"
+                       : "the required chunk 'KNOT' is missing");
+  }
+  const bool predicted = version >= 3 && chunks.Has(kPctl);
+  std::vector<std::string> control;
+  for (const ChunkType& t : {kCtrl, kQctl, kPctl}) {
+    if (chunks.IndexOf(t) >= 0 && chunks.Has(t)) control.push_back(TypeName(t));
+  }
+  if (control.empty()) {
+    return Corrupt(std::string("the required chunk 'CTRL' (or 'QCTL'") +
+                   (version >= 3 ? ", 'PCTL'" : "") + ") is missing");
+  }
+  if (control.size() == 2) {
+    return Corrupt("the file has both a " + control[0] + " and a " +
+                   control[1] + " chunk");
+  }
+  if (control.size() == 3) {
+    return Corrupt("the file has a 'CTRL', a 'QCTL' and a 'PCTL' chunk");
+  }
+  // A writer uses version 3 only for its chunks (SerializeSdcb writes the
+  // lowest version that holds the file).
+  if (version >= 3 && !knot_grid && !predicted) {
+    return Corrupt(
+        "a version 3 file needs a 'QKNT' or a 'PCTL' chunk (without them it "
+        "would be version 2)");
   }
   SDCB_ASSIGN_OR_RETURN(const Head head,
-                        ParseHead(chunks.Get(kHead), bytes.size()));
+                        ParseHead(chunks.Get(kHead), version, bytes.size()));
   SplineModel m;
   m.degree = head.degree;
   m.basis_form = head.basis_form;
-  SDCB_ASSIGN_OR_RETURN(
-      m.knots, UnpackPoints(chunks.Get(kKnot), head.num_knots, "KNOT"));
+  if (knot_grid) {
+    SDCB_ASSIGN_OR_RETURN(m.knots,
+                          ParseKnotGrid(chunks.Get(kQknt), head.num_knots,
+                                        &file_info->knot_grid_bits));
+  } else {
+    SDCB_ASSIGN_OR_RETURN(
+        m.knots, UnpackPoints(chunks.Get(kKnot), head.num_knots, "KNOT"));
+  }
   if (chunks.Has(kCtrl)) {
     SDCB_ASSIGN_OR_RETURN(
         m.control_points,
         UnpackPoints(chunks.Get(kCtrl), head.num_basis, "CTRL"));
-  } else {
+  } else if (chunks.Has(kQctl)) {
     SDCB_ASSIGN_OR_RETURN(m.control_points,
                           ParseQuantized(chunks.Get(kQctl), head.num_basis,
                                          head.basis_form, quantization));
@@ -332,6 +235,13 @@ StatusOr<SplineModel> DecodeVersion2(std::string_view bytes,
                    Hex64(head.configuration_hash) +
                    " (corrupt file, or written with other configurations)");
   }
+  // PCTL's prediction follows the configurations: decoded once they are
+  // known to be the writer's.
+  if (predicted) {
+    SDCB_ASSIGN_OR_RETURN(m.control_points,
+                          ParsePredicted(chunks.Get(kPctl), m.configurations,
+                                         head.basis_form, quantization));
+  }
   const Status valid = ValidateSplineModel(m);
   if (!valid.ok()) return Corrupt("invalid model: " + valid.message());
   return m;
@@ -353,6 +263,7 @@ StatusOr<std::string> SerializeSdcb(const SplineModel& model,
                                 valid.message());
   }
   if (options.quantize_bits != 0 &&
+      options.quantize_bits != kQuantizeBitsAuto &&
       (options.quantize_bits < kMinQuantizationBits ||
        options.quantize_bits > kMaxQuantizationBits)) {
     return InvalidArgumentError("cannot quantize control points to " +
@@ -378,16 +289,42 @@ StatusOr<std::string> SerializeSdcb(const SplineModel& model,
         "knots (the model has " +
         difference + ")");
   }
+  if (options.format_version != 2 && options.format_version != 3) {
+    return InvalidArgumentError("cannot write .sdcb format version " +
+                                Str(options.format_version) +
+                                "; versions 2 and 3 are written");
+  }
+  const bool version3 = options.format_version == 3;
   ControlPointQuantization quantization;
+  ChunkType control_type = kCtrl;
   std::string control_points;
   if (options.quantize_bits == 0) {
     control_points = PackPoints(model.control_points);
   } else {
     SDCB_ASSIGN_OR_RETURN(const QuantizedControlPoints q,
-                          QuantizeControlPoints(model, options.quantize_bits));
-    control_points = QuantizedPayload(q);
+                          QuantizeForOptions(model, options));
+    control_type = version3 ? kPctl : kQctl;
+    control_points = version3 ? PredictedPayload(q, model.configurations)
+                              : QuantizedPayload(q);
     quantization = q.quantization;
   }
+  // Knots a fit snapped to its grid are stored as their grid codes.
+  const int grid_bits = model.statistics.options.knot_grid_bits;
+  std::vector<UnitVectorCode> knot_codes;
+  if (version3 && grid_bits >= kMinUnitVectorGridBits &&
+      grid_bits <= kMaxUnitVectorGridBits) {
+    for (Eigen::Index i = 0; i < model.knots.rows(); ++i) {
+      UnitVectorCode code;
+      if (!IsOnUnitVectorGrid(model.knots.row(i).transpose(), grid_bits,
+                              &code)) {
+        knot_codes.clear();
+        break;
+      }
+      knot_codes.push_back(code);
+    }
+  }
+  const bool knot_grid = !knot_codes.empty();
+  const uint32_t version = knot_grid || control_type == kPctl ? 3 : 2;
   const bool parameters =
       options.store_parameters && model.parameters.rows() > 0;
   Head head;
@@ -401,10 +338,14 @@ StatusOr<std::string> SerializeSdcb(const SplineModel& model,
 
   ByteWriter file;
   file.Bytes(std::string_view(kSdcbMagic, sizeof kSdcbMagic));
-  file.U32(kSdcbFormatVersion);
+  file.U32(version);
   AppendChunk(kHead, HeadPayload(head), &file);
-  AppendChunk(kKnot, PackPoints(model.knots), &file);
-  AppendChunk(quantization.lossless() ? kCtrl : kQctl, control_points, &file);
+  if (knot_grid) {
+    AppendChunk(kQknt, KnotGridPayload(knot_codes, grid_bits), &file);
+  } else {
+    AppendChunk(kKnot, PackPoints(model.knots), &file);
+  }
+  AppendChunk(control_type, control_points, &file);
   AppendChunk(kXfrm, TransformPayload(model.transform), &file);
   AppendChunk(kStat, Packed(FitStatisticsToJson(model.statistics).dump()),
               &file);
@@ -412,9 +353,10 @@ StatusOr<std::string> SerializeSdcb(const SplineModel& model,
   if (parameters) AppendChunk(kParm, PackPoints(model.parameters), &file);
   AppendChunk(kEnd, std::string_view(), &file);
   if (info != nullptr) {
-    info->format_version = kSdcbFormatVersion;
+    info->format_version = version;
     info->file_bytes = file.str().size();
     info->quantization = quantization;
+    info->knot_grid_bits = knot_grid ? grid_bits : 0;
   }
   return std::move(file.str());
 }
@@ -442,14 +384,14 @@ StatusOr<SplineModel> ParseSdcb(std::string_view bytes, SdcbFileInfo* info) {
                             Str(version) + "; this sdcb reads versions up to " +
                             Str(kSdcbFormatVersion));
   }
-  ControlPointQuantization quantization;
-  StatusOr<SplineModel> model = version == 1
-                                    ? DecodeVersion1(bytes)
-                                    : DecodeVersion2(bytes, &quantization);
+  SdcbFileInfo decoded;
+  StatusOr<SplineModel> model =
+      version == 1 ? DecodeVersion1(bytes)
+                   : DecodeVersion2Or3(bytes, version, &decoded);
   if (model.ok() && info != nullptr) {
+    *info = decoded;
     info->format_version = version;
     info->file_bytes = bytes.size();
-    info->quantization = quantization;
   }
   return model;
 }

@@ -31,14 +31,24 @@
 
 namespace sdcb {
 
-// The version this code writes and the newest it reads (it reads 1 and 2).
-constexpr uint32_t kSdcbFormatVersion = 2;
+// The newest version this code writes and reads (it reads 1, 2 and 3). It
+// writes version 3 when the file uses a chunk version 3 added (QKNT, PCTL:
+// knots on a grid, quantized control points), else version 2, which older
+// readers read too.
+constexpr uint32_t kSdcbFormatVersion = 3;
 
 // The 8 bytes every .sdcb file starts with: 0x89 "SDCB" CR LF 0x1A. The
 // non-ASCII first byte and the CR LF pair detect 7-bit and text-mode
 // (newline-converting) transfers, 0x1A stops `type` on DOS.
 inline constexpr char kSdcbMagic[8] = {'\x89', 'S',    'D',    'C',
                                        'B',    '\x0D', '\x0A', '\x1A'};
+
+// The octahedral knot grid (FitOptions::knot_grid_bits) `sdcb fit
+// --quantize` snaps to: the knots then take 4 bytes each, not 24.
+constexpr int kQuantizedFitKnotGridBits = 16;
+
+// SdcbWriteOptions::quantize_bits: choose the bits from the fit's error.
+constexpr int kQuantizeBitsAuto = -1;
 
 struct SdcbWriteOptions {
   // Store model.parameters when the model has them; false drops them (the
@@ -47,7 +57,15 @@ struct SdcbWriteOptions {
   // 0: control points stored exactly (lossless). kMinQuantizationBits..
   // kMaxQuantizationBits: quantized to that many bits per coordinate; the
   // file states the error bound (io/control_point_quantization.h).
+  // kQuantizeBitsAuto: the fewest bits whose bound is at most
+  // quantize_fraction_of_rms x the fit's rms (model.statistics'
+  // final_result.rmse_percent, which must be > 0).
   int quantize_bits = 0;
+  double quantize_fraction_of_rms = 0.5;
+  // 3: knots on the fit's grid (FitOptions::knot_grid_bits) as grid codes
+  // (QKNT) and quantized control points predicted and range-coded (PCTL).
+  // 2: as version 2 wrote them (KNOT, QCTL), for readers of version 2.
+  int format_version = 3;
 };
 
 // What a file says about itself beyond the model.
@@ -56,6 +74,8 @@ struct SdcbFileInfo {
   uint64_t file_bytes = 0;
   // bits == 0 for exact control points (and for every version 1 file).
   ControlPointQuantization quantization;
+  // Bits of the grid the knots are stored on (QKNT); 0: stored as doubles.
+  int knot_grid_bits = 0;
 };
 
 // The complete file contents (format version 2) for `model`. Fails with

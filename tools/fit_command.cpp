@@ -3,8 +3,8 @@
 //          [--knots-growth G] [--max-rounds R] [--max-control-points M]
 //          [--lambda L]
 //          [--threads T] [--regularization R] [--store-parameters]
-//          [--quantize BITS] [--feature-angle DEG] [--json FILE] [--plot
-//          FILE.svg] [--quiet]
+//          [--quantize BITS|auto] [--knot-grid BITS] [--feature-angle DEG]
+//          [--json FILE] [--plot FILE.svg] [--quiet]
 //          [--accept-folds] [--repair] [--max-file-mb N] [--max-memory-mb N]
 #include <tbb/task_arena.h>
 
@@ -16,6 +16,7 @@
 #include "sdcb/converters/convergence_plot.h"
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/sphere/unit_vector_grid.h"
 #include "sdcb/io/fit_statistics_json.h"
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/sdcb_file.h"
@@ -30,7 +31,7 @@ const CommandOptions& FitOptionNames() {
       Concat({"output", "degree", "rmse", "max-error", "knots-per-round",
               "knots-growth", "max-rounds", "max-control-points", "lambda",
               "threads", "json", "plot", "regularization", "quantize",
-              "feature-angle"},
+              "knot-grid", "feature-angle"},
              kMeshValueOptions),
       Concat({"quiet", "store-parameters", "accept-folds"}, kMeshFlagOptions)};
   return names;
@@ -68,7 +69,20 @@ int RunFit(const std::vector<std::string>& argv) {
       args.GetDouble("feature-angle", options.feature_angle_degrees, 1e-3, 180);
   SdcbWriteOptions write_options;
   write_options.store_parameters = options.store_parameters;
-  write_options.quantize_bits = args.GetInt("quantize", 0, 8, 30);
+  // --quantize auto: the fewest bits whose bound is within a fraction of the
+  // fit's rms. Any --quantize also snaps the knots to a grid, so that the
+  // file stores them in a few bytes, exactly as fitted.
+  if (args.Get("quantize") == "auto") {
+    write_options.quantize_bits = kQuantizeBitsAuto;
+  } else {
+    write_options.quantize_bits = args.GetInt("quantize", 0, 8, 30);
+  }
+  if (write_options.quantize_bits != 0) {
+    options.knot_grid_bits = kQuantizedFitKnotGridBits;
+  }
+  // --knot-grid BITS: knots on that grid (0: off), quantized or not.
+  options.knot_grid_bits = args.GetInt("knot-grid", options.knot_grid_bits, 0,
+                                       kMaxUnitVectorGridBits);
 
   // Outputs are checked before the work; the mesh is read, repaired if
   // asked, checked (tools/cli.h).
@@ -110,6 +124,7 @@ int RunFit(const std::vector<std::string>& argv) {
       report["quantization_error_bound_percent"] =
           quantization.surface_error_bound_percent();
       report["quantization_bound_measured"] = quantization.basis_sum_measured;
+      report["knot_grid_bits"] = file_info.knot_grid_bits;
     }
     const nlohmann::ordered_json fit_report = FitReportToJson(*fit);
     for (const auto& [key, value] : fit_report.items()) report[key] = value;

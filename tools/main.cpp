@@ -32,7 +32,7 @@ commands:
                              distortion; --colors angle|area needs .ply.
   fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--max-error PCT] [--knots-per-round N]
       [--knots-growth G] [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
-      [--regularization R] [--store-parameters] [--quantize BITS]
+      [--regularization R] [--store-parameters] [--quantize BITS|auto] [--knot-grid BITS]
       [--accept-folds] [--feature-angle DEG] [--json FILE] [--plot FILE.svg]
       [--quiet] [--repair]
                              Fit one smooth spherical DCB-spline (defaults:
@@ -42,7 +42,10 @@ commands:
                              rounds); --plot draws the error per round;
                              --store-parameters keeps each vertex's sphere
                              point; --quantize BITS (8..30) stores the control
-                             points in BITS bits, the error bound reported;
+                             points in BITS bits, the error bound reported
+                             (auto: the fewest bits whose bound is within
+                             half the fit's rms), the knots on a 16-bit grid
+                             (--knot-grid BITS: on that grid, 0 = off);
                              --accept-folds: a missed target returns the
                              most accurate round even if it folds;
                              --feature-angle DEG (default 30) reports the

@@ -54,6 +54,7 @@ int RunInfo(const std::vector<std::string>& argv) {
     j["has_parameters"] = m.parameters.rows() > 0;
     j["basis_form"] = m.basis_form == BasisForm::kRaw ? "raw" : "normalized";
     j["quantization_bits"] = q.bits;  // 0: control points stored exactly
+    j["knot_grid_bits"] = file.knot_grid_bits;  // 0: knots stored exactly
     if (!q.lossless()) {
       j["quantization_error_bound_percent"] = q.surface_error_bound_percent();
       j["quantization_bound_measured"] = q.basis_sum_measured;
@@ -87,6 +88,10 @@ int RunInfo(const std::vector<std::string>& argv) {
                 static_cast<long long>(m.source.num_faces));
     std::printf("  %-22s %s\n", "parameters stored",
                 m.parameters.rows() ? "yes" : "no");
+    if (file.knot_grid_bits > 0) {
+      std::printf("  %-22s %d-bit grid (as fitted)\n", "knots stored on",
+                  file.knot_grid_bits);
+    }
     if (q.lossless()) {
       std::printf("  %-22s none (exact control points)\n", "quantization");
     } else {

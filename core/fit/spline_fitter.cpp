@@ -23,6 +23,7 @@
 #include "sdcb/core/param/spherical_parameterization.h"
 #include "sdcb/core/sphere/point_kd_tree.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
+#include "sdcb/core/sphere/unit_vector_grid.h"
 #include "sdcb/core/spline/dcb_basis.h"
 #include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/core/spline/design_matrix.h"
@@ -68,6 +69,27 @@ constexpr int64_t kMaxPiecesPerControlPoint = 128;
 // the fitted rows) read up to 4.6 times below the dense one on CGAL's coarse
 // meshes (the mesh -> surface half is measured at their few vertices).
 constexpr int64_t kThinAboveVerticesPerControlPoint = 8;
+// Moves the placement's new knots onto the octahedral grid
+// (FitOptions::knot_grid_bits); the fixed ones are on it already. A new knot
+// that lands on another knot's grid point is dropped.
+void SnapNewKnots(int bits, KnotPlacement* placement) {
+  Eigen::MatrixX3d& knots = placement->knots;
+  for (Eigen::Index i = placement->num_fixed; i < knots.rows(); ++i) {
+    const Eigen::Vector3d k = knots.row(i);
+    knots.row(i) = DecodeUnitVector(EncodeUnitVector(k, bits), bits);
+  }
+  KnotSeparation separation = MinimumKnotSeparation(knots);
+  while (knots.rows() > 1 && !(separation.angle > 0)) {
+    // Fixed knots are distinct: the later of the pair is a new one.
+    const Eigen::Index drop = separation.second;
+    knots.block(drop, 0, knots.rows() - drop - 1, 3) =
+        knots.bottomRows(knots.rows() - drop - 1).eval();
+    knots.conservativeResize(knots.rows() - 1, 3);
+    separation = MinimumKnotSeparation(knots);
+  }
+  placement->min_separation = separation.angle;
+}
+
 // The fewest knots a round adds: rounds that only remove folds, and rounds
 // halved because the knots had no room for more.
 constexpr int kMinFoldKnots = 10;
@@ -119,6 +141,13 @@ Status CheckOptions(const FitOptions& o) {
       !std::isfinite(o.thinned_cells_per_spacing)) {
     return InvalidArgumentError(
         "the thinned cells per spacing must be finite and >= 0");
+  }
+  if (o.knot_grid_bits != 0 && (o.knot_grid_bits < kMinUnitVectorGridBits ||
+                                o.knot_grid_bits > kMaxUnitVectorGridBits)) {
+    return InvalidArgumentError("the knot grid needs 0 (off) or " +
+                                std::to_string(kMinUnitVectorGridBits) + ".." +
+                                std::to_string(kMaxUnitVectorGridBits) +
+                                " bits");
   }
   if (!(o.fairness >= 0) || !std::isfinite(o.fairness)) {
     return InvalidArgumentError("the fairness weight must be finite and >= 0");
@@ -260,6 +289,7 @@ RecordedFitOptions RecordFitOptions(const FitOptions& o) {
   r.round_samples_per_knot = o.round_samples_per_knot;
   r.final_surface_samples = o.final_surface_samples;
   r.final_mesh_samples = o.final_mesh_samples;
+  r.knot_grid_bits = o.knot_grid_bits;
   return r;
 }
 
@@ -913,6 +943,9 @@ Status SplineFitter::State::RunRound() {
   }
   SDCB_RETURN_IF_ERROR(placed.status());
   KnotPlacement placement = std::move(placed).value();
+  if (o.knot_grid_bits > 0) {
+    SnapNewKnots(o.knot_grid_bits, &placement);
+  }
   const Eigen::MatrixX3d& knots = placement.knots;
   details.timings.knot_placement = stage.Seconds();
   details.cvt_initial_energy = placement.initial_energy;

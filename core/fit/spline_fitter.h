@@ -117,6 +117,14 @@ struct FitOptions {
   // (FitResult::features, core/mesh/feature_curves.h). The fit does not
   // use them yet: the surface is smooth across them.
   double feature_angle_degrees = 30.0;
+  // 0: knots where the placement puts them. Otherwise each new knot is moved
+  // to the nearest point of the octahedral grid of this many bits per
+  // coordinate (core/sphere/unit_vector_grid.h, kMinUnitVectorGridBits..
+  // kMaxUnitVectorGridBits) before the round's configurations and solve, so
+  // that a file stores the knots fitted exactly in 2 x bits each (16 bits:
+  // within 7.6e-5 radians of the placement, the CVT keeps knots 1e-4 apart).
+  // A new knot that would land on another's grid point is dropped.
+  int knot_grid_bits = 0;
   // Called at the start of every stage (from the calling thread).
   std::function<void(const FitProgress&)> progress;
 };

@@ -93,6 +93,8 @@ struct RecordedFitOptions {
   // Mesh samples of the final measurement (DeviationOptions::mesh_samples);
   // 0 in files written while it measured the mesh at its vertices only.
   int final_mesh_samples = 0;
+  // Bits of the octahedral grid the knots were snapped to; 0: not snapped.
+  int knot_grid_bits = 0;
 };
 
 // How the fit went, without wall-clock times (they would make the model's

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "sdcb/core/fit/spline_fitter.h"
+#include "sdcb/core/sphere/unit_vector_grid.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/sdcb_file.h"
@@ -218,6 +219,44 @@ TEST(AdaptiveFitTest, RefusesHigherGenusAndBadOptions) {
   bad.degree = 9;
   EXPECT_EQ(FitSphericalSpline(ReadCgalMesh("blobby.off"), bad).status().code(),
             StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace sdcb
+
+namespace sdcb {
+namespace {
+
+// FitOptions::knot_grid_bits: every knot of every round is a grid point
+// (checked bit for bit), the option is recorded, and the file stores the
+// knots as grid codes (QKNT) and reads back to the fitted model.
+TEST(AdaptiveFitTest, KnotsSnappedToTheGridAreStoredExactly) {
+  FitOptions options;
+  options.rmse_percent = 0.05;
+  options.max_rounds = 3;
+  options.knot_grid_bits = 12;
+  auto fit = FitSphericalSpline(ReadCgalMesh("blobby.off"), options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  const SplineModel& model = fit->model;
+  for (Eigen::Index i = 0; i < model.knots.rows(); ++i) {
+    ASSERT_TRUE(IsOnUnitVectorGrid(model.knots.row(i).transpose(), 12, nullptr))
+        << i;
+  }
+  EXPECT_EQ(model.statistics.options.knot_grid_bits, 12);
+  SdcbFileInfo info;
+  auto bytes = SerializeSdcb(model, {false, 0}, &info);
+  ASSERT_TRUE(bytes.ok()) << bytes.status().message();
+  EXPECT_EQ(info.format_version, 3u);
+  EXPECT_EQ(info.knot_grid_bits, 12);
+  auto read = ParseSdcb(*bytes);
+  ASSERT_TRUE(read.ok()) << read.status().message();
+  EXPECT_TRUE((read->knots.array() == model.knots.array()).all());
+  EXPECT_TRUE(
+      (read->control_points.array() == model.control_points.array()).all());
+  options.knot_grid_bits = 1;
+  EXPECT_EQ(
+      FitSphericalSpline(ReadCgalMesh("blobby.off"), options).status().code(),
+      StatusCode::kInvalidArgument);
 }
 
 }  // namespace

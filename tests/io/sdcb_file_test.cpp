@@ -282,7 +282,10 @@ TEST(SdcbFileTest, LayoutMatchesFormatDocument) {
 TEST(SdcbFileTest, QuantizedLayoutMatchesFormatDocument) {
   const SplineModel model = QuantizableModel(2, 10, 0);
   SdcbFileInfo info;
-  const StatusOr<std::string> file = SerializeSdcb(model, {true, 10}, &info);
+  SdcbWriteOptions version2;
+  version2.quantize_bits = 10;
+  version2.format_version = 2;  // QCTL: version 3 writes PCTL instead
+  const StatusOr<std::string> file = SerializeSdcb(model, version2, &info);
   ASSERT_TRUE(file.ok()) << file.status().message();
   std::vector<RawChunk> chunks = SplitFile(*file);
   ASSERT_EQ(Find(chunks, "CTRL"), nullptr);
@@ -373,7 +376,7 @@ TEST(SdcbFileTest, WriterRefusesWhatItCannotWriteFaithfully) {
   if (!other.configurations.sets[0].boundaries.empty()) {
     EXPECT_FALSE(SerializeSdcb(other).ok());
   }
-  for (int bits : {-1, 33, 64}) {
+  for (int bits : {-2, 33, 64}) {
     s = SerializeSdcb(QuantizableModel(), {true, bits});
     ASSERT_FALSE(s.ok()) << bits;
     EXPECT_EQ(s.status().code(), StatusCode::kInvalidArgument);
@@ -685,7 +688,10 @@ TEST(SdcbFileTest, CraftedFilesWithValidCrcsAreRejected) {
 
 TEST(SdcbFileTest, CraftedQuantizedChunksAreRejected) {
   const SplineModel model = QuantizableModel(1, 7, 0);
-  const std::string file = Serialize(model, {true, 8});
+  SdcbWriteOptions version2;
+  version2.quantize_bits = 8;
+  version2.format_version = 2;  // QCTL
+  const std::string file = Serialize(model, version2);
   const auto edit = [&](auto change) {
     std::vector<RawChunk> chunks = SplitFile(file);
     change(Find(chunks, "QCTL")->payload);
@@ -742,7 +748,9 @@ TEST(SdcbFileTest, RandomMutationsWithValidCrcsNeverCrash) {
   for (int quantize : {0, 12}) {
     const std::vector<RawChunk> good =
         SplitFile(Serialize(QuantizableModel(1, 7, 3), {true, quantize}));
-    const size_t good_size = Join(good).size();
+    // Quantized files are version 3 (PCTL).
+    const uint32_t version = quantize > 0 ? 3 : 2;
+    const size_t good_size = Join(good, version).size();
     std::mt19937 rng(11 + quantize);
     int accepted = 0;
     size_t largest_overall = 0;
@@ -757,19 +765,15 @@ TEST(SdcbFileTest, RandomMutationsWithValidCrcsNeverCrash) {
       testing::MutateBytes(&rng, &content);
       chunk.payload = inner ? TestPack(content) : content;
       size_t largest = 0;
-      const StatusOr<SplineModel> m = TrackedParse(Join(chunks), &largest);
+      const StatusOr<SplineModel> m =
+          TrackedParse(Join(chunks, version), &largest);
       largest_overall = std::max(largest_overall, largest);
       if (!m.ok()) {
         EXPECT_FALSE(m.status().message().empty());
         continue;
       }
       ++accepted;
-      ASSERT_TRUE(ValidateSplineModel(*m).ok());
-      const StatusOr<std::string> again = SerializeSdcb(*m);
-      ASSERT_TRUE(again.ok()) << again.status().message();
-      const StatusOr<SplineModel> reread = ParseSdcb(*again);
-      ASSERT_TRUE(reread.ok());
-      EXPECT_TRUE(BitIdentical(*m, *reread));
+      testing::ExpectWritesBackFaithfully(*m);
     }
     EXPECT_LT(largest_overall, kZlibFixedBytes + 16 * good_size);
     // Some mutations are harmless (a control point's low bits, the file
@@ -800,8 +804,11 @@ TEST(SdcbFileTest, ChunkStructureViolationsAreRejected) {
   }
   {
     std::vector<RawChunk> c = good;
+    SdcbWriteOptions version2;
+    version2.quantize_bits = 8;
+    version2.format_version = 2;
     const std::vector<RawChunk> q =
-        SplitFile(Serialize(QuantizableModel(1, 7, 3), {true, 8}));
+        SplitFile(Serialize(QuantizableModel(1, 7, 3), version2));
     c.insert(c.end() - 1, q[2]);
     ASSERT_EQ(q[2].type, "QCTL");
     ExpectCorrupt(Join(c), "both a 'CTRL' and a 'QCTL' chunk");
@@ -853,12 +860,12 @@ TEST(SdcbFileTest, ChunkStructureViolationsAreRejected) {
 
 TEST(SdcbFileTest, HeaderProblemsAreNamed) {
   const std::vector<RawChunk> chunks = SplitFile(Serialize(MakeTestModel()));
-  const StatusOr<SplineModel> newer = ParseSdcb(Join(chunks, 3));
+  const StatusOr<SplineModel> newer = ParseSdcb(Join(chunks, 4));
   ASSERT_FALSE(newer.ok());
   EXPECT_EQ(newer.status().code(), StatusCode::kUnsupported);
-  EXPECT_NE(newer.status().message().find("format version 3"),
+  EXPECT_NE(newer.status().message().find("format version 4"),
             std::string::npos);
-  EXPECT_NE(newer.status().message().find("up to 2"), std::string::npos);
+  EXPECT_NE(newer.status().message().find("up to 3"), std::string::npos);
   ExpectCorrupt(Join(chunks, 0), "format version is 0");
   ExpectCorrupt("", "the file is empty");
   ExpectCorrupt(std::string(kSdcbMagic, 5), "only 5 bytes");

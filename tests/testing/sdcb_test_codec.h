@@ -383,6 +383,17 @@ inline size_t ExpectEverySingleByteCorruptionRejected(
   return largest;
 }
 
+// A model a reader accepted from damaged bytes must be valid and write
+// back to a file that reads to the same model.
+inline void ExpectWritesBackFaithfully(const SplineModel& m) {
+  ASSERT_TRUE(ValidateSplineModel(m).ok());
+  const StatusOr<std::string> again = SerializeSdcb(m);
+  ASSERT_TRUE(again.ok()) << again.status().message();
+  const StatusOr<SplineModel> reread = ParseSdcb(*again);
+  ASSERT_TRUE(reread.ok());
+  EXPECT_TRUE(BitIdentical(m, *reread));
+}
+
 // Changes, inserts or drops 1 to 4 random bytes of `bytes`.
 inline void MutateBytes(std::mt19937* rng, std::string* bytes) {
   std::string& p = *bytes;

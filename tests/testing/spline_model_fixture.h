@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "sdcb/core/sphere/sphere_geometry.h"
+#include "sdcb/core/sphere/unit_vector_grid.h"
 #include "sdcb/core/spline/spline_model.h"
 #include "testing/brute_force_configurations.h"
 
@@ -78,6 +79,29 @@ inline SplineModel MakeTestModel(int degree = 1, int num_knots = 7,
   if (num_parameters > 0) {
     m.parameters = RandomUnitVectors(num_parameters, seed + 2);
   }
+  return m;
+}
+
+// MakeTestModel's model with its knots moved onto the `bits`-bit octahedral
+// grid, as a fit with FitOptions::knot_grid_bits makes them (recorded in
+// its options), configurations recomputed, control points in
+// [-0.6, 0.6]^3 (quantizable). Coarse grids can make random knots meet.
+inline SplineModel MakeGridTestModel(int degree, int num_knots, int bits,
+                                     unsigned seed = 7) {
+  SplineModel m = MakeTestModel(degree, num_knots, 0, seed);
+  for (Eigen::Index i = 0; i < m.knots.rows(); ++i) {
+    const Eigen::Vector3d k = m.knots.row(i);
+    m.knots.row(i) = DecodeUnitVector(EncodeUnitVector(k, bits), bits);
+  }
+  m.configurations = BruteForceConfigurations(m.knots, degree);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-0.6, 0.6);
+  m.control_points.resize(
+      static_cast<Eigen::Index>(m.configurations.sets.size()), 3);
+  for (Eigen::Index i = 0; i < m.control_points.rows(); ++i) {
+    for (int c = 0; c < 3; ++c) m.control_points(i, c) = u(rng);
+  }
+  m.statistics.options.knot_grid_bits = bits;
   return m;
 }
 

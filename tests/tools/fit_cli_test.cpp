@@ -377,7 +377,9 @@ TEST(FitCliTest, QuantizedModelStaysWithinTheStatedBound) {
   const std::string quantized_dir = exact_dir + "_quantized";
   fs::create_directories(exact_dir);
   fs::create_directories(quantized_dir);
-  const std::string exact = FitBlobby(exact_dir, "1");
+  // --quantize fits with the knots on a 16-bit grid: the exact model of the
+  // same fit is the one with --knot-grid 16.
+  const std::string exact = FitBlobby(exact_dir, "1", {"--knot-grid", "16"});
   const std::string quantized =
       FitBlobby(quantized_dir, "1", {"--quantize", "10"});
   const auto report =
@@ -417,6 +419,15 @@ TEST(FitCliTest, QuantizedModelStaysWithinTheStatedBound) {
   const double moved = 100 * (a - b).rowwise().norm().maxCoeff() / side;
   EXPECT_LE(moved, bound_percent * (1 + 1e-9));
   EXPECT_GE(moved, 0.2 * bound_percent);
+  EXPECT_EQ(info["knot_grid_bits"], 16);
+  // auto: the fewest bits whose bound is within half the fit's rms.
+  const std::string automatic =
+      FitBlobby(quantized_dir, "1", {"--quantize", "auto"});
+  const auto auto_report =
+      nlohmann::json::parse(ReadBytes(quantized_dir + "/report.json"));
+  EXPECT_LE(auto_report["quantization_error_bound_percent"].get<double>(),
+            0.5 * auto_report["final"]["rmse_percent"].get<double>());
+  EXPECT_GE(auto_report["quantization_bits"].get<int>(), 8);
   // Bits outside 8..30 are a usage error.
   for (const char* bits : {"7", "31", "x"}) {
     EXPECT_EQ(RunSdcb({"fit", MeshPath("blobby.off"), "-o",

@@ -7,6 +7,7 @@ files it generates itself. Names say what is wrong."""
 import os
 import random
 import struct
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 files = {}
@@ -165,6 +166,44 @@ flipped = bytearray(seed)
 flipped[len(flipped) // 2] ^= 0x40
 add("sdcb_bit_flip.sdcb", bytes(flipped))
 add("sdcb_empty.sdcb", b"")
+
+
+# Format version 3 (QKNT, PCTL) with valid CRCs, so that the chunks' own
+# checks must catch them.
+def sdcb_chunks(data):
+    chunks, at = [], 12
+    while at < len(data):
+        length = struct.unpack("<Q", data[at + 4:at + 12])[0]
+        chunks.append([data[at:at + 4], data[at + 12:at + 12 + length]])
+        at += 16 + length
+    return data[:8], chunks
+
+
+def sdcb_join(magic, version, chunks):
+    out = magic + struct.pack("<I", version)
+    for kind, payload in chunks:
+        framed = kind + struct.pack("<Q", len(payload)) + payload
+        out += framed + struct.pack("<I", zlib.crc32(framed) & 0xFFFFFFFF)
+    return out
+
+
+def sdcb_edit(seed_name, kind, change, version=3):
+    data = open(os.path.join(HERE, "..", "..", "..", "fuzz", "corpus", "sdcb", seed_name), "rb").read()
+    magic, chunks = sdcb_chunks(data)
+    for c in chunks:
+        if c[0] == kind:
+            c[1] = change(c[1])
+    return sdcb_join(magic, version, chunks)
+
+
+V3 = "v3_grid_knots_pctl_degree1.sdcb"
+add("sdcb_v3_pctl_extra_byte.sdcb", sdcb_edit(V3, b"PCTL", lambda p: p + b"\0"))
+add("sdcb_v3_pctl_truncated_stream.sdcb", sdcb_edit(V3, b"PCTL", lambda p: p[:-3]))
+add("sdcb_v3_pctl_zero_stream.sdcb", sdcb_edit(V3, b"PCTL", lambda p: p[:68] + b"\xff" * 64))
+add("sdcb_v3_qknt_bits_40.sdcb", sdcb_edit(V3, b"QKNT", lambda p: struct.pack("<I", 40) + p[4:]))
+add("sdcb_v3_qknt_padding.sdcb", sdcb_edit(V3, b"QKNT", lambda p: p + b"\x01"))
+add("sdcb_v3_without_new_chunks.sdcb", sdcb_edit("degree1_knots6.sdcb", b"HEAD", lambda p: p))
+add("sdcb_v2_with_v3_chunks.sdcb", sdcb_edit(V3, b"HEAD", lambda p: p, version=2))
 
 for name, data in sorted(files.items()):
     with open(os.path.join(HERE, name), "wb") as f:
