@@ -12,7 +12,7 @@
 //   equal_error_bench draco MESH TARGET_RMS_PCT [QP ...]
 //     Draco (edgebreaker, speed 0 = level 10) of MESH decimated by CGAL's
 //     Garland-Heckbert edge collapse: for each position quantization QP
-//     (default 10..16) the fewest faces whose DECODED mesh is within
+//     (default 8..14, 16) the fewest faces whose DECODED mesh is within
 //     TARGET_RMS_PCT rms of MESH (bisection on the faces), then the
 //     smallest file of all QP.
 // Distances in percent of MESH's largest bounding-box side. One line per
@@ -180,7 +180,7 @@ int RunDraco(const sdcb::TriangleMesh& input, int argc, char** argv) {
   const double target = std::atof(argv[3]) / 100 * side;
   std::vector<int> qps;
   for (int i = 4; i < argc; ++i) qps.push_back(std::atoi(argv[i]));
-  if (qps.empty()) qps = {10, 11, 12, 13, 14, 15, 16};
+  if (qps.empty()) qps = {8, 9, 10, 11, 12, 13, 14, 16};
   const sdcb::MeshDistance to_input = OrDie(sdcb::MeshDistance::Create(input));
   std::map<int, sdcb::TriangleMesh> decimated;  // by faces
   auto decimate = [&](int faces) -> const sdcb::TriangleMesh& {

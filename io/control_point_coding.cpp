@@ -22,6 +22,7 @@ struct Prediction {
 Prediction Predict(const std::vector<uint32_t>& codes,
                    const std::vector<uint32_t>& zigzags, size_t rows,
                    const PredictionPlan& plan, size_t position, int c) {
+  const size_t self = static_cast<size_t>(plan.order[position]);
   const size_t base = static_cast<size_t>(c) * rows;
   const int begin = plan.offsets[position], end = plan.offsets[position + 1];
   Prediction p;
@@ -42,6 +43,13 @@ Prediction Predict(const std::vector<uint32_t>& codes,
   if (count > 0) {
     p.value = static_cast<uint32_t>((sum + count / 2) / count);
     magnitude /= count;
+  }
+  // The point's residuals of the coordinates coded before this one.
+  if (c > 0) {
+    uint64_t own = 0;
+    for (int d = 0; d < c; ++d)
+      own += zigzags[static_cast<size_t>(d) * rows + self];
+    magnitude = (2 * magnitude + own / c) / 3;
   }
   const int length = BitLength(static_cast<uint32_t>(magnitude));
   p.context = c * kMagnitudeClasses + std::min(length, kMagnitudeClasses - 1);

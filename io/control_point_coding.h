@@ -11,8 +11,10 @@
 // reached when one ends. A control point's prediction is the rounded mean of
 // the codes of its adjacent sets coded before it (the previous control point
 // in the order if there is none, 0 for the first): integer arithmetic only,
-// so every reader predicts the same codes. The plan depends only on the
-// configurations, which the reader recomputes from the knots.
+// so every reader predicts the same codes. Residuals are coded in contexts
+// of the coordinate and the size of the residuals around (the neighbours',
+// and the point's own of the coordinates coded before). The plan depends
+// only on the configurations, which the reader recomputes from the knots.
 #ifndef SDCB_IO_CONTROL_POINT_CODING_H_
 #define SDCB_IO_CONTROL_POINT_CODING_H_
 

@@ -35,6 +35,50 @@ StatusOr<double> MeasureMaxBasisSum(const SplineModel& model) {
   return sums.col(0).maxCoeff();
 }
 
+// The nearest codes on the grid origin + code * step (a zero step: code 0),
+// clamped to `bits` bits, the stored points and their largest displacement.
+QuantizedControlPoints QuantizeOnGrid(const Eigen::MatrixX3d& points,
+                                      const Eigen::Vector3d& origin,
+                                      const Eigen::Vector3d& step, int bits) {
+  QuantizedControlPoints out;
+  ControlPointQuantization& q = out.quantization;
+  q.bits = bits;
+  q.origin = origin;
+  q.step = step;
+  const double top = std::ldexp(1.0, bits) - 1.0;
+  const Eigen::Index rows = points.rows();
+  out.codes.resize(3 * static_cast<size_t>(rows));
+  for (int c = 0; c < 3; ++c) {
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      const double t = step[c] > 0 ? (points(i, c) - origin[c]) / step[c] : 0.0;
+      out.codes[c * rows + i] =
+          static_cast<uint32_t>(std::clamp(std::round(t), 0.0, top));
+    }
+  }
+  out.values = DequantizeControlPoints(q.origin, q.step, out.codes);
+  q.max_displacement = (out.values - points).rowwise().norm().maxCoeff();
+  return out;
+}
+
+// The control points' lower corner and extent, or why they cannot be
+// quantized.
+Status CheckQuantizable(const Eigen::MatrixX3d& points, Eigen::RowVector3d* lo,
+                        Eigen::RowVector3d* extent) {
+  if (points.rows() == 0 || !points.allFinite()) {
+    return InvalidArgumentError(
+        "cannot quantize: the model has no control points or a non-finite "
+        "one");
+  }
+  *lo = points.colwise().minCoeff();
+  *extent = points.colwise().maxCoeff() - *lo;
+  if (!extent->allFinite()) {
+    return InvalidArgumentError(
+        "cannot quantize: the control points' bounding box is too large for "
+        "a double");
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 Eigen::MatrixX3d DequantizeControlPoints(const Eigen::Vector3d& origin,
@@ -67,6 +111,9 @@ StatusOr<QuantizedControlPoints> QuantizeControlPointsWithin(
     return InvalidArgumentError(
         "cannot quantize within a bound that is not finite and > 0");
   }
+  const Eigen::MatrixX3d& points = model.control_points;
+  Eigen::RowVector3d lo, extent;
+  SDCB_RETURN_IF_ERROR(CheckQuantizable(points, &lo, &extent));
   double max_sum = 1.0;
   if (model.basis_form == BasisForm::kRaw) {
     StatusOr<double> measured = MeasureMaxBasisSum(model);
@@ -74,14 +121,24 @@ StatusOr<QuantizedControlPoints> QuantizeControlPointsWithin(
     max_sum = *measured;
   }
   const bool measured = model.basis_form == BasisForm::kRaw;
-  for (int bits = kMinQuantizationBits; bits <= kMaxQuantizationBits; ++bits) {
-    StatusOr<QuantizedControlPoints> q =
-        QuantizeControlPoints(model, bits, max_sum, measured);
-    if (!q.ok()) return q.status();
-    if (q->quantization.surface_error_bound() <= max_bound) return q;
+  // Rounding moves a point by at most half the cube's diagonal, s sqrt(3)/2;
+  // shrink s while rounding in double overshoots.
+  double step = 2 * max_bound / max_sum / std::sqrt(3.0);
+  for (int attempt = 0; attempt < 64; ++attempt, step *= 1 - 1e-9) {
+    const double largest = extent.maxCoeff() / step;
+    if (!(largest < std::ldexp(1.0, kMaxQuantizationBits) - 1)) break;
+    int bits = kMinQuantizationBits;
+    while (std::ldexp(1.0, bits) - 1 < std::round(largest)) ++bits;
+    Eigen::Vector3d steps;
+    for (int c = 0; c < 3; ++c) steps[c] = extent[c] > 0 ? step : 0.0;
+    QuantizedControlPoints q =
+        QuantizeOnGrid(points, lo.transpose(), steps, bits);
+    q.quantization.max_basis_sum = max_sum;
+    q.quantization.basis_sum_measured = measured;
+    if (q.quantization.surface_error_bound() <= max_bound) return q;
   }
   return InvalidArgumentError("cannot quantize the control points within " +
-                              std::to_string(100 * max_bound) + " % even at " +
+                              std::to_string(100 * max_bound) + " % in " +
                               std::to_string(kMaxQuantizationBits) + " bits");
 }
 
@@ -96,35 +153,12 @@ StatusOr<QuantizedControlPoints> QuantizeControlPoints(const SplineModel& model,
         std::to_string(kMaxQuantizationBits) + " are supported");
   }
   const Eigen::MatrixX3d& points = model.control_points;
-  if (points.rows() == 0 || !points.allFinite()) {
-    return InvalidArgumentError(
-        "cannot quantize: the model has no control points or a non-finite "
-        "one");
-  }
-  QuantizedControlPoints out;
-  ControlPointQuantization& q = out.quantization;
-  q.bits = bits;
+  Eigen::RowVector3d lo, extent;
+  SDCB_RETURN_IF_ERROR(CheckQuantizable(points, &lo, &extent));
   const double top = std::ldexp(1.0, bits) - 1.0;  // exact for bits <= 52
-  const Eigen::Index rows = points.rows();
-  out.codes.resize(3 * static_cast<size_t>(rows));
-  for (int c = 0; c < 3; ++c) {
-    const double lo = points.col(c).minCoeff();
-    const double extent = points.col(c).maxCoeff() - lo;
-    if (!std::isfinite(extent)) {
-      return InvalidArgumentError(
-          "cannot quantize: the control points' bounding box is too large "
-          "for a double");
-    }
-    q.origin[c] = lo;
-    q.step[c] = extent / top;
-    for (Eigen::Index i = 0; i < rows; ++i) {
-      const double t = q.step[c] > 0 ? (points(i, c) - lo) / q.step[c] : 0.0;
-      out.codes[c * rows + i] =
-          static_cast<uint32_t>(std::clamp(std::round(t), 0.0, top));
-    }
-  }
-  out.values = DequantizeControlPoints(q.origin, q.step, out.codes);
-  q.max_displacement = (out.values - points).rowwise().norm().maxCoeff();
+  QuantizedControlPoints out =
+      QuantizeOnGrid(points, lo.transpose(), (extent / top).transpose(), bits);
+  ControlPointQuantization& q = out.quantization;
   q.max_basis_sum = max_basis_sum;
   q.basis_sum_measured = measured;
   return out;

@@ -38,7 +38,7 @@ struct ControlPointQuantization {
   // origin[c] + code * step[c] (IEEE double: one product, one sum), with the
   // integer code in [0, 2^bits - 1]. origin = lower corner of the control
   // points' bounding box, step = its extent / (2^bits - 1) (0 for a flat
-  // axis).
+  // axis), or for QuantizeControlPointsWithin the same step on every axis.
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   Eigen::Vector3d step = Eigen::Vector3d::Zero();
   // D = max_i |c'_i - c_i|, the largest Euclidean distance between a fitted
@@ -84,12 +84,14 @@ StatusOr<QuantizedControlPoints> QuantizeControlPoints(const SplineModel& model,
                                                        double max_basis_sum,
                                                        bool measured);
 
-// The fewest bits (kMinQuantizationBits..kMaxQuantizationBits) whose
-// surface_error_bound() is at most `max_bound` (normalized frame, > 0), and
-// their quantization. kInvalidArgument as QuantizeControlPoints, or if even
-// kMaxQuantizationBits exceed `max_bound`. For kRaw the basis sum is
-// measured once. Cost: at most 32 quantizations, linear in the control
-// points each.
+// The coarsest grid of cubic cells (the same step s on every axis that is
+// not flat, origin the lower corner) whose surface_error_bound() is at most
+// `max_bound` (normalized frame, > 0): s = 2 max_bound / (S sqrt(3)), since
+// rounding moves a point by at most half the cube's diagonal; bits = the
+// fewest that hold the largest code. kInvalidArgument as
+// QuantizeControlPoints, or if that needs more than kMaxQuantizationBits.
+// For kRaw the basis sum is measured once. Cost: linear in the control
+// points.
 StatusOr<QuantizedControlPoints> QuantizeControlPointsWithin(
     const SplineModel& model, double max_bound);
 

@@ -57,9 +57,10 @@ struct SdcbWriteOptions {
   // 0: control points stored exactly (lossless). kMinQuantizationBits..
   // kMaxQuantizationBits: quantized to that many bits per coordinate; the
   // file states the error bound (io/control_point_quantization.h).
-  // kQuantizeBitsAuto: the fewest bits whose bound is at most
-  // quantize_fraction_of_rms x the fit's rms (model.statistics'
-  // final_result.rmse_percent, which must be > 0).
+  // kQuantizeBitsAuto: the coarsest grid of cubic cells whose bound is at
+  // most quantize_fraction_of_rms x the fit's rms (model.statistics'
+  // final_result.rmse_percent, which must be > 0;
+  // QuantizeControlPointsWithin).
   int quantize_bits = 0;
   double quantize_fraction_of_rms = 0.5;
   // 3: knots on the fit's grid (FitOptions::knot_grid_bits) as grid codes

@@ -69,7 +69,7 @@ int RunFit(const std::vector<std::string>& argv) {
       args.GetDouble("feature-angle", options.feature_angle_degrees, 1e-3, 180);
   SdcbWriteOptions write_options;
   write_options.store_parameters = options.store_parameters;
-  // --quantize auto: the fewest bits whose bound is within a fraction of the
+  // --quantize auto: the coarsest grid whose bound is within a fraction of the
   // fit's rms. Any --quantize also snaps the knots to a grid, so that the
   // file stores them in a few bytes, exactly as fitted.
   if (args.Get("quantize") == "auto") {

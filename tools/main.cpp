@@ -43,7 +43,7 @@ commands:
                              --store-parameters keeps each vertex's sphere
                              point; --quantize BITS (8..30) stores the control
                              points in BITS bits, the error bound reported
-                             (auto: the fewest bits whose bound is within
+                             (auto: the coarsest grid whose bound is within
                              half the fit's rms), the knots on a 16-bit grid
                              (--knot-grid BITS: on that grid, 0 = off);
                              --accept-folds: a missed target returns the

@@ -6,6 +6,7 @@
 // mutations with valid CRCs, crafted chunks.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <string>
 
@@ -134,7 +135,7 @@ TEST(SdcbFileV3Test, PredictedControlPointsDecodeToTheQuantizersValues) {
   }
 }
 
-TEST(SdcbFileV3Test, AutoQuantizationTakesTheFewestBitsWithinTheBudget) {
+TEST(SdcbFileV3Test, AutoQuantizationTakesTheCoarsestGridWithinTheBudget) {
   const SplineModel model = GridModel(2, 14, 16);
   const double rms = model.statistics.final_result.rmse_percent / 100;
   for (double fraction : {0.001, 0.01, 0.1, 1.0}) {
@@ -142,14 +143,30 @@ TEST(SdcbFileV3Test, AutoQuantizationTakesTheFewestBitsWithinTheBudget) {
     o.quantize_bits = kQuantizeBitsAuto;
     o.quantize_fraction_of_rms = fraction;
     SdcbFileInfo info;
-    ASSERT_TRUE(SerializeSdcb(model, o, &info).ok());
-    const int bits = info.quantization.bits;
-    EXPECT_LE(info.quantization.surface_error_bound(), fraction * rms);
-    ASSERT_GT(bits, 1);
-    EXPECT_GT(QuantizeControlPoints(model, bits - 1)
-                  ->quantization.surface_error_bound(),
-              fraction * rms)
-        << fraction;
+    const StatusOr<std::string> file = SerializeSdcb(model, o, &info);
+    ASSERT_TRUE(file.ok());
+    const ControlPointQuantization& q = info.quantization;
+    const double budget = fraction * rms;
+    EXPECT_LE(q.surface_error_bound(), budget);
+    // Cubic cells of the largest step the bound allows, and the fewest bits
+    // that hold the codes.
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(q.step[c], 2 * budget / std::sqrt(3.0), 1e-12 * budget);
+    }
+    const double largest = (model.control_points.colwise().maxCoeff() -
+                            model.control_points.colwise().minCoeff())
+                               .maxCoeff() /
+                           q.step[0];
+    EXPECT_LE(std::round(largest), std::ldexp(1.0, q.bits) - 1);
+    EXPECT_GT(std::round(largest), std::ldexp(1.0, q.bits - 1) - 1);
+    // What the file stores: every point within the bound, read back.
+    const StatusOr<SplineModel> back = ParseSdcb(*file);
+    ASSERT_TRUE(back.ok());
+    EXPECT_LE((back->control_points - model.control_points)
+                  .rowwise()
+                  .norm()
+                  .maxCoeff(),
+              budget);
   }
   SplineModel no_rms = model;
   no_rms.statistics.final_result.rmse_percent = 0;

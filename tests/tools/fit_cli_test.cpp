@@ -420,7 +420,7 @@ TEST(FitCliTest, QuantizedModelStaysWithinTheStatedBound) {
   EXPECT_LE(moved, bound_percent * (1 + 1e-9));
   EXPECT_GE(moved, 0.2 * bound_percent);
   EXPECT_EQ(info["knot_grid_bits"], 16);
-  // auto: the fewest bits whose bound is within half the fit's rms.
+  // auto: the coarsest grid whose bound is within half the fit's rms.
   const std::string automatic =
       FitBlobby(quantized_dir, "1", {"--quantize", "auto"});
   const auto auto_report =
