@@ -130,6 +130,16 @@ StatusOr<Eigen::MatrixX3d> SolveRegularizedLeastSquares(
     normal.valuePtr()[normal.outerIndexPtr()[i]] += mu;
   }
   const Eigen::MatrixX3d rhs = design.transpose() * samples + mu * prior;
+  return SolveNormalEquations(normal, rhs);
+}
+
+StatusOr<Eigen::MatrixX3d> SolveNormalEquations(
+    const Eigen::SparseMatrix<double>& lower, const Eigen::MatrixX3d& rhs) {
+  if (lower.rows() != lower.cols() || rhs.rows() != lower.rows()) {
+    return InvalidArgumentError(
+        "least squares: the normal matrix is not square or the right-hand "
+        "side's size differs");
+  }
   // CHOLMOD's supernodal LL^T (dense BLAS-3 kernels on the supernodes; AMD or
   // METIS ordering, whichever fills less) is 3-4x faster than Eigen's
   // simplicial LDL^T here; the latter stays as the fallback for a matrix
@@ -138,14 +148,14 @@ StatusOr<Eigen::MatrixX3d> SolveRegularizedLeastSquares(
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>
         supernodal;
     supernodal.cholmod().print = 0;  // a library does not print
-    supernodal.compute(normal);
+    supernodal.compute(lower);
     if (supernodal.info() == Eigen::Success) {
       Eigen::MatrixX3d c = supernodal.solve(rhs);
       if (supernodal.info() == Eigen::Success && c.allFinite()) return c;
     }
   }
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(
-      normal);
+      lower);
   if (solver.info() != Eigen::Success) {
     return InternalError("least squares: the sparse factorization failed");
   }

@@ -35,6 +35,13 @@ StatusOr<Eigen::MatrixX3d> SolveRegularizedLeastSquares(
     const DesignMatrix& design, const Eigen::MatrixX3d& samples,
     const Eigen::MatrixX3d& prior, const LeastSquaresOptions& options = {});
 
+// Solves N X = rhs for a symmetric positive definite N given by its lower
+// triangle (entries above the diagonal are ignored): CHOLMOD's supernodal
+// LL^T, Eigen's simplicial LDL^T if that fails. kInvalidArgument on size
+// mismatch; kInternal if both factorizations fail.
+StatusOr<Eigen::MatrixX3d> SolveNormalEquations(
+    const Eigen::SparseMatrix<double>& lower, const Eigen::MatrixX3d& rhs);
+
 // The lower triangle of A^T A (the diagonal first in every column),
 // computed in parallel; deterministic for any thread count.
 Eigen::SparseMatrix<double> NormalMatrixLower(const DesignMatrix& design);
