@@ -9,7 +9,9 @@
 // (tests/converters/cad_reread_oracle.h)
 // (percent of the input's largest bounding-box side): at SURFACE_POINTS
 // (default 100000) points of the re-read surfaces, and from 20000 spline
-// points (each an OpenCASCADE projection).
+// points (each an OpenCASCADE projection); and the largest jump of the
+// normal across the re-read edges, at 32 points of each (pcurves and
+// surface derivatives of the re-read faces).
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -44,6 +46,8 @@ int main(int argc, char** argv) {
   const sdcb::testing::RereadComparison c =
       sdcb::testing::CompareRereadWithSpline(r, *spline, points, 20000,
                                              model->transform, /*level=*/8);
+  const sdcb::testing::NormalJumps jumps =
+      sdcb::testing::MeasureNormalJumps(r, 32);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
@@ -52,11 +56,13 @@ int main(int argc, char** argv) {
       "  volume %.9g (spline %.9g, rel %.2e)  area %.9g (spline %.9g, rel "
       "%.2e)\n"
       "  re-read -> spline max %.5f%% at %lld points; spline -> re-read max "
-      "%.5f%% at %lld points  %.1f s\n",
+      "%.5f%% at %lld points\n"
+      "  normal jump across %d edges max %.4f deg at %lld points  %.1f s\n",
       path.c_str(), r.solids, r.shells, r.free_edges, r.valid ? 1 : 0, r.faces,
       r.volume, c.spline_volume, r.volume / c.spline_volume - 1.0, r.area,
       c.spline_area, r.area / c.spline_area - 1.0, c.to_spline_percent,
       static_cast<long long>(c.surface_points), c.from_spline_percent,
-      static_cast<long long>(c.spline_points), seconds);
+      static_cast<long long>(c.spline_points), jumps.edges, jumps.max_degrees,
+      static_cast<long long>(jumps.points), seconds);
   return c.ok && r.solids == 1 && r.free_edges == 0 && r.valid ? 0 : 1;
 }

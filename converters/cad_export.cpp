@@ -12,20 +12,18 @@ namespace {
 // The fit's share of the progress; the solid's stages share the rest.
 constexpr double kFitShare = 0.7;
 
-// The patches in the input's coordinates (the transform is a scale and a
-// translation, under which Bezier poles map like points).
-std::vector<BicubicPatch> ToInput(const std::vector<BicubicPatch>& patches,
-                                  const NormalizingTransform& transform) {
-  Eigen::MatrixX3d poles(static_cast<Eigen::Index>(patches.size()) * 16, 3);
-  for (size_t p = 0; p < patches.size(); ++p) {
-    for (int q = 0; q < 16; ++q) poles.row(p * 16 + q) = patches[p].poles[q];
-  }
-  poles = transform.ToInput(poles);
-  std::vector<BicubicPatch> out(patches.size());
-  for (size_t p = 0; p < patches.size(); ++p) {
-    for (int q = 0; q < 16; ++q) out[p].poles[q] = poles.row(p * 16 + q);
-  }
-  return out;
+// The network in the input's coordinates (the transform is a scale and a
+// translation, under which B-spline poles map like points).
+CadNetwork ToInput(CadNetwork network, const NormalizingTransform& transform) {
+  const auto map = [&](std::vector<Eigen::Vector3d>* points) {
+    Eigen::MatrixX3d p(static_cast<Eigen::Index>(points->size()), 3);
+    for (size_t q = 0; q < points->size(); ++q) p.row(q) = (*points)[q];
+    p = transform.ToInput(p);
+    for (size_t q = 0; q < points->size(); ++q) (*points)[q] = p.row(q);
+  };
+  for (BSplineFace& face : network.faces) map(&face.poles);
+  for (CadEdge& edge : network.edges) map(&edge.poles);
+  return network;
 }
 
 }  // namespace
@@ -38,46 +36,59 @@ StatusOr<CadExportReport> WriteCadExport(const SplineModel& model,
     if (options.progress) options.progress(stage, fraction);
   };
   SDCB_ASSIGN_OR_RETURN(const SphericalSpline spline, SurfaceFromModel(model));
-  CadPatchOptions patch_options = options.patches;
-  patch_options.length_unit = 1.0;  // the normalized frame
-  patch_options.progress = [&](const std::string& stage, double fraction) {
+  char message[400];
+  // Across a fold the spline's normal turns over: no smooth face follows
+  // it. The fit measured the folds.
+  const double folded = model.statistics.final_result.folded_area_percent;
+  if (folded > 0.0 && options.network.smoothness_degrees < 180.0) {
+    std::snprintf(message, sizeof(message),
+                  "the surface folds over %.4g %% of its area (as its fit "
+                  "measured), and no smooth face follows a fold "
+                  "(--smoothness-degrees 180 exports it anyway); nothing "
+                  "written",
+                  folded);
+    return InvalidInputError(message);
+  }
+  CadNetworkOptions network_options = options.network;
+  network_options.length_unit = 1.0;  // the normalized frame
+  network_options.progress = [&](const std::string& stage, double fraction) {
     progress(stage, kFitShare * fraction);
   };
-  SDCB_ASSIGN_OR_RETURN(const CadPatchSet fit,
-                        FitCadPatches(spline, patch_options));
-  const CadPatchOptions& o = patch_options;
+  SDCB_ASSIGN_OR_RETURN(const CadNetwork fit,
+                        FitCadNetwork(spline, network_options));
+  const CadNetworkOptions& o = network_options;
   if (!fit.within_tolerance) {
-    char message[400];
     std::snprintf(message, sizeof(message),
-                  "%d patches reach a max distance of %.4g%% to the spline "
-                  "and normals within %.3g deg, not the tolerance %.4g%% "
-                  "and %.3g deg (%s); nothing written",
-                  static_cast<int>(fit.patches.size()),
-                  fit.max_distance_percent, fit.max_normal_angle_degrees,
-                  o.tolerance_percent, o.angle_degrees,
+                  "%d faces with %d control points reach a max distance of "
+                  "%.4g%% to the spline and a max normal jump of %.3g deg, "
+                  "not the tolerance %.4g%% and %.3g deg (%s); nothing "
+                  "written",
+                  static_cast<int>(fit.faces.size()), fit.control_points,
+                  fit.max_distance_percent, fit.max_normal_jump_degrees,
+                  o.tolerance_percent, o.smoothness_degrees,
                   fit.stop_reason.c_str());
     return InvalidInputError(message);
   }
   SDCB_ASSIGN_OR_RETURN(
       const CadSolidReport solid,
-      WriteCadSolid(ToInput(fit.patches, model.transform), fit.layout.faces,
-                    options.format, path,
+      WriteCadSolid(ToInput(fit, model.transform), options.format, path,
                     [&](const std::string& stage, double fraction) {
                       progress(stage, kFitShare + (1.0 - kFitShare) * fraction);
                     }));
 
   CadExportReport r;
   r.format = options.format == CadFormat::kStep ? "step" : "iges";
-  r.faces = static_cast<int>(fit.patches.size());
+  r.faces = static_cast<int>(fit.faces.size());
+  r.control_points = fit.control_points;
   r.tolerance_percent = o.tolerance_percent;
-  r.angle_degrees = o.angle_degrees;
+  r.smoothness_degrees = o.smoothness_degrees;
   r.max_faces = o.max_faces;
   r.max_distance_percent = fit.max_distance_percent;
   r.rms_distance_percent = fit.rms_distance_percent;
   r.measured_points = fit.measured_points;
-  r.fine_faces = fit.fine_faces;
   r.max_normal_angle_degrees = fit.max_normal_angle_degrees;
   r.max_normal_jump_degrees = fit.max_normal_jump_degrees;
+  r.jump_points = fit.jump_points;
   r.face_max_distance_percent = fit.face_max_distance_percent;
   r.rounds = fit.rounds;
   r.stop_reason = fit.stop_reason;
@@ -101,16 +112,17 @@ nlohmann::ordered_json CadExportReportToJson(const CadExportReport& r) {
   j["format"] = r.format;
   j["unit"] = "mm";
   j["faces"] = r.faces;
+  j["control_points"] = r.control_points;
   j["bytes"] = r.bytes;
   j["tolerance_percent"] = r.tolerance_percent;
-  j["angle_degrees"] = r.angle_degrees;
+  j["smoothness_degrees"] = r.smoothness_degrees;
   j["max_faces"] = r.max_faces;
   j["max_distance_percent"] = r.max_distance_percent;
   j["rms_distance_percent"] = r.rms_distance_percent;
   j["measured_points"] = r.measured_points;
-  j["fine_faces"] = r.fine_faces;
   j["max_normal_angle_degrees"] = r.max_normal_angle_degrees;
   j["max_normal_jump_degrees"] = r.max_normal_jump_degrees;
+  j["jump_points"] = r.jump_points;
   j["volume"] = r.volume;
   j["area"] = r.area;
   j["valid"] = r.valid;

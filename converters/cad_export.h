@@ -1,7 +1,8 @@
 // `sdcb export MODEL.sdcb -o OUT.{step,stp,igs,iges}` as one library call
-// (docs/CAD.md): the model's surface as bicubic patches within a tolerance
-// (converters/cad_patches.h), moved to the input's coordinates, written as
-// one closed solid (converters/cad_file.h), with a report of every figure.
+// (docs/CAD.md): the model's surface as a network of tangent-continuous
+// bicubic B-spline faces within a tolerance (converters/cad_network.h),
+// moved to the input's coordinates, written as one closed solid
+// (converters/cad_file.h), with a report of every figure.
 // Lengths in options and report are percent of the largest side of the
 // input's bounding box (1 in the model's normalized frame).
 #ifndef SDCB_CONVERTERS_CAD_EXPORT_H_
@@ -14,7 +15,7 @@
 #include <vector>
 
 #include "sdcb/converters/cad_file.h"
-#include "sdcb/converters/cad_patches.h"
+#include "sdcb/converters/cad_network.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/spline/spline_model.h"
 
@@ -22,9 +23,9 @@ namespace sdcb {
 
 struct CadExportOptions {
   CadFormat format = CadFormat::kStep;
-  // tolerance_percent, angle_degrees, max_faces and the lattices; its
-  // length_unit and progress are set by the export.
-  CadPatchOptions patches;
+  // tolerance_percent, smoothness_degrees, the budgets and the lattices;
+  // its length_unit and progress are set by the export.
+  CadNetworkOptions network;
   // Called with a stage name and the finished fraction of the whole export
   // in [0, 1], from the calling thread.
   std::function<void(const std::string& stage, double fraction)> progress;
@@ -32,17 +33,19 @@ struct CadExportOptions {
 
 struct CadExportReport {
   std::string format;  // "step", "iges"
-  int faces = 0;       // patches, one B-spline face each
+  int faces = 0;       // B-spline faces
+  int control_points = 0;
   double tolerance_percent = 0.0;
-  double angle_degrees = 0.0;
+  double smoothness_degrees = 0.0;
   int max_faces = 0;
-  // CadPatchSet's figures (the parametric distance, sampled on lattices).
+  // CadNetwork's figures (the parametric distance and the normals, sampled
+  // on lattices; the jump at points of every side).
   double max_distance_percent = 0.0;
   double rms_distance_percent = 0.0;
   int64_t measured_points = 0;
-  int fine_faces = 0;
   double max_normal_angle_degrees = 0.0;
   double max_normal_jump_degrees = 0.0;
+  int jump_points = 0;
   std::vector<double> face_max_distance_percent;
   int rounds = 0;
   std::string stop_reason;
@@ -59,9 +62,10 @@ struct CadExportReport {
 
 // Exports `model`'s surface to `path` (its extension is not read: the
 // format is options.format). kInvalidArgument for bad options;
-// kInvalidInput, naming the distance and angle reached, when the face
-// budget does not reach the tolerance and the angle; kIoError when the file
-// cannot be written. Nothing is written unless the result is ok.
+// kInvalidInput, in one sentence, when the model's fit measured folds
+// (unless smoothness_degrees is 180) or the budgets do not reach the
+// tolerance and the smoothness (naming what was reached); kIoError when the
+// file cannot be written. Nothing is written unless the result is ok.
 StatusOr<CadExportReport> WriteCadExport(const SplineModel& model,
                                          const CadExportOptions& options,
                                          const std::string& path);

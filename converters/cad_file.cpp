@@ -1,5 +1,6 @@
 #include "sdcb/converters/cad_file.h"
 
+#include <APIHeaderSection_MakeHeader.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRep_Builder.hxx>
 #include <Geom2d_Line.hxx>
@@ -8,6 +9,8 @@
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Writer.hxx>
+#include <IGESData_GlobalSection.hxx>
+#include <IGESData_IGESModel.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_PrinterOStream.hxx>
@@ -18,6 +21,7 @@
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array1OfPnt.hxx>
 #include <TColgp_Array2OfPnt.hxx>
+#include <TCollection_HAsciiString.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Edge.hxx>
@@ -32,7 +36,6 @@
 #include <fstream>
 #include <map>
 #include <sstream>
-#include <unordered_map>
 
 #include "sdcb/converters/stopwatch.h"
 #include "sdcb/io/atomic_file.h"
@@ -40,31 +43,63 @@
 namespace sdcb {
 namespace {
 
-// The knot vector of one cubic Bezier span: knots 0 and 1, each of
-// multiplicity 4.
-struct BezierKnots {
-  TColStd_Array1OfReal knots{1, 2};
-  TColStd_Array1OfInteger multiplicities{1, 2};
-  BezierKnots() {
-    knots.SetValue(1, 0.0);
-    knots.SetValue(2, 1.0);
-    multiplicities.SetValue(1, 4);
-    multiplicities.SetValue(2, 4);
+// A knot vector of `breaks` in OpenCASCADE's form: the distinct knots and
+// their multiplicities (4 at the ends, 1 inside).
+struct OcctKnots {
+  TColStd_Array1OfReal knots;
+  TColStd_Array1OfInteger multiplicities;
+  explicit OcctKnots(const KnotBreaks& breaks)
+      : knots(1, static_cast<int>(breaks.size())),
+        multiplicities(1, static_cast<int>(breaks.size())) {
+    for (size_t k = 0; k < breaks.size(); ++k) {
+      knots.SetValue(static_cast<int>(k) + 1, breaks[k]);
+      multiplicities.SetValue(static_cast<int>(k) + 1,
+                              k == 0 || k + 1 == breaks.size() ? 4 : 1);
+    }
   }
 };
 
-Handle(Geom_BSplineSurface) MakeSurface(const BicubicPatch& patch) {
-  TColgp_Array2OfPnt poles(1, 4, 1, 4);
-  for (int j = 0; j < 4; ++j) {
-    for (int i = 0; i < 4; ++i) {
-      const Eigen::Vector3d& p = patch.poles[4 * j + i];
-      poles.SetValue(i + 1, j + 1, gp_Pnt(p.x(), p.y(), p.z()));
+gp_Pnt ToPoint(const Eigen::Vector3d& p) { return gp_Pnt(p.x(), p.y(), p.z()); }
+
+Handle(Geom_BSplineSurface) MakeSurface(const BSplineFace& face) {
+  const int nu = face.num_u(), nv = face.num_v();
+  TColgp_Array2OfPnt poles(1, nu, 1, nv);
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      poles.SetValue(i + 1, j + 1, ToPoint(face.poles[j * nu + i]));
     }
   }
-  const BezierKnots span;
-  return new Geom_BSplineSurface(poles, span.knots, span.knots,
-                                 span.multiplicities, span.multiplicities, 3,
-                                 3);
+  const OcctKnots u(face.u_breaks), v(face.v_breaks);
+  return new Geom_BSplineSurface(poles, u.knots, v.knots, u.multiplicities,
+                                 v.multiplicities, 3, 3);
+}
+
+Handle(Geom_BSplineCurve) MakeCurve(const CadEdge& edge) {
+  TColgp_Array1OfPnt poles(1, static_cast<int>(edge.poles.size()));
+  for (size_t q = 0; q < edge.poles.size(); ++q) {
+    poles.SetValue(static_cast<int>(q) + 1, ToPoint(edge.poles[q]));
+  }
+  const OcctKnots knots(edge.breaks);
+  return new Geom_BSplineCurve(poles, knots.knots, knots.multiplicities, 3);
+}
+
+// The pcurve of side k of `face` (CadNetwork's numbering): the line of the
+// face's parameter box that the side's parameter t runs along.
+Handle(Geom2d_Line) SideLine(const BSplineFace& face, int k) {
+  switch (k) {
+    case 0:
+      return new Geom2d_Line(gp_Pnt2d(0.0, face.v_breaks.front()),
+                             gp_Dir2d(1.0, 0.0));
+    case 1:
+      return new Geom2d_Line(gp_Pnt2d(face.u_breaks.back(), 0.0),
+                             gp_Dir2d(0.0, 1.0));
+    case 2:
+      return new Geom2d_Line(gp_Pnt2d(0.0, face.v_breaks.back()),
+                             gp_Dir2d(1.0, 0.0));
+    default:
+      return new Geom2d_Line(gp_Pnt2d(face.u_breaks.front(), 0.0),
+                             gp_Dir2d(0.0, 1.0));
+  }
 }
 
 // Writes `shape` with OpenCASCADE's writer into `contents`, through a
@@ -78,6 +113,10 @@ Status WriteStep(const TopoDS_Shape& solid, const std::string& path,
                          ": OpenCASCADE could not translate the solid "
                          "to STEP");
   }
+  // The header's time stamp is fixed (the Unix epoch), so that the same
+  // model gives the same bytes.
+  APIHeaderSection_MakeHeader header(writer.Model());
+  header.SetTimeStamp(new TCollection_HAsciiString("1970-01-01T00:00:00"));
   const std::string temporary = TemporaryFilePrefix(path) + "occt";
   const IFSelect_ReturnStatus written = writer.Write(temporary.c_str());
   std::ifstream in(temporary, std::ios::binary);
@@ -103,6 +142,13 @@ Status WriteIges(const TopoDS_Shape& solid, const std::string& path,
                          "to IGES");
   }
   writer.ComputeModel();
+  // The global section's dates are fixed (the Unix epoch), so that the same
+  // model gives the same bytes.
+  IGESData_GlobalSection global = writer.Model()->GlobalSection();
+  global.SetDate(IGESData_GlobalSection::NewDateString(1970, 1, 1, 0, 0, 0));
+  global.SetLastChangeDate(
+      IGESData_GlobalSection::NewDateString(1970, 1, 1, 0, 0, 0));
+  writer.Model()->SetGlobalSection(global);
   std::ostringstream buffer;
   if (!writer.Write(buffer) || buffer.str().empty()) {
     return IoError(path + ": OpenCASCADE could not write the IGES file");
@@ -114,104 +160,86 @@ Status WriteIges(const TopoDS_Shape& solid, const std::string& path,
 }  // namespace
 
 StatusOr<CadSolidReport> WriteCadSolid(
-    const std::vector<BicubicPatch>& patches,
-    const std::vector<std::array<int, 4>>& corners, CadFormat format,
-    const std::string& path,
+    const CadNetwork& network, CadFormat format, const std::string& path,
     const std::function<void(const std::string& stage, double fraction)>&
         progress) {
   const auto stage = [&](const char* name, double fraction) {
     if (progress) progress(name, fraction);
   };
-  if (patches.empty() || patches.size() != corners.size()) {
+  const std::vector<BSplineFace>& faces = network.faces;
+  if (faces.empty() || faces.size() != network.face_edges.size()) {
     return InvalidArgumentError(path +
-                                ": no patches, or not one corner "
-                                "quadruple per patch");
+                                ": no faces, or not four edges per face");
   }
   CadSolidReport report;
   Stopwatch t0;
-  // The patches are counter-clockwise seen from outside, so the solid is
+  // The faces are counter-clockwise seen from outside, so the solid is
   // oriented outward as built; its volume says so.
+  std::vector<BicubicPatch> patches;
+  for (const BSplineFace& face : faces) {
+    const std::vector<BicubicPatch> spans = face.BezierPatches();
+    patches.insert(patches.end(), spans.begin(), spans.end());
+  }
   const PatchSetMeasures measures = MeasurePatchSet(patches);
   report.volume = measures.volume;
   report.area = measures.area;
   std::string contents;
   try {
-    // The patches meet pole for pole, so the shared edges are known: the
-    // shell is built topologically (one vertex per layout vertex, one edge
-    // per layout edge, its 3D curve the patches' common boundary and a
-    // straight pcurve in each of its two faces), not sewn.
+    // Each face's boundary is its edges' curves (with the face's knots
+    // inserted), so the shared edges are known: the shell is built
+    // topologically (one vertex per corner, one edge per shared side whose
+    // 3D curve is the edge's curve, with a straight pcurve in each of its two
+    // faces), not sewn.
     report.tolerance = Precision::Confusion();
     const double tolerance = report.tolerance;
     BRep_Builder builder;
-    std::unordered_map<int, TopoDS_Vertex> vertices;
+    std::vector<TopoDS_Vertex> vertices(network.num_vertices);
+    std::vector<bool> made(network.num_vertices, false);
     const auto vertex = [&](int index, const Eigen::Vector3d& p) {
-      auto [it, inserted] = vertices.try_emplace(index);
-      if (inserted) {
-        builder.MakeVertex(it->second, gp_Pnt(p.x(), p.y(), p.z()), tolerance);
+      if (!made[index]) {
+        builder.MakeVertex(vertices[index], ToPoint(p), tolerance);
+        made[index] = true;
       }
-      return it->second;
+      return vertices[index];
     };
-    // Edges keyed by (lower, higher) vertex; parameter 0 at the lower.
-    std::map<std::pair<int, int>, std::pair<TopoDS_Edge, int>> edges;
+    std::vector<TopoDS_Edge> edges(network.edges.size());
+    std::vector<int> uses(network.edges.size(), 0);
     TopoDS_Shell shell;
     builder.MakeShell(shell);
-    constexpr int kSlots[4][4] = {
-        {0, 1, 2, 3}, {3, 7, 11, 15}, {15, 14, 13, 12}, {12, 8, 4, 0}};
-    for (size_t f = 0; f < patches.size(); ++f) {
-      const BicubicPatch& patch = patches[f];
+    for (size_t f = 0; f < faces.size(); ++f) {
       TopoDS_Face face;
-      builder.MakeFace(face, MakeSurface(patch), tolerance);
+      builder.MakeFace(face, MakeSurface(faces[f]), tolerance);
       TopoDS_Wire wire;
       builder.MakeWire(wire);
       for (int k = 0; k < 4; ++k) {
-        const int a = corners[f][k], b = corners[f][(k + 1) % 4];
-        const bool forward = a < b;
-        auto [it, inserted] =
-            edges.try_emplace({std::min(a, b), std::max(a, b)});
-        TopoDS_Edge& edge = it->second.first;
-        if (inserted) {
-          TColgp_Array1OfPnt poles(1, 4);
-          for (int q = 0; q < 4; ++q) {
-            const Eigen::Vector3d& p =
-                patch.poles[kSlots[k][forward ? q : 3 - q]];
-            poles.SetValue(q + 1, gp_Pnt(p.x(), p.y(), p.z()));
-          }
-          const BezierKnots span;
-          builder.MakeEdge(
-              edge,
-              new Geom_BSplineCurve(poles, span.knots, span.multiplicities, 3),
-              tolerance);
-          const int lo = std::min(a, b), hi = std::max(a, b);
-          builder.Add(edge, vertex(lo, patch.poles[kSlots[k][forward ? 0 : 3]])
+        const int e = network.face_edges[f][k];
+        const CadEdge& curve = network.edges[e];
+        TopoDS_Edge& edge = edges[e];
+        if (uses[e]++ == 0) {
+          builder.MakeEdge(edge, MakeCurve(curve), tolerance);
+          builder.Add(edge, vertex(curve.start, curve.poles.front())
                                 .Oriented(TopAbs_FORWARD));
-          builder.Add(edge, vertex(hi, patch.poles[kSlots[k][forward ? 3 : 0]])
-                                .Oriented(TopAbs_REVERSED));
-          builder.Range(edge, 0.0, 1.0);
+          builder.Add(
+              edge,
+              vertex(curve.end, curve.poles.back()).Oriented(TopAbs_REVERSED));
+          builder.Range(edge, curve.breaks.front(), curve.breaks.back());
         }
-        ++it->second.second;
-        // The pcurve: the side of the unit square, in the edge's parameter.
-        const Eigen::Vector2d p0 = QuadEdgeParameter(k, forward ? 0.0 : 1.0);
-        const Eigen::Vector2d p1 = QuadEdgeParameter(k, forward ? 1.0 : 0.0);
-        builder.UpdateEdge(
-            edge,
-            new Geom2d_Line(gp_Pnt2d(p0.x(), p0.y()),
-                            gp_Dir2d(p1.x() - p0.x(), p1.y() - p0.y())),
-            face, tolerance);
+        builder.UpdateEdge(edge, SideLine(faces[f], k), face, tolerance);
         builder.Add(wire,
-                    edge.Oriented(forward ? TopAbs_FORWARD : TopAbs_REVERSED));
+                    edge.Oriented(k < 2 ? TopAbs_FORWARD : TopAbs_REVERSED));
       }
       wire.Closed(true);
       builder.Add(face, wire);
       builder.Add(shell, face);
       ++report.faces;
     }
-    for (const auto& [key, edge] : edges) {
-      if (edge.second != 2) ++report.free_edges;
+    for (const int n : uses) {
+      if (n != 2) ++report.free_edges;
     }
     if (report.free_edges != 0) {
-      return InternalError(path + ": the patches do not form a closed shell (" +
+      return InternalError(path + ": the faces do not form a closed shell (" +
                            std::to_string(report.free_edges) +
-                           " edges not shared by exactly two patches)");
+                           " edges not shared by exactly two faces)");
     }
     shell.Closed(true);
     TopoDS_Solid solid;

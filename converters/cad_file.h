@@ -1,14 +1,14 @@
-// Bicubic patches (converters/cad_patches.h) as one closed B-rep solid in a
-// STEP (AP214) or IGES file, through OpenCASCADE: one Geom_BSplineSurface
-// face per patch; the patches meet pole for pole along the layout's edges,
-// so the shell is assembled from the known topology (BRep_Builder: one
-// vertex per layout vertex, one edge per layout edge whose curve is the
-// common boundary, a straight pcurve in each of its two faces) instead of
-// being sewn; the patches are counter-clockwise seen from outside, so the
-// solid is oriented outward as built (its volume, MeasurePatchSet, is
-// positive); checked with BRepCheck_Analyzer; written by STEPControl_Writer
-// (AP214) or IGESControl_Writer (B-rep mode), in millimetres: the patches'
-// coordinates are taken as millimetres.
+// A network of bicubic B-spline faces (converters/cad_network.h) as one
+// closed B-rep solid in a STEP (AP214) or IGES file, through OpenCASCADE:
+// one Geom_BSplineSurface per face, one Geom_BSplineCurve per shared side;
+// every face's boundary is its sides' curves, so the shell is assembled
+// from the known topology (BRep_Builder: one vertex per corner, one edge
+// per side, a straight pcurve in each of its two faces) instead of being
+// sewn; the faces are counter-clockwise seen from outside, so the solid is
+// oriented outward as built (its volume, MeasurePatchSet of the faces'
+// Bezier spans, is positive); checked with BRepCheck_Analyzer; written by
+// STEPControl_Writer (AP214) or IGESControl_Writer (B-rep mode), in
+// millimetres: the poles' coordinates are taken as millimetres.
 //
 // This file (with its .cpp) is the only place of sdcb that includes
 // OpenCASCADE.
@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "sdcb/converters/cad_patches.h"
+#include "sdcb/converters/cad_network.h"
 #include "sdcb/core/common/status.h"
 
 namespace sdcb {
@@ -36,7 +36,7 @@ struct CadSolidReport {
   double tolerance = 0.0;
   bool valid = false;  // BRepCheck_Analyzer
   int64_t bytes = 0;   // of the file
-  // MeasurePatchSet of the patches, in their units.
+  // MeasurePatchSet of the faces' Bezier spans, in their units.
   double volume = 0.0;
   double area = 0.0;
   struct Seconds {
@@ -46,17 +46,13 @@ struct CadSolidReport {
   } seconds;
 };
 
-// Builds the solid from `patches` (counter-clockwise seen from outside,
-// meeting pole for pole along shared edges) whose corner (0, 0), (1, 0),
-// (1, 1), (0, 1) is the vertex corners[f][0..3] (CadPatchSet::layout.faces)
-// and writes it to `path` atomically. Nothing is written, and a Status says
-// why, when the patches do not close or the solid is not valid.
+// Builds the solid from `network` (its faces, edges and vertices; any
+// frame) and writes it to `path` atomically. Nothing is written, and a
+// Status says why, when the faces do not close or the solid is not valid.
 // `progress` (optional) is called with each stage's name ("checking",
 // "translating", "writing") and the finished fraction in [0, 1].
 StatusOr<CadSolidReport> WriteCadSolid(
-    const std::vector<BicubicPatch>& patches,
-    const std::vector<std::array<int, 4>>& corners, CadFormat format,
-    const std::string& path,
+    const CadNetwork& network, CadFormat format, const std::string& path,
     const std::function<void(const std::string& stage, double fraction)>&
         progress = nullptr);
 

@@ -2,12 +2,13 @@
 # Imports a STEP or IGES file written by `sdcb export` into FreeCAD (headless
 # freecadcmd, Debian's `freecad` package) and checks that it is one valid,
 # closed solid; prints FreeCAD's volume, area and face count, and compares
-# the volume with the report's when a JSON report is given.
+# the volume and area with the report's when a JSON report is given.
 #
 #   bash scripts/freecad_step_check.sh OUT.step [OUT.step.json]
 #
-# Exit 0: FreeCAD reads one valid closed solid (and its volume is the
-# report's within 1e-6). Exit 1 otherwise; exit 2 if freecadcmd is missing.
+# Exit 0: FreeCAD reads one valid closed solid (and its volume and area are
+# the report's within 1e-5: FreeCAD integrates with a fixed rule, which is
+# ~1e-6 off on faces of many knot spans; the report's are exact). Exit 1 otherwise; exit 2 if freecadcmd is missing.
 set -euo pipefail
 file=${1:?usage: freecad_step_check.sh FILE.step|FILE.igs [REPORT.json]}
 report=${2:-}
@@ -33,9 +34,11 @@ result = {"solids": len(solids), "shells": len(shape.Shells),
           "volume": shape.Volume, "area": shape.Area}
 if report:
     with open(report) as f:
-        expected = json.load(f)["volume"]
-    result["report_volume"] = expected
-    ok = ok and abs(shape.Volume / expected - 1.0) < 1e-6
+        expected = json.load(f)
+    result["report_volume"] = expected["volume"]
+    result["report_area"] = expected["area"]
+    ok = (ok and abs(shape.Volume / expected["volume"] - 1.0) < 1e-5
+          and abs(shape.Area / expected["area"] - 1.0) < 1e-5)
 result["ok"] = ok
 print("SDCB_FREECAD " + json.dumps(result))
 EOF

@@ -1,5 +1,6 @@
 // sdcb export MODEL.sdcb -o OUT.{step,stp,igs,iges} [--tolerance PCT]
-//   [--angle DEG] [--max-patches N] [--json FILE] [--quiet]
+//   [--smoothness-degrees DEG] [--max-faces N] [--max-control-points M]
+//   [--json FILE] [--quiet]
 //
 // Parses the flags and calls WriteCadExport (converters/cad_export.h;
 // docs/CAD.md).
@@ -28,7 +29,7 @@ int RunCadExport(const Args& args, const std::string& ext) {
   SilenceOpenCascadeMessages();
   for (const char* mesh_only :
        {"uniform", "qp", "cl", "colors", "mesh", "measure-samples", "draco",
-        "meshopt"}) {
+        "meshopt", "angle"}) {
     if (args.Has(mesh_only)) {
       throw UsageError{std::string("--") + mesh_only + " does not apply to a " +
                        ext + " output"};
@@ -38,13 +39,14 @@ int RunCadExport(const Args& args, const std::string& ext) {
   const std::string output = args.Get("output");
   const std::string json_path = args.Get("json");
   CadExportOptions options;
-  CadPatchOptions& patches = options.patches;
-  patches.tolerance_percent =
-      args.GetDouble("tolerance", patches.tolerance_percent, 1e-6, 50.0);
-  patches.angle_degrees =
-      args.GetDouble("angle", patches.angle_degrees, 1e-3, 180.0);
-  patches.max_faces =
-      args.GetInt("max-patches", patches.max_faces, 96, 2000000);
+  CadNetworkOptions& network = options.network;
+  network.tolerance_percent =
+      args.GetDouble("tolerance", network.tolerance_percent, 1e-6, 50.0);
+  network.smoothness_degrees = args.GetDouble(
+      "smoothness-degrees", network.smoothness_degrees, 1e-3, 180.0);
+  network.max_faces = args.GetInt("max-faces", network.max_faces, 1, 2000000);
+  network.max_control_points = args.GetInt(
+      "max-control-points", network.max_control_points, 100, 20000000);
   const bool quiet = args.Has("quiet") || json_path == "-";
   options.format =
       (ext == ".igs" || ext == ".iges") ? CadFormat::kIges : CadFormat::kStep;
@@ -85,12 +87,14 @@ int RunCadExport(const Args& args, const std::string& ext) {
   }
   if (!quiet) {
     std::printf(
-        "%s -> %s: %d bicubic patches, one closed solid (volume %.6g mm^3)\n"
+        "%s -> %s: %d bicubic B-spline faces (%d control points), one "
+        "closed solid (volume %.6g mm^3)\n"
         "  max distance to the spline %.4g%% (tolerance %.4g%%), max normal "
-        "jump %.3g deg  %.2f s\n",
-        model_path.c_str(), output.c_str(), report->faces, report->volume,
-        report->max_distance_percent, report->tolerance_percent,
-        report->max_normal_jump_degrees, report->seconds.total);
+        "jump across edges %.3g deg (limit %.3g)  %.2f s\n",
+        model_path.c_str(), output.c_str(), report->faces,
+        report->control_points, report->volume, report->max_distance_percent,
+        report->tolerance_percent, report->max_normal_jump_degrees,
+        report->smoothness_degrees, report->seconds.total);
   }
   return kExitOk;
 }

@@ -23,7 +23,8 @@ namespace sdcb::cli {
 const CommandOptions& ExportOptionNames() {
   static const CommandOptions names = {
       {"output", "tolerance", "angle", "uniform", "qp", "cl", "colors", "mesh",
-       "json", "measure-samples", "max-patches"},
+       "json", "measure-samples", "max-faces", "smoothness-degrees",
+       "max-control-points"},
       {"draco", "meshopt", "quiet"}};
   return names;
 }
@@ -51,10 +52,12 @@ int RunExport(const std::vector<std::string>& argv) {
   }
   const std::string ext = LowercaseExtension(output);
   if (IsCadExtension(ext)) return RunCadExport(args, ext);
-  if (args.Has("max-patches")) {
-    throw UsageError{
-        "--max-patches goes with a .step, .stp, .igs or .iges "
-        "output"};
+  for (const char* cad_only :
+       {"max-faces", "smoothness-degrees", "max-control-points"}) {
+    if (args.Has(cad_only)) {
+      throw UsageError{std::string("--") + cad_only +
+                       " goes with a .step, .stp, .igs or .iges output"};
+    }
   }
   SurfaceMeshExportOptions options;
   if (!ExportFormatOfExtension(ext, &options.format)) {

@@ -87,13 +87,16 @@ commands:
                              model whose fit measured folds: exit 1
                              unless --uniform. docs/EXPORT.md.
   export MODEL.sdcb -o OUT.{step,stp,igs,iges} [--tolerance PCT]
-      [--angle DEG] [--max-patches N] [--json FILE] [--quiet]
-                             The surface as bicubic B-spline patches in one
-                             closed solid (STEP AP214 or IGES, millimetres):
-                             every patch within PCT (default 0.05) of the
-                             surface and its normals within DEG (default
-                             10); exit 1, nothing written, when N patches
-                             (default 50000) cannot reach it. docs/CAD.md.
+      [--smoothness-degrees DEG] [--max-faces N] [--max-control-points M]
+      [--json FILE] [--quiet]
+                             The surface as 384 bicubic B-spline faces in
+                             one closed solid (STEP AP214 or IGES,
+                             millimetres), C2 inside each face, within PCT
+                             (default 0.05) of the surface, normals across
+                             edges within DEG (default 0.5); exit 1, nothing
+                             written, when M poles (default 200000) cannot
+                             reach that or the model folds (unless DEG is
+                             180). docs/CAD.md.
 
   batch MANIFEST [--jobs N] [--shard I/N] [--json-lines FILE]
       [--timeout SECONDS] [--force] [--quiet]

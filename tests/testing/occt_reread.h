@@ -2,7 +2,8 @@
 // the CAD export tests) and measures what was read, independently of sdcb's
 // writer: solids, validity (BRepCheck_Analyzer), free edges of the shells,
 // volume and area (BRepGProp), points on the read surfaces and a fine
-// triangulation of them for distances.
+// triangulation of them for distances, and the jump of the normal across
+// every edge shared by two faces.
 #ifndef SDCB_TESTS_TESTING_OCCT_REREAD_H_
 #define SDCB_TESTS_TESTING_OCCT_REREAD_H_
 
@@ -13,13 +14,18 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <GProp_GProps.hxx>
+#include <Geom2d_Curve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <Geom_Surface.hxx>
 #include <IGESControl_Reader.hxx>
 #include <STEPControl_Reader.hxx>
 #include <ShapeAnalysis_FreeBounds.hxx>
+#include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
 #include <algorithm>
@@ -45,6 +51,7 @@ struct RereadShape {
   bool valid = false;
   double volume = 0.0;
   double area = 0.0;
+  TopoDS_Shape shape;
   std::vector<Handle(Geom_Surface)> surfaces;  // one per face
   std::vector<std::array<double, 4>> bounds;   // u0, u1, v0, v1 per face
 };
@@ -65,6 +72,7 @@ inline RereadShape Reread(const std::string& path, bool iges) {
   }
   if (shape.IsNull()) return r;
   r.read = true;
+  r.shape = shape;
   for (TopExp_Explorer it(shape, TopAbs_SOLID); it.More(); it.Next()) {
     ++r.solids;
   }
@@ -78,8 +86,10 @@ inline RereadShape Reread(const std::string& path, bool iges) {
   }
   r.valid = BRepCheck_Analyzer(shape).IsValid();
   GProp_GProps volume, area;
-  BRepGProp::VolumeProperties(shape, volume);
-  BRepGProp::SurfaceProperties(shape, area);
+  // Adaptive to a relative error of 1e-10 (the default fixed rule is
+  // inexact on faces of many knot spans).
+  BRepGProp::VolumeProperties(shape, volume, 1e-10);
+  BRepGProp::SurfaceProperties(shape, area, 1e-10);
   r.volume = volume.Mass();
   r.area = area.Mass();
   for (TopExp_Explorer it(shape, TopAbs_FACE); it.More(); it.Next()) {
@@ -148,6 +158,55 @@ inline double DistanceToFace(const RereadShape& r, int f,
                                         r.surfaces[f], b[0], b[1], b[2], b[3]);
   if (projection.NbPoints() == 0) return HUGE_VAL;
   return projection.LowerDistance();
+}
+
+// The largest angle between the two faces' outward normals across the
+// edges shared by two faces, at `per_edge` points of every edge (evenly in
+// its parameter, ends included): each face's point from the edge's pcurve
+// on it, its normal from the surface's derivatives there, flipped for a
+// reversed face.
+struct NormalJumps {
+  double max_degrees = 0.0;
+  int edges = 0;
+  int64_t points = 0;
+};
+
+inline NormalJumps MeasureNormalJumps(const RereadShape& r, int per_edge) {
+  NormalJumps j;
+  TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
+  TopExp::MapShapesAndAncestors(r.shape, TopAbs_EDGE, TopAbs_FACE, edge_faces);
+  for (int e = 1; e <= edge_faces.Extent(); ++e) {
+    const TopoDS_Edge edge = TopoDS::Edge(edge_faces.FindKey(e));
+    const TopTools_ListOfShape& faces = edge_faces.FindFromIndex(e);
+    if (faces.Extent() != 2) continue;
+    ++j.edges;
+    std::array<TopoDS_Face, 2> face = {TopoDS::Face(faces.First()),
+                                       TopoDS::Face(faces.Last())};
+    double first = 0.0, last = 0.0;
+    BRep_Tool::Range(edge, first, last);
+    for (int k = 0; k < per_edge; ++k) {
+      const double t = first + (last - first) * k / (per_edge - 1);
+      Eigen::Vector3d normal[2];
+      for (int s = 0; s < 2; ++s) {
+        double f0 = 0.0, f1 = 0.0;
+        const Handle(Geom2d_Curve) pcurve =
+            BRep_Tool::CurveOnSurface(edge, face[s], f0, f1);
+        const gp_Pnt2d uv = pcurve->Value(t);
+        gp_Pnt p;
+        gp_Vec du, dv;
+        BRep_Tool::Surface(face[s])->D1(uv.X(), uv.Y(), p, du, dv);
+        const gp_Vec n = du.Crossed(dv);
+        normal[s] = Eigen::Vector3d(n.X(), n.Y(), n.Z());
+        if (face[s].Orientation() == TopAbs_REVERSED) normal[s] = -normal[s];
+      }
+      const double angle = std::atan2(normal[0].cross(normal[1]).norm(),
+                                      normal[0].dot(normal[1])) *
+                           180.0 / 3.14159265358979323846;
+      j.max_degrees = std::max(j.max_degrees, angle);
+      ++j.points;
+    }
+  }
+  return j;
 }
 
 }  // namespace sdcb::testing

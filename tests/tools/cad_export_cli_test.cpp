@@ -1,8 +1,8 @@
 // sdcb export to STEP / IGES end to end: the files OpenCASCADE's readers
 // re-read as one valid closed solid whose volume is the report's, in the
-// input's coordinates (millimetres); a tolerance the patch budget cannot
-// meet is exit 1 naming the achieved distance with nothing written; bad
-// usage is exit 2.
+// input's coordinates (millimetres); a tolerance the control point budget
+// cannot meet is exit 1 naming the achieved distance with nothing written;
+// bad usage is exit 2.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -35,10 +35,10 @@ TEST(CadExportCliTest, StepAndIgesAreOneValidSolidInInputCoordinates) {
   const double scale = model->transform.scale;
   for (const std::string name : {"cow.step", "cow.stp", "cow.igs"}) {
     const std::string out = dir + "/" + name;
-    const auto r =
-        RunSdcb({"export", moved, "-o", out, "--tolerance", "0.5", "--angle",
-                 "180", "--json", out + ".json", "--quiet"},
-                dir);
+    const auto r = RunSdcb(
+        {"export", moved, "-o", out, "--tolerance", "0.5",
+         "--smoothness-degrees", "1", "--json", out + ".json", "--quiet"},
+        dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(r.out.empty());
     const auto j = nlohmann::json::parse(testing::ReadBytes(out + ".json"));
@@ -67,14 +67,18 @@ TEST(CadExportCliTest, StepAndIgesAreOneValidSolidInInputCoordinates) {
     EXPECT_LT(((hi + lo) / 2 - model->transform.translation).norm(),
               0.036 * scale);
   }
+  // Two runs, the same bytes (the STEP header's time stamp is fixed).
+  EXPECT_TRUE(testing::ReadBytes(dir + "/cow.step") ==
+              testing::ReadBytes(dir + "/cow.stp"));
 }
 
 TEST(CadExportCliTest, UnreachableToleranceWritesNothing) {
   const std::string dir = testing::FreshTestDir();
   const std::string out = dir + "/cow.step";
-  const auto r = RunSdcb({"export", kModel, "-o", out, "--tolerance", "0.00001",
-                          "--max-patches", "300", "--json", out + ".json"},
-                         dir);
+  const auto r =
+      RunSdcb({"export", kModel, "-o", out, "--tolerance", "0.00001",
+               "--max-control-points", "3000", "--json", out + ".json"},
+              dir);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   testing::ExpectOneSentenceNaming(r, kModel);
   EXPECT_NE(r.err.find("max distance of"), std::string::npos) << r.err;
@@ -91,8 +95,10 @@ TEST(CadExportCliTest, BadUsageAndBadInput) {
   const std::string dir = testing::FreshTestDir();
   auto r = RunSdcb({"export", kModel, "-o", dir + "/a.step", "--draco"}, dir);
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  r = RunSdcb({"export", kModel, "-o", dir + "/a.obj", "--max-patches", "500"},
+  r = RunSdcb({"export", kModel, "-o", dir + "/a.obj", "--max-faces", "500"},
               dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  r = RunSdcb({"export", kModel, "-o", dir + "/a.step", "--angle", "5"}, dir);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   r = RunSdcb({"export", kModel, "-o", dir + "/a.step", "--tolerance", "0"},
               dir);
