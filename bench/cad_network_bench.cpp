@@ -3,6 +3,7 @@
 //
 //   cad_network_bench MODEL.sdcb [TOLERANCE_PERCENT] [SMOOTHNESS_DEGREES]
 //                     [MAX_CONTROL_POINTS] [TANGENT_WEIGHT] [FACE_GRID]
+//                     [INITIAL_SPANS]
 //
 // Prints, per round, the knot cells of all faces, the free poles, the tangent
 // rows' weight, the sampled max and rms parametric distance to the spline
@@ -22,7 +23,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: cad_network_bench MODEL.sdcb [TOLERANCE_PERCENT] "
                  "[SMOOTHNESS_DEGREES] [MAX_CONTROL_POINTS] "
-                 "[TANGENT_WEIGHT]\n");
+                 "[TANGENT_WEIGHT] [FACE_GRID] [INITIAL_SPANS]\n");
     return 2;
   }
   auto model = sdcb::ReadSdcbFile(argv[1]);
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
   if (argc > 4) options.max_control_points = std::atoi(argv[4]);
   if (argc > 5) options.tangent_weight = std::atof(argv[5]);
   if (argc > 6) options.face_grid = std::atoi(argv[6]);
+  if (argc > 7) options.initial_spans = std::atoi(argv[7]);
   auto net = sdcb::FitCadNetwork(*spline, options);
   if (!net.ok()) {
     std::fprintf(stderr, "%s\n", net.status().message().c_str());
