@@ -10,6 +10,7 @@
 #include <map>
 #include <utility>
 
+#include "sdcb/converters/gauss_legendre.h"
 #include "sdcb/converters/stopwatch.h"
 #include "sdcb/core/fit/least_squares.h"
 #include "sdcb/core/spline/piecewise_surface.h"
@@ -29,13 +30,11 @@ constexpr double kMinSpan = 1.0 / 4096;
 // residual changes at least this share as much along it as along the other.
 constexpr double kAnisotropy = 0.7;
 
-// 4-point Gauss-Legendre on [0, 1].
-constexpr double kGaussX[4] = {
-    0.5 - 0.5 * 0.8611363115940526, 0.5 - 0.5 * 0.3399810435848563,
-    0.5 + 0.5 * 0.3399810435848563, 0.5 + 0.5 * 0.8611363115940526};
-constexpr double kGaussW[4] = {
-    0.5 * 0.3478548451374538, 0.5 * 0.6521451548625461,
-    0.5 * 0.6521451548625461, 0.5 * 0.3478548451374538};
+// The Gauss-Legendre rule of the distance and tangent rows.
+const GaussLegendre<4>& Gauss() {
+  static const GaussLegendre<4> rule;
+  return rule;
+}
 
 // Cube face c: its normal axis and sign, and the cube axes of its u and v
 // (right-handed with the outward normal).
@@ -164,8 +163,8 @@ const KnotBreaks& AlongBreaks(const BSplineFace& face, int k) {
   return k % 2 == 0 ? face.u_breaks : face.v_breaks;
 }
 
-// The network's state between rounds: the faces' knots, the topology, the
-// unknown of every pole, the tangent rows' weight.
+// The network's state between rounds: the faces' knots, the topology and
+// the unknowns of every pole.
 class NetworkFitter {
  public:
   NetworkFitter(const PiecewiseSurface& surface, int grid, int spans)
@@ -259,9 +258,9 @@ class NetworkFitter {
     }
   }
 
-  // Fits every unknown; the faces' poles and the edges' curves are set from
-  // the solution.
-  // NumberPoles must have been called for the present knots.
+  // Fits every unknown (NumberPoles must have numbered them for the present
+  // knots); the faces' poles and the edges' curves are set from the
+  // solution.
   Status Fit(double tangent_weight) {
     struct Cell {
       int face, su, sv;
@@ -283,9 +282,9 @@ class NetworkFitter {
       for (int b = 0; b < 4; ++b) {
         for (int a = 0; a < 4; ++a) {
           const double u =
-              bu[cell.su] + kGaussX[a] * (bu[cell.su + 1] - bu[cell.su]);
+              bu[cell.su] + Gauss().x[a] * (bu[cell.su + 1] - bu[cell.su]);
           const double v =
-              bv[cell.sv] + kGaussX[b] * (bv[cell.sv + 1] - bv[cell.sv]);
+              bv[cell.sv] + Gauss().x[b] * (bv[cell.sv + 1] - bv[cell.sv]);
           directions.row(c * 16 + 4 * b + a) = Sphere(cell.face, u, v);
         }
       }
@@ -302,8 +301,8 @@ class NetworkFitter {
       LocalBlock& block = blocks[c];
       for (int b = 0; b < 4; ++b) {
         for (int a = 0; a < 4; ++a) {
-          const double u = bu[cell.su] + kGaussX[a] * hu;
-          const double v = bv[cell.sv] + kGaussX[b] * hv;
+          const double u = bu[cell.su] + Gauss().x[a] * hu;
+          const double v = bv[cell.sv] + Gauss().x[b] * hv;
           double nu[4], nv[4];
           CubicBSplineBasis(bu, cell.su, u, nu, nullptr);
           CubicBSplineBasis(bv, cell.sv, v, nv, nullptr);
@@ -314,7 +313,7 @@ class NetworkFitter {
                       &block, &coef);
             }
           }
-          block.AddRow(coef, std::sqrt(kGaussW[a] * kGaussW[b] * hu * hv),
+          block.AddRow(coef, std::sqrt(Gauss().w[a] * Gauss().w[b] * hu * hv),
                        targets.row(c * 16 + 4 * b + a));
         }
       }
@@ -466,7 +465,8 @@ class NetworkFitter {
       const double h = b[s + 1] - b[s];
       std::vector<std::pair<double, double>> points;  // t, row weight
       for (int k = 0; k < 4; ++k) {
-        points.push_back({b[s] + kGaussX[k] * h, std::sqrt(kGaussW[k] * h)});
+        points.push_back(
+            {b[s] + Gauss().x[k] * h, std::sqrt(Gauss().w[k] * h)});
       }
       if (s == 0) points.push_back({b.front(), std::sqrt(0.25 * h)});
       if (s == m - 1) points.push_back({b.back(), std::sqrt(0.25 * h)});
