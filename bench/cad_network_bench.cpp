@@ -10,7 +10,7 @@
 // (percent of the model's normalized frame), the largest normal jump across the
 // six faces' edges and the largest angle between a face's normal and the
 // spline's, and the seconds; then the outcome and the STEP size a pole costs
-// (about 100 bytes).
+// (about 110 bytes).
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -62,12 +62,12 @@ int main(int argc, char** argv) {
         static_cast<long long>(h.folded_points), h.seconds);
   }
   std::printf(
-      "%s: %zu faces, %s after %d rounds, %d poles (~%.1f MB of STEP at ~100 B "
+      "%s: %zu faces, %s after %d rounds, %d poles (~%.1f MB of STEP at ~110 B "
       "per "
       "pole), max %.4g %%, jump %.3g deg; fit %.2f s, measure %.2f s\n",
       argv[1], net->faces.size(),
       net->within_tolerance ? "met" : net->stop_reason.c_str(), net->rounds,
-      net->control_points, net->control_points * 100e-6,
+      net->control_points, net->control_points * 110e-6,
       net->max_distance_percent, net->max_normal_jump_degrees, net->fit_seconds,
       net->measure_seconds);
   return 0;

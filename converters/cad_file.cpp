@@ -11,12 +11,27 @@
 #include <IGESControl_Writer.hxx>
 #include <IGESData_GlobalSection.hxx>
 #include <IGESData_IGESModel.hxx>
+#include <Interface_EntityIterator.hxx>
+#include <Interface_FloatWriter.hxx>
+#include <Interface_Graph.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_PrinterOStream.hxx>
 #include <Precision.hxx>
 #include <STEPControl_Writer.hxx>
 #include <Standard_Failure.hxx>
+#include <StepData_Protocol.hxx>
+#include <StepData_StepModel.hxx>
+#include <StepData_StepWriter.hxx>
+#include <StepGeom_BSplineCurve.hxx>
+#include <StepGeom_BSplineSurface.hxx>
+#include <StepGeom_CartesianPoint.hxx>
+#include <StepGeom_Direction.hxx>
+#include <StepGeom_HArray1OfCartesianPoint.hxx>
+#include <StepGeom_HArray2OfCartesianPoint.hxx>
+#include <StepGeom_Line.hxx>
+#include <StepGeom_Vector.hxx>
+#include <StepShape_VertexPoint.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array1OfPnt.hxx>
@@ -30,10 +45,8 @@
 #include <TopoDS_Solid.hxx>
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
+#include <XSControl_WorkSession.hxx>
 #include <algorithm>
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -102,8 +115,119 @@ Handle(Geom2d_Line) SideLine(const BSplineFace& face, int k) {
   }
 }
 
-// Writes `shape` with OpenCASCADE's writer into `contents`, through a
-// temporary file next to `path` (STEPControl_Writer writes files only).
+// The resolution of the reals of a STEP file: every coordinate, knot and
+// parameter below 10^5 in magnitude is written with 8 decimals, 5e-9 mm at
+// most between a value and its text, below OpenCASCADE's confusion distance
+// (1e-7 mm); its own default of 12 decimals spends a third of the file on
+// digits no reader can use. Larger values keep its exponent form with 12
+// decimals (OpenCASCADE's zero suppression reads only the first 16
+// characters of a value, which bounds both forms).
+void SetStepRealFormat(Interface_FloatWriter* writer) {
+  writer->SetFormat("%.12E");
+  writer->SetFormatForRange("%.8f", 0.0, 1.0e5);
+  writer->SetZeroSuppress(true);
+}
+
+// A CARTESIAN_POINT or DIRECTION's values as the file will spell them.
+std::string RealsText(const Interface_FloatWriter& writer, int count,
+                      const std::function<double(int)>& value) {
+  std::string text;
+  char spelled[64];
+  for (int i = 1; i <= count; ++i) {
+    writer.Write(value(i), spelled);
+    text += spelled;
+    text += ',';
+  }
+  return text;
+}
+
+std::string PointText(const Interface_FloatWriter& writer,
+                      const StepGeom_CartesianPoint& point) {
+  return RealsText(writer, point.NbCoordinates(),
+                   [&](int i) { return point.CoordinatesValue(i); });
+}
+
+std::string DirectionText(const Interface_FloatWriter& writer,
+                          const StepGeom_Direction& direction) {
+  return RealsText(writer, direction.NbDirectionRatios(),
+                   [&](int i) { return direction.DirectionRatiosValue(i); });
+}
+
+// The translated model with every point and direction written once: poles
+// that a face's boundary row shares with its edge's curve (or a corner with
+// its faces, edges and vertex) and the pcurves' directions are the same text
+// many times over, and STEP lets every surface, curve, vertex and vector
+// refer to one CARTESIAN_POINT or DIRECTION entity. The references are
+// pointed at the first entity of each text (model order), and the points and
+// directions no entity refers to any more are dropped.
+void ShareEqualPoints(const Handle(StepData_StepModel) & model,
+                      const Handle(StepData_Protocol) & protocol,
+                      const Interface_FloatWriter& writer) {
+  std::map<std::string, Handle(StepGeom_CartesianPoint)> points;
+  std::map<std::string, Handle(StepGeom_Direction)> directions;
+  const auto point = [&](const Handle(StepGeom_CartesianPoint) & p) {
+    if (p.IsNull()) return p;
+    return points.emplace(PointText(writer, *p), p).first->second;
+  };
+  const int count = model->NbEntities();
+  for (int n = 1; n <= count; ++n) {
+    const Handle(Standard_Transient)& entity = model->Value(n);
+    if (const auto p = Handle(StepGeom_CartesianPoint)::DownCast(entity)) {
+      point(p);
+    } else if (const auto d = Handle(StepGeom_Direction)::DownCast(entity)) {
+      directions.emplace(DirectionText(writer, *d), d);
+    }
+  }
+  for (int n = 1; n <= count; ++n) {
+    const Handle(Standard_Transient)& entity = model->Value(n);
+    if (const auto s = Handle(StepGeom_BSplineSurface)::DownCast(entity)) {
+      const Handle(StepGeom_HArray2OfCartesianPoint) poles =
+          s->ControlPointsList();
+      if (poles.IsNull()) continue;
+      for (int i = poles->LowerRow(); i <= poles->UpperRow(); ++i) {
+        for (int j = poles->LowerCol(); j <= poles->UpperCol(); ++j) {
+          poles->SetValue(i, j, point(poles->Value(i, j)));
+        }
+      }
+    } else if (const auto c = Handle(StepGeom_BSplineCurve)::DownCast(entity)) {
+      const Handle(StepGeom_HArray1OfCartesianPoint) poles =
+          c->ControlPointsList();
+      if (poles.IsNull()) continue;
+      for (int i = poles->Lower(); i <= poles->Upper(); ++i) {
+        poles->SetValue(i, point(poles->Value(i)));
+      }
+    } else if (const auto v = Handle(StepShape_VertexPoint)::DownCast(entity)) {
+      const auto p =
+          Handle(StepGeom_CartesianPoint)::DownCast(v->VertexGeometry());
+      if (!p.IsNull()) v->SetVertexGeometry(point(p));
+    } else if (const auto l = Handle(StepGeom_Line)::DownCast(entity)) {
+      l->SetPnt(point(l->Pnt()));
+    } else if (const auto e = Handle(StepGeom_Vector)::DownCast(entity)) {
+      const Handle(StepGeom_Direction) d = e->Orientation();
+      if (d.IsNull()) continue;
+      e->SetOrientation(
+          directions.emplace(DirectionText(writer, *d), d).first->second);
+    }
+  }
+  const Interface_Graph graph(model, protocol);
+  std::vector<Handle(Standard_Transient)> kept;
+  kept.reserve(count);
+  for (int n = 1; n <= count; ++n) {
+    const Handle(Standard_Transient)& entity = model->Value(n);
+    const bool leaf = entity->IsKind(STANDARD_TYPE(StepGeom_CartesianPoint)) ||
+                      entity->IsKind(STANDARD_TYPE(StepGeom_Direction));
+    if (!leaf || graph.Sharings(entity).NbEntities() > 0)
+      kept.push_back(entity);
+  }
+  model->ClearEntities();
+  for (const Handle(Standard_Transient) & entity : kept) {
+    model->AddEntity(entity);
+  }
+}
+
+// Writes `shape` with OpenCASCADE's STEP translator and Part 21 writer into
+// `contents`, equal points shared and reals at SetStepRealFormat's
+// resolution.
 Status WriteStep(const TopoDS_Shape& solid, const std::string& path,
                  std::string* contents) {
   STEPControl_Writer writer;
@@ -113,19 +237,24 @@ Status WriteStep(const TopoDS_Shape& solid, const std::string& path,
                          ": OpenCASCADE could not translate the solid "
                          "to STEP");
   }
+  const Handle(StepData_StepModel) model = writer.Model();
+  const Handle(StepData_Protocol) protocol =
+      Handle(StepData_Protocol)::DownCast(writer.WS()->Protocol());
+  if (model.IsNull() || protocol.IsNull()) {
+    return InternalError(path + ": OpenCASCADE made no STEP model");
+  }
   // The header's time stamp is fixed (the Unix epoch), so that the same
   // model gives the same bytes.
-  APIHeaderSection_MakeHeader header(writer.Model());
+  APIHeaderSection_MakeHeader header(model);
   header.SetTimeStamp(new TCollection_HAsciiString("1970-01-01T00:00:00"));
-  const std::string temporary = TemporaryFilePrefix(path) + "occt";
-  const IFSelect_ReturnStatus written = writer.Write(temporary.c_str());
-  std::ifstream in(temporary, std::ios::binary);
+  Interface_FloatWriter reals;
+  SetStepRealFormat(&reals);
+  ShareEqualPoints(model, protocol, reals);
+  StepData_StepWriter step(model);
+  step.FloatWriter() = reals;
+  step.SendModel(protocol);
   std::ostringstream buffer;
-  buffer << in.rdbuf();
-  in.close();
-  std::error_code ignored;
-  std::filesystem::remove(temporary, ignored);
-  if (written != IFSelect_RetDone || buffer.str().empty()) {
+  if (!step.Print(buffer) || buffer.str().empty()) {
     return IoError(path + ": OpenCASCADE could not write the STEP file");
   }
   *contents = buffer.str();

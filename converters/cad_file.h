@@ -6,9 +6,10 @@
 // per side, a straight pcurve in each of its two faces) instead of being
 // sewn; the faces are counter-clockwise seen from outside, so the solid is
 // oriented outward as built (its volume, MeasurePatchSet of the faces'
-// Bezier spans, is positive); checked with BRepCheck_Analyzer; written by
-// STEPControl_Writer (AP214) or IGESControl_Writer (B-rep mode), in
-// millimetres: the poles' coordinates are taken as millimetres.
+// Bezier spans, is positive); checked with BRepCheck_Analyzer; translated by
+// STEPControl_Writer (AP214, written by StepData_StepWriter with every point
+// once and 8 decimals) or IGESControl_Writer (B-rep mode), in millimetres:
+// the poles' coordinates are taken as millimetres.
 //
 // This file (with its .cpp) is the only place of sdcb that includes
 // OpenCASCADE.

@@ -17,8 +17,12 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "converters/blobby_spline.h"
 #include "converters/cad_reread_oracle.h"
@@ -112,6 +116,26 @@ TEST_F(CadExportTest, BudgetTooSmallReportsWhatItReached) {
             StatusCode::kInvalidArgument);
 }
 
+// The coordinates of every CARTESIAN_POINT of a STEP file's text, white
+// space removed ("1.5,-2.,0.25").
+std::vector<std::string> CartesianPointTexts(const std::string& step) {
+  std::vector<std::string> points;
+  const std::string head = "CARTESIAN_POINT('',(";
+  for (size_t at = step.find(head); at != std::string::npos;
+       at = step.find(head, at + 1)) {
+    const size_t begin = at + head.size();
+    const size_t end = step.find(')', begin);
+    std::string point;
+    for (size_t i = begin; i < end && end != std::string::npos; ++i) {
+      if (!std::isspace(static_cast<unsigned char>(step[i]))) {
+        point += step[i];
+      }
+    }
+    points.push_back(point);
+  }
+  return points;
+}
+
 // The STEP and IGES files re-read by OpenCASCADE against the spline.
 void CheckReread(const SphericalSpline& spline, const CadNetwork& network,
                  const CadSolidReport& report, const std::string& path,
@@ -123,6 +147,9 @@ void CheckReread(const SphericalSpline& spline, const CadNetwork& network,
   EXPECT_EQ(r.free_edges, 0);
   EXPECT_TRUE(r.valid);
   EXPECT_EQ(r.faces, static_cast<int>(network.faces.size()));
+  // The curves, surfaces and corners meet as written: the reader keeps its
+  // confusion distance (1e-7).
+  EXPECT_LE(r.max_tolerance, 1e-7) << path;
 
   const testing::RereadComparison c = testing::CompareRereadWithSpline(
       r, spline, distances ? 100000 : 1000, distances ? 10000 : 100);
@@ -171,6 +198,24 @@ TEST_F(CadExportTest, StepRereadIsOneValidSmoothSolidWithinTheTolerance) {
   EXPECT_NE(text.find("AUTOMOTIVE_DESIGN"), std::string::npos);  // AP214
   EXPECT_NE(text.find("B_SPLINE_SURFACE_WITH_KNOTS"), std::string::npos);
   EXPECT_NE(text.find("MANIFOLD_SOLID_BREP"), std::string::npos);
+  // Every point is written once, each coordinate with at most 8 decimals
+  // (the corners, the sides' poles shared by a face and its edge's curve):
+  // fewer points than the faces' and edges' poles together.
+  const std::vector<std::string> points = CartesianPointTexts(text);
+  const std::set<std::string> distinct(points.begin(), points.end());
+  EXPECT_EQ(distinct.size(), points.size());
+  size_t poles = 0;
+  for (const BSplineFace& face : network_->faces) poles += face.poles.size();
+  for (const CadEdge& edge : network_->edges) poles += edge.poles.size();
+  EXPECT_LT(points.size(), poles * 9 / 10) << poles;
+  for (const std::string& point : points) {
+    for (size_t at = point.find('.'); at != std::string::npos;
+         at = point.find('.', at + 1)) {
+      const size_t end = point.find_first_not_of("0123456789", at + 1);
+      EXPECT_LE((end == std::string::npos ? point.size() : end) - at - 1, 8u)
+          << point;
+    }
+  }
   CheckReread(*spline_, *network_, *report, path, false, true);
 }
 

@@ -28,6 +28,7 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
+#include <TopoDS_Vertex.hxx>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -51,6 +52,9 @@ struct RereadShape {
   bool valid = false;
   double volume = 0.0;
   double area = 0.0;
+  // The largest tolerance of a read vertex or edge: what the reader had to
+  // allow for the gaps it found between curves, surfaces and points.
+  double max_tolerance = 0.0;
   TopoDS_Shape shape;
   std::vector<Handle(Geom_Surface)> surfaces;  // one per face
   std::vector<std::array<double, 4>> bounds;   // u0, u1, v0, v1 per face
@@ -85,6 +89,14 @@ inline RereadShape Reread(const std::string& path, bool iges) {
     }
   }
   r.valid = BRepCheck_Analyzer(shape).IsValid();
+  for (TopExp_Explorer it(shape, TopAbs_EDGE); it.More(); it.Next()) {
+    r.max_tolerance = std::max(
+        r.max_tolerance, BRep_Tool::Tolerance(TopoDS::Edge(it.Current())));
+  }
+  for (TopExp_Explorer it(shape, TopAbs_VERTEX); it.More(); it.Next()) {
+    r.max_tolerance = std::max(
+        r.max_tolerance, BRep_Tool::Tolerance(TopoDS::Vertex(it.Current())));
+  }
   GProp_GProps volume, area;
   // Adaptive to a relative error of 1e-10 (the default fixed rule is
   // inexact on faces of many knot spans).
