@@ -245,7 +245,7 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
                         {"edges", fit.features.edges.size()},
                         {"curves", fit.features.curves.size()},
                         {"corners", fit.features.corners.size()},
-                        {"used", false}};
+                        {"used", fit.features_kept}};
   const StageTimings& t = fit.timings;
   report["timings"] = {{"parameterization", t.parameterization},
                        {"knot_placement", t.knot_placement},

@@ -17,6 +17,7 @@
 #include "sdcb/core/fit/fit_samples.h"
 #include "sdcb/core/fit/least_squares.h"
 #include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/knots/feature_knots.h"
 #include "sdcb/core/knots/spherical_cvt.h"
 #include "sdcb/core/mesh/curvature.h"
 #include "sdcb/core/mesh/mesh_topology.h"
@@ -312,6 +313,10 @@ struct SplineFitter::State {
 
   TriangleMesh mesh;   // in the normalized frame
   Eigen::MatrixX3d u;  // the vertices' sphere parameters
+  // The feature corners' knot clusters (core/knots/feature_knots.h): the
+  // knots of the first round 0 while not empty, dropped with that round when
+  // it does not meet the target.
+  Eigen::MatrixX3d feature_knots;
   double mesh_area = 0;
   // Per vertex: the unit normal of its triangles' area-weighted sum (the
   // rounds' estimate of the dense measurement).
@@ -374,6 +379,33 @@ struct SplineFitter::State {
     out.imbue(std::locale::classic());
     out << std::setprecision(4) << value;
     return out.str();
+  }
+
+  // Round 0 on the feature corners' clusters (core/knots/feature_knots.h):
+  // those knots alone, none placed by the density.
+  static StatusOr<KnotPlacement> FeatureKnotPlacement(
+      const Eigen::MatrixX3d& knots) {
+    KnotPlacement placement;
+    placement.knots = knots;
+    placement.min_separation = kCornerClusterGap;
+    return placement;
+  }
+
+  // Forgets a round 0 on the feature clusters that missed the target, as if
+  // it had not run (its seconds stay in the stage timings): the next round
+  // is an ordinary round 0.
+  void DropFeatureRound() {
+    feature_knots.resize(0, 3);
+    SplineModel& model = result.model;
+    model.knots.resize(0, 3);
+    model.configurations = DelaunayConfigurations();
+    model.control_points.resize(0, 3);
+    model.statistics.rounds.clear();
+    model.statistics.final_result = RoundStatistics();
+    result.round_details.clear();
+    best.reset();
+    most_accurate.reset();
+    vertex_errors_exact = true;
   }
 
   // The stopping test, on a final (dense, closest-point) measurement.
@@ -655,6 +687,11 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
     return p;
   }));
   s.u = param.sphere;
+  // Round 0 tries the corners' knot clusters alone first (RunRound) when
+  // they can keep every feature.
+  if (o.keep_features && ClustersKeepEveryFeature(s.result.features)) {
+    s.feature_knots = CornerKnotClusters(s.result.features, s.u);
+  }
   s.parameter_tree = std::make_unique<PointKdTree>(s.u);
   SDCB_ASSIGN_OR_RETURN(s.mesh_distance, std::move(*distance));
   s.result.timings.parameterization = stage.Seconds();
@@ -690,7 +727,18 @@ Status SplineFitter::AddRound() {
   if (finished()) {
     return InvalidArgumentError("the fit is finished; no round can be added");
   }
-  return state_->InArena([&] { return state_->RunRound(); });
+  return state_->InArena([&] {
+    // The round on the feature clusters is an attempt: when it cannot be
+    // built (a basis with a hole, too many samples) the fit goes on from
+    // its usual round 0, as when it misses the target.
+    const bool feature_round = state_->feature_knots.rows() > 0;
+    Status status = state_->RunRound();
+    if (!status.ok() && feature_round) {
+      state_->DropFeatureRound();
+      return Status::Ok();
+    }
+    return status;
+  });
 }
 
 // The round's least-squares problem: the basis on the round's knots, the data
@@ -927,8 +975,10 @@ Status SplineFitter::State::RunRound() {
                             : std::max(o.knots_per_round, grown);
   // Too many to keep apart: as many as fit, halving down to kMinFoldKnots.
   int placing = new_knots;
+  const bool feature_round = round == 0 && feature_knots.rows() > 0;
   StatusOr<KnotPlacement> placed =
-      PlaceKnots(density, model.knots, placing, CvtOptions());
+      feature_round ? FeatureKnotPlacement(feature_knots)
+                    : PlaceKnots(density, model.knots, placing, CvtOptions());
   auto no_room = [&] {
     return !placed.ok() && round > 0 &&
            placed.status().code() == StatusCode::kUnsupported;
@@ -1076,7 +1126,15 @@ Status SplineFitter::State::RunRound() {
   // 6. Stop, or go on. Met the target but folded: the next rounds put fewer
   // knots, only where the surface folds, a few times at most.
   if (reached) {
+    result.features_kept = feature_round;
     return Finish(true, "");
+  }
+  if (feature_round) {
+    // The clusters alone did not meet the target (features that are not
+    // between corners, curved ones, or a shape that needs more knots): the
+    // fit starts again from its usual round 0, which does not keep them.
+    DropFeatureRound();
+    return Status::Ok();
   }
   const bool only_folds =
       rs.rmse_percent <= o.rmse_percent && rs.folded_area_percent > 0;

@@ -114,9 +114,17 @@ struct FitOptions {
   bool store_parameters = true;  // keep the sphere point of every vertex
   // Edges of the input where its normals turn by more than this (degrees,
   // (0, 180]; 180: none) are detected as sharp features and reported
-  // (FitResult::features, core/mesh/feature_curves.h). The fit does not
-  // use them yet: the surface is smooth across them.
+  // (FitResult::features, core/mesh/feature_curves.h).
   double feature_angle_degrees = 30.0;
+  // Library only, off by default: when every feature is a single mesh edge
+  // between two corners (ClustersKeepEveryFeature), round 0 first tries a
+  // cluster of knots at every corner alone (core/knots/feature_knots.h),
+  // which keeps the corners and edges sharp, and keeps that round if it
+  // meets the target; otherwise the fit goes on from its usual round 0,
+  // smooth across them. Not offered by the command line: the exporters do
+  // not handle creases yet (the adaptive tessellation refines along them
+  // without end; docs/FITTING.md, "Creases from knots").
+  bool keep_features = false;
   // 0: knots where the placement puts them. Otherwise each new knot is moved
   // to the nearest point of the octahedral grid of this many bits per
   // coordinate (core/sphere/unit_vector_grid.h, kMinUnitVectorGridBits..
@@ -198,6 +206,9 @@ struct FitResult {
   std::string shortfall;
   // The input's sharp features at FitOptions::feature_angle_degrees.
   MeshFeatures features;
+  // Whether the model is the round on the feature corners' knot clusters
+  // (core/knots/feature_knots.h), which keeps those features sharp.
+  bool features_kept = false;
   // model.statistics.reached_target: the target was met.
   bool reached_target() const { return model.statistics.reached_target; }
 };

@@ -7,23 +7,12 @@
 #include <vector>
 
 #include "sdcb/core/mesh/icosphere.h"
+#include "testing/make_mesh.h"
 
 namespace sdcb {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-TriangleMesh MakeMesh(const std::vector<Eigen::Vector3d>& vertices,
-                      const std::vector<Eigen::Vector3i>& faces) {
-  TriangleMesh m;
-  m.vertices.resize(vertices.size(), 3);
-  for (size_t i = 0; i < vertices.size(); ++i) {
-    m.vertices.row(i) = vertices[i].transpose();
-  }
-  m.faces.resize(faces.size(), 3);
-  for (size_t i = 0; i < faces.size(); ++i) m.faces.row(i) = faces[i];
-  return m;
-}
 
 // The unit cube, two triangles a side, counter-clockwise from outside.
 TriangleMesh Cube() {
@@ -36,7 +25,7 @@ TriangleMesh Cube() {
     f.emplace_back(q[0], q[1], q[2]);
     f.emplace_back(q[0], q[2], q[3]);
   }
-  return MakeMesh(v, f);
+  return testing::MakeMesh(v, f);
 }
 
 // A closed cylinder of radius 1 and height 1: n side quads (two triangles
@@ -60,7 +49,7 @@ TriangleMesh Cylinder(int n) {
     f.emplace_back(bottom, j, i);
     f.emplace_back(top, n + i, n + j);
   }
-  return MakeMesh(v, f);
+  return testing::MakeMesh(v, f);
 }
 
 TEST(FeatureCurvesTest, CubeHasTwelveEdgesBetweenEightCorners) {
@@ -131,13 +120,14 @@ TEST(FeatureCurvesTest, FlatBipyramidRimTurnsAtThreeCorners) {
     faces.emplace_back(3, i, (i + 1) % 3);
     faces.emplace_back(4, (i + 1) % 3, i);
   }
-  StatusOr<MeshFeatures> f = DetectFeatures(MakeMesh(v, faces), 30.0);
+  StatusOr<MeshFeatures> f = DetectFeatures(testing::MakeMesh(v, faces), 30.0);
   ASSERT_TRUE(f.ok());
   EXPECT_EQ(f->edges.size(), 3u);
   EXPECT_EQ(f->corners, (std::vector<int>{0, 1, 2}));
   EXPECT_EQ(f->curves.size(), 3u);
   // Below the pyramids' own turn every edge is a feature.
-  StatusOr<MeshFeatures> all = DetectFeatures(MakeMesh(v, faces), 15.0);
+  StatusOr<MeshFeatures> all =
+      DetectFeatures(testing::MakeMesh(v, faces), 15.0);
   ASSERT_TRUE(all.ok());
   EXPECT_EQ(all->edges.size(), 9u);
 }

@@ -1,0 +1,129 @@
+// With FitOptions::keep_features the fit keeps sharp corners and edges with
+// the corners' knot clusters (core/knots/feature_knots.h), judged by the
+// dense two-sided measurement and by the spline's normals beside the edges
+// against the input's triangles (tests/testing/feature_normals.h); and it
+// leaves every other fit as it was.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cstdio>
+
+#include "sdcb/core/fit/spline_fitter.h"
+#include "sdcb/core/mesh/icosphere.h"
+#include "testing/feature_normals.h"
+#include "testing/make_mesh.h"
+
+namespace sdcb {
+namespace {
+
+// CGAL's data/meshes/cube.off: [-1, 1]^3 in 12 triangles.
+TriangleMesh Cube() {
+  return testing::MakeMesh({{-1, -1, -1},
+                            {-1, 1, -1},
+                            {1, 1, -1},
+                            {1, -1, -1},
+                            {-1, -1, 1},
+                            {-1, 1, 1},
+                            {1, 1, 1},
+                            {1, -1, 1}},
+                           {{0, 1, 3},
+                            {3, 1, 2},
+                            {0, 4, 1},
+                            {1, 4, 5},
+                            {3, 2, 7},
+                            {7, 2, 6},
+                            {4, 0, 3},
+                            {7, 4, 3},
+                            {6, 4, 7},
+                            {6, 5, 4},
+                            {1, 5, 6},
+                            {2, 1, 6}});
+}
+
+// Keeping features on (FitOptions::keep_features), at this angle.
+FitOptions Options(double feature_angle) {
+  FitOptions options;
+  options.rmse_percent = 0.1;
+  options.feature_angle_degrees = feature_angle;
+  options.keep_features = true;
+  return options;
+}
+
+TEST(FeatureFitTest, TheCubeKeepsItsEdgesWithAFewHundredControlPoints) {
+  const TriangleMesh cube = Cube();
+  auto fit = FitSphericalSpline(cube, Options(30));
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  EXPECT_TRUE(fit->shortfall.empty()) << fit->shortfall;
+  EXPECT_TRUE(fit->features_kept);
+  EXPECT_EQ(fit->features.corners.size(), 8u);
+  const RoundStatistics& f = fit->model.statistics.final_result;
+  EXPECT_EQ(f.knots, 32);  // 8 corners x (1 + 3)
+  EXPECT_LE(f.control_points, 300);
+  EXPECT_LE(f.max_error_percent, 0.2);  // dense, both ways
+  EXPECT_EQ(f.folded_area_percent, 0.0);
+  auto spline = SurfaceFromModel(fit->model);
+  ASSERT_TRUE(spline.ok());
+  // Beside every edge (1 % of the side from it, both faces) the normal is
+  // the face's: the edges are creases, not fillets.
+  const Eigen::MatrixX3d vertices =
+      fit->model.transform.ToNormalized(cube.vertices);
+  const testing::FeatureNormals normals = testing::MeasureFeatureNormals(
+      *spline, vertices, cube.faces, fit->features, 0.01, 400000);
+  EXPECT_EQ(normals.angles_degrees.size(), 72u);
+  EXPECT_LT(normals.max_degrees, 2.0);
+  std::printf("cube: %d control points, max %.4f %%, normals %.4f deg\n",
+              f.control_points, f.max_error_percent, normals.max_degrees);
+
+  // The default fit (keep_features off) gets no clusters; its round 0, of
+  // 100 knots placed by curvature, rounds the edges.
+  FitOptions smooth_options;
+  smooth_options.rmse_percent = 0.1;
+  smooth_options.max_rounds = 1;
+  auto smooth = FitSphericalSpline(cube, smooth_options);
+  ASSERT_TRUE(smooth.ok());
+  EXPECT_FALSE(smooth->features_kept);
+  auto rounded = SurfaceFromModel(smooth->model);
+  ASSERT_TRUE(rounded.ok());
+  EXPECT_GT(testing::MeasureFeatureNormals(*rounded, vertices, cube.faces,
+                                           fit->features, 0.01, 400000)
+                .max_degrees,
+            5.0);
+}
+
+TEST(FeatureFitTest, AFitTheClustersCannotFinishIsTheOneWithoutThem) {
+  // The tetrahedron of CGAL's data/meshes/tetrahedron.off: its six edges
+  // run between its four corners, so the clusters are tried, but its
+  // corners are too sharp for them (the round folds) and the fit is the
+  // one it would be without features.
+  const TriangleMesh tetrahedron =
+      testing::MakeMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
+                        {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}});
+  FitOptions with_options = Options(30), without_options = Options(180);
+  with_options.max_rounds = without_options.max_rounds = 2;
+  auto with = FitSphericalSpline(tetrahedron, with_options);
+  auto without = FitSphericalSpline(tetrahedron, without_options);
+  ASSERT_TRUE(with.ok() && without.ok());
+  EXPECT_EQ(with->features.corners.size(), 4u);
+  EXPECT_FALSE(with->features_kept);
+  EXPECT_EQ(with->model.knots, without->model.knots);
+  EXPECT_EQ(with->model.control_points, without->model.control_points);
+  EXPECT_EQ(with->model.statistics.rounds.size(),
+            without->model.statistics.rounds.size());
+}
+
+TEST(FeatureFitTest, NoCreaseWhereTheMeshHasNone) {
+  // A smooth mesh (an ellipsoid) has no features: the same fit as with
+  // feature detection off, bit for bit.
+  TriangleMesh ellipsoid = MakeIcosphere(3);
+  ellipsoid.vertices.col(0) *= 2.0;
+  auto with = FitSphericalSpline(ellipsoid, Options(30));
+  auto without = FitSphericalSpline(ellipsoid, Options(180));
+  ASSERT_TRUE(with.ok() && without.ok());
+  EXPECT_TRUE(with->features.edges.empty());
+  EXPECT_FALSE(with->features_kept);
+  EXPECT_EQ(with->model.knots, without->model.knots);
+  EXPECT_EQ(with->model.control_points, without->model.control_points);
+}
+
+}  // namespace
+}  // namespace sdcb

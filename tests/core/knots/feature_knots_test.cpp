@@ -1,0 +1,62 @@
+// The feature corners' knot clusters (core/knots/feature_knots.h).
+#include "sdcb/core/knots/feature_knots.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+namespace sdcb {
+namespace {
+
+TEST(CornerKnotClusters, TheCornerAndOneKnotAlongEachFeatureEdge) {
+  // A corner (vertex 0) with three feature edges and a fourth vertex that
+  // only the edge (1, 2) reaches.
+  Eigen::MatrixX3d sphere(4, 3);
+  sphere << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;
+  sphere.rowwise().normalize();
+  MeshFeatures features;
+  features.edges = {{0, 1}, {0, 2}, {0, 3}, {1, 2}};
+  features.corners = {0};
+  const double gap = 1e-3;
+  const Eigen::MatrixX3d knots = CornerKnotClusters(features, sphere, gap);
+  ASSERT_EQ(knots.rows(), 4);
+  const Eigen::Vector3d corner = sphere.row(0);
+  EXPECT_EQ((knots.row(0).transpose() - corner).norm(), 0.0);
+  for (int k = 1; k <= 3; ++k) {
+    const Eigen::Vector3d knot = knots.row(k);
+    const Eigen::Vector3d other = sphere.row(k);
+    EXPECT_NEAR(knot.norm(), 1.0, 1e-15);
+    // `gap` radians from the corner, on the great circle toward the edge's
+    // other end, on the corner's side.
+    EXPECT_NEAR(std::atan2(knot.cross(corner).norm(), knot.dot(corner)), gap,
+                1e-15);
+    EXPECT_NEAR(knot.dot(corner.cross(other).normalized()), 0.0, 1e-15);
+    EXPECT_LT((knot - other).norm(), (corner - other).norm());
+  }
+}
+
+TEST(CornerKnotClusters, NoCornersNoKnots) {
+  Eigen::MatrixX3d sphere(2, 3);
+  sphere << 1, 0, 0, 0, 1, 0;
+  MeshFeatures features;
+  features.edges = {{0, 1}};
+  EXPECT_EQ(CornerKnotClusters(features, sphere).rows(), 0);
+}
+
+TEST(ClustersKeepEveryFeature, OnlySingleEdgesBetweenCorners) {
+  MeshFeatures features;
+  features.edges = {{0, 1}, {1, 2}};
+  features.curves = {{{0, 1}, false}, {{1, 2}, false}};
+  EXPECT_FALSE(ClustersKeepEveryFeature(features));  // no corners
+  features.corners = {0, 1, 2};
+  EXPECT_TRUE(ClustersKeepEveryFeature(features));
+  features.corners = {0, 1};  // the second curve ends at a non-corner
+  EXPECT_FALSE(ClustersKeepEveryFeature(features));
+  features.corners = {0, 2};  // one curve through vertex 1
+  features.curves = {{{0, 1, 2}, false}};
+  EXPECT_FALSE(ClustersKeepEveryFeature(features));
+}
+
+}  // namespace
+}  // namespace sdcb
