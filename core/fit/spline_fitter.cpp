@@ -21,6 +21,7 @@
 #include "sdcb/core/knots/spherical_cvt.h"
 #include "sdcb/core/mesh/curvature.h"
 #include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/param/central_projection.h"
 #include "sdcb/core/param/spherical_parameterization.h"
 #include "sdcb/core/sphere/point_kd_tree.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
@@ -317,6 +318,9 @@ struct SplineFitter::State {
   // knots of the first round 0 while not empty, dropped with that round when
   // it does not meet the target.
   Eigen::MatrixX3d feature_knots;
+  // The optimized parameterization while that round uses the central
+  // projection (empty otherwise).
+  Eigen::MatrixX3d default_u;
   double mesh_area = 0;
   // Per vertex: the unit normal of its triangles' area-weighted sum (the
   // rounds' estimate of the dense measurement).
@@ -396,6 +400,11 @@ struct SplineFitter::State {
   // is an ordinary round 0.
   void DropFeatureRound() {
     feature_knots.resize(0, 3);
+    if (default_u.rows() > 0) {
+      u = std::move(default_u);
+      default_u.resize(0, 3);
+      parameter_tree = std::make_unique<PointKdTree>(u);
+    }
     SplineModel& model = result.model;
     model.knots.resize(0, 3);
     model.configurations = DelaunayConfigurations();
@@ -687,11 +696,6 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
     return p;
   }));
   s.u = param.sphere;
-  // Round 0 tries the corners' knot clusters alone first (RunRound) when
-  // they can keep every feature.
-  if (o.keep_features && ClustersKeepEveryFeature(s.result.features)) {
-    s.feature_knots = CornerKnotClusters(s.result.features, s.u);
-  }
   s.parameter_tree = std::make_unique<PointKdTree>(s.u);
   SDCB_ASSIGN_OR_RETURN(s.mesh_distance, std::move(*distance));
   s.result.timings.parameterization = stage.Seconds();
@@ -703,6 +707,19 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   s.density = SphericalDensity{s.u, mesh.faces, Eigen::VectorXd()};
   SDCB_ASSIGN_OR_RETURN(s.density.values,
                         DensityFromValues(curvedness, o.alpha));
+  // Round 0 tries the corners' knot clusters alone first (RunRound) when
+  // they can keep every feature; on a solid whose faces all see its
+  // centroid, with the central projection as its parameterization (each
+  // face one projective map; the optimized one comes back if the round is
+  // dropped).
+  if (o.keep_features && ClustersKeepEveryFeature(s.result.features)) {
+    if (std::optional<Eigen::MatrixX3d> central = CentralProjection(s.mesh)) {
+      s.default_u = std::move(s.u);
+      s.u = std::move(*central);
+      s.parameter_tree = std::make_unique<PointKdTree>(s.u);
+    }
+    s.feature_knots = CornerKnotClusters(s.result.features, s.u);
+  }
   s.result.timings.knot_placement += stage.Seconds();
   return SplineFitter(std::move(state));
 }

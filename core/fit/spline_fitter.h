@@ -119,11 +119,13 @@ struct FitOptions {
   // Library only, off by default: when every feature is a single mesh edge
   // between two corners (ClustersKeepEveryFeature), round 0 first tries a
   // cluster of knots at every corner alone (core/knots/feature_knots.h),
-  // which keeps the corners and edges sharp, and keeps that round if it
-  // meets the target; otherwise the fit goes on from its usual round 0,
-  // smooth across them. Not offered by the command line: the exporters do
-  // not handle creases yet (the adaptive tessellation refines along them
-  // without end; docs/FITTING.md, "Creases from knots").
+  // on a solid whose faces all see its centroid with the central projection
+  // as its parameterization (core/param/central_projection.h), which keeps
+  // the corners and edges sharp, and keeps that round if it meets the
+  // target; otherwise the fit goes on from its usual round 0 and
+  // parameterization, smooth across them. Not offered by the command line: the
+  // exporters do not handle creases yet (the adaptive tessellation refines
+  // along them without end; docs/FITTING.md, "Creases from knots").
   bool keep_features = false;
   // 0: knots where the placement puts them. Otherwise each new knot is moved
   // to the nearest point of the octahedral grid of this many bits per
