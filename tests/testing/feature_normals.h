@@ -20,6 +20,7 @@
 #include "sdcb/core/mesh/feature_curves.h"
 #include "sdcb/core/sphere/point_kd_tree.h"
 #include "sdcb/core/spline/spherical_spline.h"
+#include "testing/random_sphere_points.h"
 
 namespace sdcb::testing {
 
@@ -38,13 +39,7 @@ inline FeatureNormals MeasureFeatureNormals(const SphericalSpline& spline,
                                             const Eigen::MatrixX3i& faces,
                                             const MeshFeatures& features,
                                             double offset, int samples) {
-  Eigen::MatrixX3d lattice(samples, 3);
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < samples; ++i) {
-    const double z = 1.0 - (2.0 * i + 1.0) / samples;
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    lattice.row(i) << r * std::cos(golden * i), r * std::sin(golden * i), z;
-  }
+  const Eigen::MatrixX3d lattice = FibonacciPoints(samples, 0, 0.0);
   const std::vector<SurfacePoint> surface =
       spline.EvaluateDifferentialMany(lattice, JetOrder::kGradient);
   Eigen::MatrixX3d positions(samples, 3);
