@@ -21,6 +21,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 SDCB=${SDCB:-./build/sdcb}
 BENCH=${BENCH:-./build/bench/equal_error_bench}
+cmake --build build --target equal_error_bench >/dev/null
 GLTFPACK=scripts/gltf_tools/node_modules/.bin/gltfpack
 OUT=${OUT:-out/bytes_at_equal_error}
 MODELS=${MODELS:-"bunny00 bear fandisk_large"}

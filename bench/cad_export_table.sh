@@ -10,6 +10,7 @@
 #   bash bench/cad_export_table.sh [OUT_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+cmake --build build --target cad_reread_bench >/dev/null
 out=${1:-/tmp/sdcb_cad_table}
 mkdir -p "$out"
 for m in bunny00 bear fandisk_large; do

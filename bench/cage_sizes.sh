@@ -8,6 +8,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 sdcb="$root/build/sdcb"
+cmake --build "$root/build" --target cage_bench >/dev/null
 work="${1:-$root/build/cage_sizes}"
 mkdir -p "$work"
 cd "$work"

@@ -6,6 +6,7 @@
 #   bench/decimation_table.sh [RMSE [OUT_DIR]] [MESH ...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+cmake --build build --target decimation_bench >/dev/null
 rmse=${1:-0.1}
 out=${2:-/tmp/sdcb_decimation}
 shift $(( $# > 2 ? 2 : $# )) || true

@@ -9,6 +9,7 @@
 # The measured distance uses 40 random points per face (--measure-samples 40).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+cmake --build build --target surface_evaluation_bench >/dev/null
 SDCB=./build/sdcb
 OUT=out/export_bench
 mkdir -p "$OUT"

@@ -8,6 +8,7 @@
 # Usage: bench/format_sizes.sh [OUT_DIR]   (default: a temporary directory)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+cmake --build build --target draco_size_bench sdcb_file_bench >/dev/null
 sdcb=./build/sdcb
 draco=./build/bench/draco_size_bench
 file_bench=./build/bench/sdcb_file_bench
