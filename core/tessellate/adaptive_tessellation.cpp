@@ -43,6 +43,9 @@ StatusOr<Tessellation> TessellateAdaptively(
   if (!(options.angle_degrees > 0.0 && options.angle_degrees <= 180.0)) {
     return InvalidArgumentError("tessellation angle must be in (0, 180]");
   }
+  if (options.max_samples < 1 || options.max_faces < 1) {
+    return InvalidArgumentError("tessellation budgets must be >= 1");
+  }
   if (options.lattice < 2 || options.lattice > 16) {
     return InvalidArgumentError("tessellation lattice order must be in 2..16");
   }
@@ -69,8 +72,7 @@ StatusOr<Tessellation> TessellateAdaptively(
   sampling.error_fraction = kSampleErrorFraction;
   sampling.min_edge_radians = options.min_edge_radians;
   sampling.coarse_scale = kCoarseScale;
-  // Each final face holds many samples; a budget of faces bounds them.
-  sampling.max_vertices = std::max<int64_t>(1'000'000, 8 * options.max_faces);
+  sampling.max_vertices = options.max_samples;
   sampling.progress = [&](int64_t vertices) {
     progress("samples", 1.0 - 1.0 / std::log2(4.0 + vertices / 1000.0));
   };

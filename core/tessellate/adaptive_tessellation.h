@@ -48,8 +48,12 @@ struct TessellationOptions {
   // Faces whose shortest domain edge is below this angle (radians) are not
   // split further; they count as uncertified if they still fail.
   double min_edge_radians = 1e-7;
-  // Fail with kInvalidInput rather than produce more faces than this.
-  int64_t max_faces = 20'000'000;
+  // Fail with kInvalidInput rather than take more dense samples than this
+  // (step 1; about 150 bytes each while they are taken, a few times that
+  // through the later steps) ...
+  int64_t max_samples = 8'000'000;
+  // ... or produce more faces than this.
+  int64_t max_faces = 4'000'000;
   // Called with the stage ("samples", "simplify", "verify") and the
   // fraction of the whole tessellation done (an estimate that never goes
   // back: the stages hold [0, 0.2), [0.2, 0.9) and [0.9, 1]).
@@ -76,7 +80,9 @@ struct Tessellation {
 };
 
 // Tessellates `surface` adaptively (see above). kInvalidArgument for bad
-// options; kInvalidInput when more than max_faces faces would be needed.
+// options; kInvalidInput when more than max_samples samples or max_faces
+// faces would be needed (a surface that bends or tears faster than its
+// domain can be refined, or a tolerance too small for the budget).
 StatusOr<Tessellation> TessellateAdaptively(const SurfaceSampler& surface,
                                             const TessellationOptions& options);
 

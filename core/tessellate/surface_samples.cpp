@@ -292,9 +292,11 @@ StatusOr<SurfaceSamples> SampleSurface(const SurfaceSampler& surface,
         }
       }
       if (s.pattern.num_vertices() > options.max_vertices) {
-        return InvalidInputError("the tolerance needs more than " +
-                                 std::to_string(options.max_vertices) +
-                                 " surface samples");
+        return InvalidInputError(
+            "the surface needs more than " +
+            std::to_string(options.max_vertices) +
+            " samples for this tolerance (it bends or tears faster than "
+            "its domain can be refined): use a larger tolerance");
       }
       EvaluateNewVertices(surface, first_vertex, &s);
       for (int f = first_face; f < s.pattern.num_face_slots(); ++f) {

@@ -213,6 +213,36 @@ TEST(AdaptiveTessellationTest, DeterministicAndOptionsChecked) {
   EXPECT_EQ(capped.status().code(), StatusCode::kInvalidInput);
 }
 
+// The unit sphere torn along its equator: the southern half has radius 1.2.
+// No refinement of the domain makes a face across the tear pass, so only
+// the budgets stop the tessellator.
+class TornSphereSampler : public SurfaceSampler {
+ public:
+  void Sample(const Eigen::MatrixX3d& directions, Eigen::MatrixX3d* positions,
+              Eigen::MatrixX3d* normals) const override {
+    *positions = directions;
+    for (Eigen::Index i = 0; i < directions.rows(); ++i) {
+      if (directions(i, 2) < 0.0) positions->row(i) *= 1.2;
+    }
+    if (normals) *normals = directions;
+  }
+};
+
+TEST(AdaptiveTessellationTest, SampleBudgetStopsASurfaceThatTears) {
+  TornSphereSampler torn;
+  TessellationOptions options;
+  options.tolerance = 1e-3;
+  options.max_samples = 200'000;
+  StatusOr<Tessellation> t = TessellateAdaptively(torn, options);
+  ASSERT_EQ(t.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(t.status().message().find("more than 200000 samples"),
+            std::string::npos)
+      << t.status().message();
+  options.max_samples = 0;
+  EXPECT_EQ(TessellateAdaptively(torn, options).status().code(),
+            StatusCode::kInvalidArgument);
+}
+
 // Every face positively oriented on the domain (no folded-over domain
 // triangle), Euler characteristic 2, spherical areas summing to 4 pi.
 void ExpectDomainIsASphere(const Tessellation& t) {
