@@ -52,6 +52,9 @@ struct PiecewiseRegionBuilder::Cell {
   std::vector<Triangle> triangles;
   std::vector<Group> groups;
   std::vector<double> sums;  // the triangles'
+  // The largest |coefficient| of a triangle's term, w P_iT / |det T|, before
+  // the terms are summed.
+  double largest_term = 0.0;
   // Open addressing: (knots, triangle) by the triangle's knots; only while
   // the cell is made.
   std::vector<std::pair<uint64_t, int>> triangle_of;
@@ -81,6 +84,7 @@ struct PiecewiseRegionBuilder::Kept {
   Cell::Group* groups = nullptr;
   int num_groups = 0;
   const double* sums = nullptr;
+  bool ill_conditioned = false;
 };
 
 PiecewiseRegionBuilder::PiecewiseRegionBuilder(
@@ -142,6 +146,7 @@ void PiecewiseRegionBuilder::MakeCell(const Eigen::Vector3d& p,
   cell->triangles.clear();
   cell->groups.clear();
   cell->sums.clear();
+  cell->largest_term = 0.0;
   cell->ClearTriangles(sets_.size() * 8);
   thread_local std::vector<double> paths;
   // Per leaf of a set's recursion: 0 off in the cell, 1 on everywhere, 2
@@ -183,6 +188,10 @@ void PiecewiseRegionBuilder::MakeCell(const Eigen::Vector3d& p,
       const double scale = w * leaf.inv_abs_det;
       const double c4[4] = {scale * c[0], scale * c[1], scale * c[2], scale};
       const double* poly = paths.data() + static_cast<size_t>(i) * size_;
+      for (int q = 0; q < size_; ++q) {
+        cell->largest_term =
+            std::max(cell->largest_term, std::abs(scale * poly[q]));
+      }
       if (kind[i] == 1) {
         AddScaled(poly, c4, size_, cell->base.data());
         continue;
@@ -264,7 +273,7 @@ void PiecewiseRegionBuilder::MakeCell(const Eigen::Vector3d& p,
   }
 }
 
-void PiecewiseRegionBuilder::Build(const Eigen::Vector3d& p, uint64_t key,
+bool PiecewiseRegionBuilder::Build(const Eigen::Vector3d& p, uint64_t key,
                                    double* out) {
   const int n = 4 * size_;
   if (kept_ == nullptr) {
@@ -278,6 +287,7 @@ void PiecewiseRegionBuilder::Build(const Eigen::Vector3d& p, uint64_t key,
     kept->groups = CopyToArena(made.groups, arena_);
     kept->num_groups = static_cast<int>(made.groups.size());
     kept->sums = CopyToArena(made.sums, arena_);
+    kept->ill_conditioned = made.largest_term > kMaxTermMagnitude;
     kept_ = kept;
     // Only MakeCell reads these: freed for the next cells' builders.
     std::vector<double>().swap(fixed_);
@@ -285,6 +295,7 @@ void PiecewiseRegionBuilder::Build(const Eigen::Vector3d& p, uint64_t key,
     std::vector<int8_t>().swap(pair_bits_);
   }
   const Kept* cell = kept_;
+  if (cell->ill_conditioned) return false;
   std::copy(cell->base, cell->base + n, out);
   const Eigen::MatrixX3d& knots = spline_.knots();
   const double bound = kSignFilter * 3.01 * p.cwiseAbs().sum();
@@ -323,6 +334,7 @@ void PiecewiseRegionBuilder::Build(const Eigen::Vector3d& p, uint64_t key,
       AddScaled(piece.data(), c4, size_, out);
     }
   }
+  return true;
 }
 
 }  // namespace sdcb

@@ -60,8 +60,16 @@ class PiecewiseRegionBuilder {
 
   // Writes the coefficients of the region `key` (p a point of it) to `out`:
   // 4 * PolynomialSize(degree) doubles, monomial m (MonomialIndex) and
-  // component d = N_x, N_y, N_z, I at 4 m + d. Not thread-safe.
-  void Build(const Eigen::Vector3d& p, uint64_t key, double* out);
+  // component d = N_x, N_y, N_z, I at 4 m + d. Not thread-safe. Returns
+  // false, and writes nothing, for a cell whose sums would lose the result
+  // to rounding: a triangle's term above kMaxTermMagnitude, while N and I
+  // are of order 1 (the thin triangles beside co-circular knots, which keep
+  // a crease, give terms of 1e6 to 1e16 that cancel; a fitted free-form
+  // surface's stay below 1e4). The caller evaluates the spline there.
+  bool Build(const Eigen::Vector3d& p, uint64_t key, double* out);
+
+  // Terms above this leave fewer than ~8 exact digits (of ~16) in a sum.
+  static constexpr double kMaxTermMagnitude = 1e6;
 
  private:
   struct Cell;  // the sums as made

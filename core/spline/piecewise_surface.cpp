@@ -368,6 +368,7 @@ const double* PiecewiseSurface::Region(const Leaf& leaf,
   if (table != nullptr) {
     if (const double* found = table->Find(key)) return found;
   }
+  if (leaf.ill_conditioned.load(std::memory_order_acquire)) return nullptr;
   return BuildRegion(leaf, p, key);
 }
 
@@ -401,9 +402,16 @@ const double* PiecewiseSurface::BuildRegion(const Leaf& leaf,
   } else if (const double* found = table->Find(key)) {
     return found;  // built since this thread looked
   }
+  if (leaf.ill_conditioned.load(std::memory_order_relaxed)) return nullptr;
+  thread_local std::vector<double> built;
+  built.resize(4 * size_);
+  if (!leaf.builder->Build(p, key, built.data())) {
+    leaf.ill_conditioned.store(true, std::memory_order_release);
+    return nullptr;
+  }
   double* coefficients =
       static_cast<double*>(arena_.Allocate(4 * size_ * sizeof(double)));
-  leaf.builder->Build(p, key, coefficients);
+  std::copy(built.begin(), built.end(), coefficients);
   if (2 * (table->count + 1) > static_cast<int64_t>(table->mask + 1)) {
     // Grow: a new table, filled before it is published.
     Table* larger = Table::Make(64 - table->shift + 1, &arena_);

@@ -16,7 +16,9 @@
 // SphericalSpline::Evaluate to rounding (~1e-13 relative), and so do
 // normals and curvatures, from the polynomials' first and second
 // derivatives, to the rounding of those. Cells still crossed by more than 64
-// segments after 8 splits fall back to SphericalSpline. Thread-safe (regions
+// segments after 8 splits, and cells whose sums would cancel (terms above
+// 1e6: the thin triangles beside co-circular knots that keep a crease), fall
+// back to SphericalSpline. Thread-safe (regions
 // are added under a per-cell lock and published atomically); results do not
 // depend on the evaluation order or thread count.
 #ifndef SDCB_CORE_SPLINE_PIECEWISE_SURFACE_H_
@@ -81,7 +83,8 @@ class PiecewiseSurface {
   // The leaf cell of p and p's local coordinates (s, t) in it, in [-1, 1]^2.
   int Locate(const Eigen::Vector3d& p, double* s, double* t) const;
   // The coefficients of p's region in `leaf` (monomial m, component d =
-  // N_x, N_y, N_z, I at index 4 m + d), built on first use.
+  // N_x, N_y, N_z, I at index 4 m + d), built on first use; null in a cell
+  // whose sums are ill-conditioned (PiecewiseRegionBuilder::Build).
   const double* Region(const Leaf& leaf, const Eigen::Vector3d& p) const;
   const double* BuildRegion(const Leaf& leaf, const Eigen::Vector3d& p,
                             uint64_t key) const;

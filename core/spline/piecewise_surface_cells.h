@@ -83,6 +83,9 @@ struct PiecewiseSurface::Leaf {
   std::vector<double> planes;
   std::vector<int> sets;  // basis functions meeting the cell
   bool slow = false;      // too many lines: use the spline
+  // Its sums are ill-conditioned (PiecewiseRegionBuilder::Build): use the
+  // spline. Found when the first region is built.
+  mutable std::atomic<bool> ill_conditioned{false};
   // The regions built so far (readers load it without the mutex) and what
   // builds more (made on the first region, under the mutex).
   mutable std::atomic<Table*> table{nullptr};

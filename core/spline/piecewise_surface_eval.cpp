@@ -97,7 +97,8 @@ void PiecewiseSurface::EvalDegree(const Eigen::Vector3d& p,
                                   Eigen::Vector3d* normal) const {
   double s, t;
   const Leaf& leaf = *leaves_[Locate(p, &s, &t)];
-  if (leaf.slow) {
+  const double* c = leaf.slow ? nullptr : Region(leaf, p);
+  if (c == nullptr) {
     // The same position with or without the normal.
     *position = spline_.Evaluate(p.normalized());
     if (normal != nullptr) {
@@ -107,7 +108,6 @@ void PiecewiseSurface::EvalDegree(const Eigen::Vector3d& p,
     }
     return;
   }
-  const double* c = Region(leaf, p);
   const auto finish = [&](auto& jet) {
     if (spline_.basis_form() == BasisForm::kRaw) {
       jet.UseRawDenominator(leaf.origin, leaf.e1, leaf.e2, s, t);
@@ -138,8 +138,9 @@ SurfaceShape PiecewiseSurface::ShapeDegree(const Eigen::Vector3d& p) const {
   const Eigen::Vector3d u = p.normalized();
   double s, t;
   const Leaf& leaf = *leaves_[Locate(p, &s, &t)];
-  if (leaf.slow) return spline_.EvaluateShape(u);
-  RegionJet<K, 2> jet(Region(leaf, p), s, t);
+  const double* c = leaf.slow ? nullptr : Region(leaf, p);
+  if (c == nullptr) return spline_.EvaluateShape(u);
+  RegionJet<K, 2> jet(c, s, t);
   if (spline_.basis_form() == BasisForm::kRaw) {
     jet.UseRawDenominator(leaf.origin, leaf.e1, leaf.e2, s, t);
   }

@@ -10,7 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+
+#include "sdcb/core/spline/piecewise_surface.h"
 
 namespace sdcb {
 namespace {
@@ -33,6 +36,48 @@ TEST(CubeCreases, ClusteredCornerKnotsReproduceTheCube) {
     EXPECT_LT(m.max_percent, 1e-3) << degree;
     EXPECT_LT(m.max_normal_degrees, 0.01) << degree;
   }
+}
+
+// The fast evaluator's pieces beside a crease are sums of terms up to 1e16
+// (the thin triangles between a corner's cluster and the next corner) that
+// cancel: those cells must fall back to the spline, whose value the pieces
+// must equal to rounding (without the fallback they are off by 2e7) at
+// points from 1e-7 to 1e-3 radians off every edge.
+TEST(CubeCreases, PiecewiseSurfaceAgreesBesideTheCreases) {
+  auto spline = testing::FitCubeSpline(testing::CubeKnots({}), 4);
+  ASSERT_TRUE(spline.ok()) << spline.status().message();
+  const PiecewiseSurface fast(*spline);
+  const Eigen::MatrixX3d& knots = spline->knots();
+  Eigen::MatrixX3d directions(12 * 101 * 18, 3);
+  Eigen::Index row = 0;
+  for (int i = 0; i < 8; ++i) {
+    for (int j = i + 1; j < 8; ++j) {
+      const Eigen::Vector3d a = knots.row(i).normalized();
+      const Eigen::Vector3d b = knots.row(j).normalized();
+      if (std::abs(a.dot(b) - 1.0 / 3.0) > 1e-9) continue;  // not an edge
+      const Eigen::Vector3d side = a.cross(b).normalized();
+      for (int s = 0; s <= 100; ++s) {
+        const Eigen::Vector3d on = (a * (100 - s) + b * s).normalized();
+        for (int e = 0; e < 9; ++e) {
+          for (int sign = -1; sign <= 1; sign += 2) {
+            const double offset = sign * std::pow(10.0, -7.0 + 0.5 * e);
+            directions.row(row++) = (on + offset * side).normalized();
+          }
+        }
+      }
+    }
+  }
+  ASSERT_EQ(row, directions.rows());
+  Eigen::MatrixX3d positions;
+  fast.EvaluateMany(directions, &positions, nullptr);
+  double worst = 0.0;
+  for (Eigen::Index r = 0; r < row; ++r) {
+    const Eigen::Vector3d reference =
+        spline->Evaluate(directions.row(r).transpose());
+    worst = std::max(worst, (positions.row(r).transpose() - reference).norm());
+  }
+  std::printf("pieces against the spline beside the edges: %.3g\n", worst);
+  EXPECT_LT(worst, 1e-8);
 }
 
 TEST(CubeCreases, KnotsOffTheEdgesRoundThem) {
