@@ -535,4 +535,71 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
   return out;
 }
 
+void AppendEdgeBandSamples(const TriangleMesh& mesh,
+                           const Eigen::MatrixX3d& sphere,
+                           const std::vector<std::array<int, 2>>& edges,
+                           const std::vector<double>& offsets, int along,
+                           double weight, FitSamples* samples) {
+  // The triangles at each edge, with the corner opposite it.
+  std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> beside;
+  for (const std::array<int, 2>& e : edges) beside[{e[0], e[1]}];
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.faces(f, k), b = mesh.faces(f, (k + 1) % 3);
+      auto it = beside.find({std::min(a, b), std::max(a, b)});
+      if (it != beside.end()) {
+        it->second.push_back({static_cast<int>(f), mesh.faces(f, (k + 2) % 3)});
+      }
+    }
+  }
+  std::vector<Eigen::Vector3d> points, targets;
+  std::vector<int> triangles;
+  for (const auto& [edge, faces] : beside) {
+    const auto [a, b] = edge;
+    const Eigen::Vector3d ua = sphere.row(a), ub = sphere.row(b);
+    const Eigen::Vector3d pole = ua.cross(ub).normalized();
+    for (const auto& [f, c] : faces) {
+      const Eigen::Vector3d uc = sphere.row(c);
+      const double height = std::asin(std::min(1.0, std::abs(pole.dot(uc))));
+      if (!(height > 0.0)) continue;
+      for (const double offset : offsets) {
+        const double w = std::min(0.5, offset / height);
+        for (int i = 0; i < along; ++i) {
+          const double t = (i + 0.5) / along;
+          const double wa = (1.0 - w) * (1.0 - t), wb = (1.0 - w) * t;
+          points.push_back((wa * ua + wb * ub + w * uc).normalized());
+          targets.push_back(wa * mesh.vertices.row(a).transpose() +
+                            wb * mesh.vertices.row(b).transpose() +
+                            w * mesh.vertices.row(c).transpose());
+          triangles.push_back(f);
+        }
+      }
+    }
+  }
+  const Eigen::Index n = samples->points.rows(),
+                     m = static_cast<Eigen::Index>(points.size());
+  samples->points.conservativeResize(n + m, 3);
+  samples->targets.conservativeResize(n + m, 3);
+  samples->weights.conservativeResize(n + m);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    samples->points.row(n + i) = points[i].transpose();
+    samples->targets.row(n + i) = targets[i].transpose();
+    samples->weights[n + i] = weight;
+  }
+  if (samples->thinned) {
+    samples->row_vertex.resize(n + m, -1);
+    samples->row_normal.conservativeResize(n + m, 3);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const Eigen::Vector3i t = mesh.faces.row(triangles[i]);
+      const Eigen::Vector3d p0 = mesh.vertices.row(t[0]),
+                            p1 = mesh.vertices.row(t[1]),
+                            p2 = mesh.vertices.row(t[2]);
+      samples->row_normal.row(n + i) =
+          (p1 - p0).cross(p2 - p0).normalized().transpose();
+    }
+  }
+  samples->triangle.insert(samples->triangle.end(), triangles.begin(),
+                           triangles.end());
+}
+
 }  // namespace sdcb

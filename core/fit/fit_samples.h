@@ -17,6 +17,7 @@
 #define SDCB_CORE_FIT_FIT_SAMPLES_H_
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -93,6 +94,19 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
                            const Eigen::MatrixX3d& sphere,
                            const Eigen::MatrixX3d& knots,
                            const FitSampleOptions& options = {});
+
+// Appends rows beside every edge of `edges` (mesh vertex pairs), inside
+// each triangle along it: at `along` points evenly along the edge and, for
+// each, at sphere distances of about `offsets` radians from the edge's arc
+// (barycentric weight of the opposite corner over that corner's distance to
+// the arc). Each row weighs `weight`. Basis functions whose supports are the
+// thin slivers between a feature arc and a knot a hair beside it
+// (core/knots/feature_knots.h) see no other sample.
+void AppendEdgeBandSamples(const TriangleMesh& mesh,
+                           const Eigen::MatrixX3d& sphere,
+                           const std::vector<std::array<int, 2>>& edges,
+                           const std::vector<double>& offsets, int along,
+                           double weight, FitSamples* samples);
 
 // For every knot, the distance to its nearest other knot (chord length);
 // +inf for a single knot.

@@ -108,6 +108,11 @@ constexpr double kFoldShrink = 0.5;
 constexpr double kDefaultMaxErrorRatio = 10.0;
 // Rounds assumed before two rounds show the error's decay.
 constexpr int kInitialRoundGuess = 5;
+// The feature round's rows beside every feature edge (AppendEdgeBandSamples):
+// at these multiples of the cluster gap off the edge's arc, on both sides,
+// and at this many points along it.
+constexpr double kFeatureBandOffsets[] = {0.005, 0.015, 0.05, 0.15, 0.5, 1.5};
+constexpr int kFeatureBandRowsAlong = 32;
 
 Status CheckOptions(const FitOptions& o) {
   if (o.degree < 2 || o.degree > kMaxSplineDegree) {
@@ -547,7 +552,8 @@ struct SplineFitter::State {
 
  private:
   struct Problem;
-  StatusOr<Problem> BuildProblem(const Eigen::MatrixX3d& knots,
+  StatusOr<Problem> BuildProblem(bool feature_round,
+                                 const Eigen::MatrixX3d& knots,
                                  const DelaunayConfigurations& configurations,
                                  const DelaunayConfigurations& knot_triangles,
                                  RoundDetails* details) const;
@@ -789,7 +795,8 @@ struct SplineFitter::State::Problem {
 };
 
 StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
-    const Eigen::MatrixX3d& knots, const DelaunayConfigurations& configurations,
+    bool feature_round, const Eigen::MatrixX3d& knots,
+    const DelaunayConfigurations& configurations,
     const DelaunayConfigurations& knot_triangles, RoundDetails* details) const {
   const FitOptions& o = options;
   FitSampleOptions sample_options;
@@ -816,6 +823,20 @@ StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
   side.wait();
   SDCB_ASSIGN_OR_RETURN(DcbBasis basis, std::move(basis_or));
   FitSamples samples = std::move(*samples_or);
+  if (feature_round) {
+    // The thin triangles between a corner's cluster and the next corner
+    // (up to the cluster's gap wide) carry basis functions that the
+    // samples above miss: unpinned, they slide the parameterization along
+    // the edges (by up to 14 % of the cube's side) without moving the
+    // surface off the solid. Rows across those bands pin them.
+    std::vector<double> offsets;
+    for (const double f : kFeatureBandOffsets) {
+      offsets.push_back(f * kCornerClusterGap);
+    }
+    AppendEdgeBandSamples(mesh, u, result.features.edges, offsets,
+                          kFeatureBandRowsAlong, samples.weights.mean(),
+                          &samples);
+  }
   DesignMatrix data =
       BuildFormDesignMatrix(basis, samples.points, o.basis_form);
   BendingQuadrature bending = MakeBendingQuadrature(knots, knot_triangles);
@@ -1039,9 +1060,9 @@ Status SplineFitter::State::RunRound() {
   // 3. Basis, samples, design matrix; 4. least squares.
   Report(FitStage::kBasis, round, kRoundStageStart[2]);
   stage = Stopwatch();
-  SDCB_ASSIGN_OR_RETURN(
-      Problem problem,
-      BuildProblem(knots, configurations, knot_triangles, &details));
+  SDCB_ASSIGN_OR_RETURN(Problem problem,
+                        BuildProblem(feature_round, knots, configurations,
+                                     knot_triangles, &details));
   details.timings.basis = stage.Seconds();
   Report(FitStage::kSolve, round, kRoundStageStart[3]);
   stage = Stopwatch();

@@ -118,6 +118,24 @@ TEST(FitCliTest, ReportCountsTheCubesSharpFeatures) {
   EXPECT_EQ(r.exit_code, 2);
 }
 
+// --keep-features: the cube's corners' knot clusters alone reach the
+// target (docs/FITTING.md): a few hundred control points where the smooth
+// fit needs thousands, and the report says the features were used.
+TEST(FitCliTest, KeepFeaturesKeepsTheCubeWithItsCornerClusters) {
+  const std::string dir = FreshTestDir();
+  RunResult r =
+      RunSdcb({"fit", MeshPath("cube.off"), "-o", dir + "/c.sdcb", "--rmse",
+               "0.1", "--keep-features", "--json", dir + "/c.json", "--quiet"},
+              dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = nlohmann::json::parse(ReadBytes(dir + "/c.json"));
+  EXPECT_EQ(report["features"]["used"], true);
+  EXPECT_EQ(report["reached_target"], true);
+  EXPECT_EQ(report["final"]["knots"], 32);
+  EXPECT_LE(report["final"]["control_points"], 300);
+  EXPECT_LE(report["final"]["max_error_percent"], 0.2);
+}
+
 // Without --quiet the summary prints the seconds of every stage: the
 // report's values, and together no more than the whole fit (the stages run
 // one after the other).

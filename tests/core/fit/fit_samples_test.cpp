@@ -12,6 +12,7 @@
 
 #include "sdcb/core/mesh/icosphere.h"
 #include "testing/fan_mesh.h"
+#include "testing/make_mesh.h"
 
 namespace sdcb {
 namespace {
@@ -250,6 +251,45 @@ TEST(FitSamplesTest, NoThinningWhenItWouldKeepMostRows) {
   EXPECT_FALSE(fine.thinned);
   EXPECT_EQ(fine.points, full.points);
   EXPECT_EQ(fine.weights, full.weights);
+}
+
+// Rows beside an edge: on the octahedron (vertices at distance 1, sphere
+// points the vertices themselves) a point of a triangle maps to its own
+// direction, so each row's sphere point is its target's direction; and each
+// lies inside a triangle at the edge, about the asked distance off the
+// edge's great circle.
+TEST(FitSamplesTest, EdgeBandRowsLieBesideTheEdgeAtTheirOffsets) {
+  const TriangleMesh octahedron = testing::MakeMesh(
+      {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
+      {{0, 2, 4},
+       {2, 1, 4},
+       {1, 3, 4},
+       {3, 0, 4},
+       {2, 0, 5},
+       {1, 2, 5},
+       {3, 1, 5},
+       {0, 3, 5}});
+  FitSamples samples;
+  samples.points.resize(0, 3);
+  samples.targets.resize(0, 3);
+  const std::vector<double> offsets = {1e-6, 1e-4};
+  AppendEdgeBandSamples(octahedron, octahedron.vertices, {{0, 2}}, offsets, 5,
+                        0.25, &samples);
+  ASSERT_EQ(samples.points.rows(), 2 * 2 * 5);  // 2 triangles, 2 offsets, 5
+  ASSERT_EQ(samples.triangle.size(), 20u);
+  const Eigen::Vector3d pole = Eigen::Vector3d(0, 0, 1);  // x-y great circle
+  for (Eigen::Index r = 0; r < 20; ++r) {
+    const Eigen::Vector3d point = samples.points.row(r);
+    const Eigen::Vector3d target = samples.targets.row(r);
+    EXPECT_NEAR((point - target.normalized()).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(target.cwiseAbs().sum(), 1.0, 1e-12);  // on a face
+    EXPECT_TRUE(samples.triangle[r] == 0 || samples.triangle[r] == 4);
+    const double off = std::asin(std::abs(point.dot(pole)));
+    const double asked = offsets[(r / 5) % 2];
+    EXPECT_GT(off, 0.5 * asked);
+    EXPECT_LT(off, 2.0 * asked);
+    EXPECT_EQ(samples.weights[r], 0.25);
+  }
 }
 
 }  // namespace
