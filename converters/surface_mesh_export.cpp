@@ -6,16 +6,19 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "sdcb/converters/color_ramp.h"
 #include "sdcb/converters/mesh_export.h"
 #include "sdcb/converters/stopwatch.h"
 #include "sdcb/converters/tessellation_deviation.h"
+#include "sdcb/core/knots/feature_knots.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/spherical_spline.h"
+#include "sdcb/core/tessellate/feature_pattern.h"
 #include "sdcb/io/atomic_file.h"
 
 namespace sdcb {
@@ -244,12 +247,32 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
   progress("tessellate", 0.0);
   Stopwatch t0;
   Tessellation t;
+  std::optional<SphereTriangulation> feature_pattern;
   if (options.uniform_vertices > 0) {
     t = TessellateUniformly(sampler,
                             UniformLevelForVertices(options.uniform_vertices));
   } else {
     TessellationOptions tessellation = options.tessellation;
     tessellation.tolerance = surface_tolerance;
+    // Creases along the knots' feature arcs: a pattern whose edges follow
+    // them (arcs that do not cut the sphere into simple faces are left to
+    // the plain pattern, which crosses them).
+    if (!feature_pattern) {
+      const KnotFeatureArcs arcs = FeatureArcsOfKnots(model.knots);
+      Eigen::MatrixX3d corners(arcs.corners.size(), 3);
+      for (size_t c = 0; c < arcs.corners.size(); ++c) {
+        corners.row(c) = model.knots.row(arcs.corners[c]).normalized();
+      }
+      if (!arcs.arcs.empty()) {
+        StatusOr<SphereTriangulation> pattern =
+            FeatureAlignedPattern(corners, arcs.arcs);
+        if (pattern.ok()) {
+          feature_pattern = std::move(pattern).value();
+          report.feature_arcs = static_cast<int>(arcs.arcs.size());
+        }
+      }
+    }
+    if (feature_pattern) tessellation.initial_pattern = &*feature_pattern;
     tessellation.angle_degrees = options.angle_degrees;
     tessellation.progress = [&](const std::string& stage, double fraction) {
       progress(stage, 0.8 * fraction);
@@ -381,6 +404,7 @@ nlohmann::ordered_json SurfaceMeshExportReportToJson(
   j["certified_distance_percent"] = r.certified_distance_percent;
   j["max_normal_angle_degrees"] = r.max_normal_angle_degrees;
   j["uncertified_triangles"] = r.uncertified_triangles;
+  j["feature_arcs"] = r.feature_arcs;
   j["max_distance_percent"] = r.max_distance_percent;
   j["spline_to_mesh_percent"] = r.spline_to_mesh_percent;
   j["mesh_to_spline_percent"] = r.mesh_to_spline_percent;

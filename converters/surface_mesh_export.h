@@ -96,6 +96,9 @@ struct SurfaceMeshExportReport {
   double certified_distance_percent = 0.0;
   double max_normal_angle_degrees = 0.0;
   int uncertified_triangles = 0;
+  // Creases the tessellation followed: the feature arcs the spline's knots
+  // hold (core/knots/feature_knots.h FeatureArcsOfKnots), 0 if none.
+  int feature_arcs = 0;
   // The independent measurement (converters/tessellation_deviation.h): the
   // larger of the two directions, and each.
   double max_distance_percent = 0.0;

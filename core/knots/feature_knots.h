@@ -13,6 +13,8 @@
 #define SDCB_CORE_KNOTS_FEATURE_KNOTS_H_
 
 #include <Eigen/Core>
+#include <array>
+#include <vector>
 
 #include "sdcb/core/mesh/feature_curves.h"
 
@@ -37,6 +39,19 @@ bool ClustersKeepEveryFeature(const MeshFeatures& features);
 Eigen::MatrixX3d CornerKnotClusters(const MeshFeatures& features,
                                     const Eigen::MatrixX3d& sphere,
                                     double gap = kCornerClusterGap);
+
+// The feature arcs a spline's knots hold: corners (knot rows) and the arcs
+// between them. An arc joins corners a and b when each has a knot `gap`
+// radians from it (within 2 %) and all four lie on one great circle in the
+// order a, a's knot, b's knot, b, with no other knot between: what
+// CornerKnotClusters makes for a feature edge. Empty when the knots hold none.
+// Deterministic.
+struct KnotFeatureArcs {
+  std::vector<int> corners;              // knot rows, ascending
+  std::vector<std::array<int, 2>> arcs;  // indices into corners, a < b
+};
+KnotFeatureArcs FeatureArcsOfKnots(const Eigen::MatrixX3d& knots,
+                                   double gap = kCornerClusterGap);
 
 }  // namespace sdcb
 

@@ -1,10 +1,13 @@
 #include "sdcb/core/tessellate/adaptive_tessellation.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/tessellate/face_verification.h"
@@ -33,10 +36,61 @@ constexpr double kSampleErrorFraction = 1.0 / 8.0;
 // without the collapses of the first passes.
 constexpr double kCoarseScale = 3.0;
 
+// The surface with zero normals on the feature arcs of a pattern (its
+// creases, SphereTriangulation::SetFeatures): the surface has no normal
+// there, and every test that compares normals (samples, certificates,
+// lattices) treats such points as singular.
+class CreaseSampler : public SurfaceSampler {
+ public:
+  CreaseSampler(const SurfaceSampler& surface,
+                const SphereTriangulation& pattern)
+      : surface_(surface) {
+    for (const auto& [a, b] : pattern.arc_ends()) {
+      const Eigen::Vector3d x = pattern.vertex(a), y = pattern.vertex(b);
+      arcs_.push_back({x, y, x.cross(y).normalized()});
+    }
+  }
+  void Sample(const Eigen::MatrixX3d& directions, Eigen::MatrixX3d* positions,
+              Eigen::MatrixX3d* normals) const override {
+    surface_.Sample(directions, positions, normals);
+    if (normals == nullptr) return;
+    for (Eigen::Index r = 0; r < directions.rows(); ++r) {
+      const Eigen::Vector3d d = directions.row(r).transpose();
+      for (const Arc& arc : arcs_) {
+        if (std::abs(arc.pole.dot(d)) <= kOnArc &&
+            arc.a.cross(d).dot(arc.pole) >= 0.0 &&
+            d.cross(arc.b).dot(arc.pole) >= 0.0) {
+          normals->row(r).setZero();
+          break;
+        }
+      }
+    }
+  }
+  bool SampleCurvature(const Eigen::MatrixX3d& directions,
+                       Eigen::VectorXd* gaussian,
+                       Eigen::VectorXd* mean) const override {
+    return surface_.SampleCurvature(directions, gaussian, mean);
+  }
+  bool SampleShape(const Eigen::MatrixX3d& directions,
+                   std::vector<SurfaceShape>* shapes) const override {
+    return surface_.SampleShape(directions, shapes);
+  }
+
+ private:
+  // Points of an arc's edges are normalized sums of points on its circle:
+  // off it by rounding only.
+  static constexpr double kOnArc = 1e-12;
+  struct Arc {
+    Eigen::Vector3d a, b, pole;
+  };
+  const SurfaceSampler& surface_;
+  std::vector<Arc> arcs_;
+};
+
 }  // namespace
 
 StatusOr<Tessellation> TessellateAdaptively(
-    const SurfaceSampler& surface, const TessellationOptions& options) {
+    const SurfaceSampler& surface_in, const TessellationOptions& options) {
   if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance)) {
     return InvalidArgumentError("tessellation tolerance must be > 0");
   }
@@ -66,12 +120,20 @@ StatusOr<Tessellation> TessellateAdaptively(
     options.progress(stage, reported);
   };
 
+  std::optional<CreaseSampler> creases;
+  if (options.initial_pattern != nullptr &&
+      options.initial_pattern->has_features()) {
+    creases.emplace(surface_in, *options.initial_pattern);
+  }
+  const SurfaceSampler& surface =
+      creases ? static_cast<const SurfaceSampler&>(*creases) : surface_in;
   SurfaceSampleOptions sampling;
   sampling.tolerance = options.tolerance;
   sampling.angle_degrees = options.angle_degrees;
   sampling.error_fraction = kSampleErrorFraction;
   sampling.min_edge_radians = options.min_edge_radians;
   sampling.coarse_scale = kCoarseScale;
+  sampling.initial_pattern = options.initial_pattern;
   sampling.max_vertices = options.max_samples;
   sampling.progress = [&](int64_t vertices) {
     progress("samples", 1.0 - 1.0 / std::log2(4.0 + vertices / 1000.0));
@@ -127,6 +189,28 @@ StatusOr<Tessellation> TessellateAdaptively(
     out.directions.row(i) = pattern.vertex(v).transpose();
     out.positions.row(i) = samples.positions[v].transpose();
     out.normals.row(i) = samples.normals[v].transpose();
+  }
+  if (pattern.has_features()) {
+    // Vertices on a crease: the mean of their faces' normals, each weighted
+    // by the face's angle there (a flat side counts the same however it is
+    // split into triangles).
+    std::vector<Eigen::Vector3d> sum(nv, Eigen::Vector3d::Zero());
+    for (Eigen::Index f = 0; f < out.faces.rows(); ++f) {
+      Eigen::Vector3d x[3];
+      for (int k = 0; k < 3; ++k) x[k] = out.positions.row(out.faces(f, k));
+      const Eigen::Vector3d n = (x[1] - x[0]).cross(x[2] - x[0]).normalized();
+      if (!n.allFinite()) continue;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d u = x[(k + 1) % 3] - x[k];
+        const Eigen::Vector3d w = x[(k + 2) % 3] - x[k];
+        sum[out.faces(f, k)] += std::atan2(u.cross(w).norm(), u.dot(w)) * n;
+      }
+    }
+    for (int i = 0; i < nv; ++i) {
+      if (pattern.IsFeatureVertex(vertices[i]) && sum[i].norm() > 0.0) {
+        out.normals.row(i) = sum[i].normalized().transpose();
+      }
+    }
   }
   out.certified_distance = verified.max_distance;
   out.max_normal_angle_degrees = verified.max_angle * 180.0 / kPi;

@@ -29,6 +29,7 @@
 #include <string>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/tessellate/sphere_triangulation.h"
 #include "sdcb/core/tessellate/surface_sampler.h"
 
 namespace sdcb {
@@ -54,6 +55,11 @@ struct TessellationOptions {
   int64_t max_samples = 8'000'000;
   // ... or produce more faces than this.
   int64_t max_faces = 4'000'000;
+  // A pattern to start from instead of the icosphere: with feature arcs
+  // (core/tessellate/feature_pattern.h) the result keeps every arc as a
+  // chain of edges, and its faces lie on one side of every crease. Must
+  // outlive the call.
+  const SphereTriangulation* initial_pattern = nullptr;
   // Called with the stage ("samples", "simplify", "verify") and the
   // fraction of the whole tessellation done (an estimate that never goes
   // back: the stages hold [0, 0.2), [0.2, 0.9) and [0.9, 1]).
@@ -63,8 +69,10 @@ struct TessellationOptions {
 struct Tessellation {
   Eigen::MatrixX3d directions;  // #V by 3 domain points (unit vectors)
   Eigen::MatrixX3d positions;   // #V by 3 surface points
-  Eigen::MatrixX3d normals;     // #V by 3 analytic unit normals
-  Eigen::MatrixX3i faces;       // #F by 3, counter-clockwise on the domain
+  // #V by 3 analytic unit normals; on a feature arc (a crease) the mean of
+  // the normals of the faces around the vertex, weighted by their angles.
+  Eigen::MatrixX3d normals;
+  Eigen::MatrixX3i faces;  // #F by 3, counter-clockwise on the domain
   // Largest sampled distance over all faces (samples and verification
   // lattices) and the largest normal angle, degrees, over the faces the
   // angular test applies to (at their lattice points and corners).

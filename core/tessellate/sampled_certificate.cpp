@@ -86,7 +86,15 @@ void SampledFaces::StartFromCoarse() {
   }
   // The coarse faces are a triangulation of the sphere (a pattern the
   // dense one refines): FromFaces accepts them.
-  s.pattern = SphereTriangulation::FromFaces(directions, faces, true).value();
+  SphereTriangulation coarse =
+      SphereTriangulation::FromFaces(directions, faces, true).value();
+  if (s.pattern.has_features()) {
+    // The coarse pattern refines the same arcs (splits keep them).
+    std::vector<int> arc(nv);
+    for (int v = 0; v < nv; ++v) arc[v] = s.pattern.vertex_arc(v);
+    coarse.SetFeatures(s.pattern.arc_ends(), std::move(arc));
+  }
+  s.pattern = std::move(coarse);
   inside_.assign(nf, {});
   errors_.assign(nf, 0.0);
   worst_.assign(nf, -1);

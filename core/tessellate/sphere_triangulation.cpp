@@ -103,8 +103,33 @@ int SphereTriangulation::AppendFace() {
   return static_cast<int>(faces_.size()) - 1;
 }
 
+void SphereTriangulation::SetFeatures(std::vector<std::array<int, 2>> arc_ends,
+                                      std::vector<int> vertex_arc) {
+  arc_ends_ = std::move(arc_ends);
+  vertex_arc_ = std::move(vertex_arc);
+  vertex_arc_.resize(vertices_.size(), kFreeVertex);
+}
+
+int SphereTriangulation::CommonArc(int a, int b) const {
+  if (!has_features()) return -1;
+  const int ta = vertex_arc_[a], tb = vertex_arc_[b];
+  if (ta == kFreeVertex || tb == kFreeVertex) return -1;
+  if (ta >= 0) return OnArc(b, ta) ? ta : -1;
+  if (tb >= 0) return OnArc(a, tb) ? tb : -1;
+  // Two corners: the arc between them, if any.
+  for (int arc = 0; arc < static_cast<int>(arc_ends_.size()); ++arc) {
+    const auto& e = arc_ends_[arc];
+    if ((e[0] == a && e[1] == b) || (e[0] == b && e[1] == a)) return arc;
+  }
+  return -1;
+}
+
 int SphereTriangulation::SplitEdge(int h, const Eigen::Vector3d& direction) {
   const int m = num_vertices();
+  if (has_features()) {
+    const int arc = CommonArc(Origin(h), Target(h));
+    vertex_arc_.push_back(arc >= 0 ? arc : kFreeVertex);
+  }
   vertices_.push_back(direction);
   vertex_face_.push_back(-1);
   SplitEdgeAt(h, m);
@@ -150,6 +175,12 @@ void SphereTriangulation::SplitEdgeAt(int h, int m) {
 bool SphereTriangulation::PreviewCollapse(int v, int w,
                                           std::vector<Face>* faces,
                                           std::vector<int>* slots) const {
+  if (has_features()) {
+    // Corners stay; an arc's vertex moves only along its arc.
+    const int arc = vertex_arc_[v];
+    if (arc == kCornerVertex) return false;
+    if (arc >= 0 && !OnArc(w, arc)) return false;
+  }
   thread_local std::vector<int> star, ring, ring_w;
   Star(v, &star, &ring);
   const int n = static_cast<int>(ring.size());
@@ -216,7 +247,7 @@ void SphereTriangulation::Collapse(int v, int w) {
 bool SphereTriangulation::PreviewFlip(int h, std::array<Face, 2>* faces) const {
   const int t = twin_[h];
   const int a = Origin(h), b = Target(h), c = Apex(h), d = Apex(t);
-  if (c == d || HalfEdge(c, d) >= 0) return false;
+  if (c == d || HalfEdge(c, d) >= 0 || IsFeatureEdge(a, b)) return false;
   if (!IsPositive(vertices_[a], vertices_[d], vertices_[c]) ||
       !IsPositive(vertices_[d], vertices_[b], vertices_[c])) {
     return false;

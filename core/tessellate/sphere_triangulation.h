@@ -90,6 +90,26 @@ class SphereTriangulation {
     vertices_[v] = direction;
   }
 
+  // Feature arcs: great-circle arcs between corner vertices, each a chain
+  // of edges that the operations keep. `arc_ends[i]`: the two corner
+  // vertices of arc i; `vertex_arc[v]`: the arc v lies inside,
+  // kCornerVertex for an arc's end, kFreeVertex otherwise (#V entries).
+  // From then on PreviewFlip refuses to flip an arc's edge, PreviewCollapse
+  // to move a corner or an arc's vertex off its arc, and SplitEdge puts the
+  // vertex of an arc's edge on that arc.
+  static constexpr int kFreeVertex = -1;
+  static constexpr int kCornerVertex = -2;
+  void SetFeatures(std::vector<std::array<int, 2>> arc_ends,
+                   std::vector<int> vertex_arc);
+  bool has_features() const { return !arc_ends_.empty(); }
+  const std::vector<std::array<int, 2>>& arc_ends() const { return arc_ends_; }
+  int vertex_arc(int v) const {
+    return has_features() ? vertex_arc_[v] : kFreeVertex;
+  }
+  bool IsFeatureVertex(int v) const { return vertex_arc(v) != kFreeVertex; }
+  // Whether edge (a, b) lies on an arc (both ends on the same arc).
+  bool IsFeatureEdge(int a, int b) const { return CommonArc(a, b) >= 0; }
+
   // Whether (x, y, z) is a positively oriented spherical triangle, with a
   // small relative margin against rounding.
   static bool IsPositive(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
@@ -120,12 +140,22 @@ class SphereTriangulation {
   // SplitEdge at the vertex m, already added, in no face yet.
   void SplitEdgeAt(int h, int m);
 
+  // The arc both a and b lie on (inside or at an end), or -1.
+  int CommonArc(int a, int b) const;
+  bool OnArc(int v, int arc) const {
+    return vertex_arc_[v] == arc ||
+           (vertex_arc_[v] == kCornerVertex &&
+            (arc_ends_[arc][0] == v || arc_ends_[arc][1] == v));
+  }
+
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<Face> faces_;
   std::vector<int> twin_;  // 3 per face slot
   std::vector<char> alive_;
   std::vector<int> vertex_face_;  // a face of each vertex; -1: removed
   int num_alive_ = 0;
+  std::vector<std::array<int, 2>> arc_ends_;
+  std::vector<int> vertex_arc_;  // per vertex, when there are arcs
 };
 
 }  // namespace sdcb

@@ -85,6 +85,15 @@ SurfaceSamples SpatiallyOrdered(const SurfaceSamples& s) {
       SphereTriangulation::FromFaces(directions, sorted);
   // The faces are a renumbered closed triangulation: FromFaces accepts them.
   out.pattern = std::move(pattern).value();
+  if (p.has_features()) {
+    std::vector<std::array<int, 2>> ends = p.arc_ends();
+    std::vector<int> rank_of(p.num_vertices(), -1);
+    for (int i = 0; i < n; ++i) rank_of[alive[i]] = rank[i];
+    for (auto& e : ends) e = {rank_of[e[0]], rank_of[e[1]]};
+    std::vector<int> arc(n);
+    for (int i = 0; i < n; ++i) arc[rank[i]] = p.vertex_arc(alive[i]);
+    out.pattern.SetFeatures(std::move(ends), std::move(arc));
+  }
   out.size = s.size;
   out.evaluations = s.evaluations;
   if (!s.coarse_faces.empty()) {
@@ -157,7 +166,9 @@ StatusOr<SurfaceSamples> SampleSurface(const SurfaceSampler& surface,
     return InvalidArgumentError("the tolerance must be positive");
   }
   SurfaceSamples s;
-  s.pattern = SphereTriangulation::Icosphere(options.initial_level);
+  s.pattern = options.initial_pattern != nullptr
+                  ? *options.initial_pattern
+                  : SphereTriangulation::Icosphere(options.initial_level);
   EvaluateNewVertices(surface, 0, &s);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
   for (const Eigen::Vector3d& p : s.positions) {

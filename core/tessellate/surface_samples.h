@@ -49,11 +49,14 @@ struct SurfaceSampleOptions {
   double angle_length_factor = 0.25;
   // > 1: the refinement first stops where every face passes criteria
   // `coarse_scale` times looser (errors times it, lengths and angles times
-  // its square root, angles at most angle_degrees) and keeps that pattern (SurfaceSamples::coarse_faces) before it
-  // goes on to the dense one.
+  // its square root, angles at most angle_degrees) and keeps that pattern
+  // (SurfaceSamples::coarse_faces) before it goes on to the dense one.
   double coarse_scale = 0.0;
-  // The icosphere level the refinement starts from.
+  // The icosphere level the refinement starts from ...
   int initial_level = 3;
+  // ... or this pattern (core/tessellate/feature_pattern.h), whose feature
+  // arcs the refinement keeps as chains of edges.
+  const SphereTriangulation* initial_pattern = nullptr;
   // Edges shorter than this on the domain (radians) are not split.
   double min_edge_radians = 1e-7;
   // kInvalidInput rather than more vertices than this.

@@ -16,30 +16,6 @@
 namespace sdcb {
 namespace {
 
-// CGAL's data/meshes/cube.off: [-1, 1]^3 in 12 triangles.
-TriangleMesh Cube() {
-  return testing::MakeMesh({{-1, -1, -1},
-                            {-1, 1, -1},
-                            {1, 1, -1},
-                            {1, -1, -1},
-                            {-1, -1, 1},
-                            {-1, 1, 1},
-                            {1, 1, 1},
-                            {1, -1, 1}},
-                           {{0, 1, 3},
-                            {3, 1, 2},
-                            {0, 4, 1},
-                            {1, 4, 5},
-                            {3, 2, 7},
-                            {7, 2, 6},
-                            {4, 0, 3},
-                            {7, 4, 3},
-                            {6, 4, 7},
-                            {6, 5, 4},
-                            {1, 5, 6},
-                            {2, 1, 6}});
-}
-
 // Keeping features on (FitOptions::keep_features), at this angle.
 FitOptions Options(double feature_angle) {
   FitOptions options;
@@ -50,7 +26,7 @@ FitOptions Options(double feature_angle) {
 }
 
 TEST(FeatureFitTest, TheCubeKeepsItsEdgesWithAFewHundredControlPoints) {
-  const TriangleMesh cube = Cube();
+  const TriangleMesh cube = testing::CubeMesh();
   auto fit = FitSphericalSpline(cube, Options(30));
   ASSERT_TRUE(fit.ok()) << fit.status().message();
   EXPECT_TRUE(fit->shortfall.empty()) << fit->shortfall;

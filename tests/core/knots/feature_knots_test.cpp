@@ -36,6 +36,38 @@ TEST(CornerKnotClusters, TheCornerAndOneKnotAlongEachFeatureEdge) {
   }
 }
 
+// The arcs come back from the knots alone: the cube's clusters give its 8
+// corners and 12 edges, and knots without clusters give none.
+TEST(FeatureArcsOfKnots, TheCubesEdgesFromItsClusters) {
+  Eigen::MatrixX3d sphere(8, 3);
+  for (int c = 0; c < 8; ++c) {
+    sphere.row(c) << (c & 1 ? 1 : -1), (c & 2 ? 1 : -1), (c & 4 ? 1 : -1);
+  }
+  sphere.rowwise().normalize();
+  MeshFeatures features;
+  for (int a = 0; a < 8; ++a) {
+    features.corners.push_back(a);
+    for (int b = a + 1; b < 8; ++b) {
+      const int differ = a ^ b;
+      if (differ == 1 || differ == 2 || differ == 4) {
+        features.edges.push_back({a, b});
+      }
+    }
+  }
+  const Eigen::MatrixX3d knots = CornerKnotClusters(features, sphere);
+  ASSERT_EQ(knots.rows(), 32);
+  const KnotFeatureArcs arcs = FeatureArcsOfKnots(knots);
+  ASSERT_EQ(arcs.corners.size(), 8u);
+  ASSERT_EQ(arcs.arcs.size(), 12u);
+  for (const auto& arc : arcs.arcs) {
+    const Eigen::Vector3d a = knots.row(arcs.corners[arc[0]]);
+    const Eigen::Vector3d b = knots.row(arcs.corners[arc[1]]);
+    // Adjacent cube corners: 1/3 apart in the dot product.
+    EXPECT_NEAR(a.dot(b), 1.0 / 3.0, 1e-12);
+  }
+  EXPECT_TRUE(FeatureArcsOfKnots(sphere).arcs.empty());
+}
+
 TEST(CornerKnotClusters, NoCornersNoKnots) {
   Eigen::MatrixX3d sphere(2, 3);
   sphere << 1, 0, 0, 0, 1, 0;

@@ -1,0 +1,35 @@
+// The tessellator's starting pattern when the surface has creases along
+// great-circle arcs between corners (a spline whose knots keep sharp
+// features, core/knots/feature_knots.h): a triangulation of the sphere whose
+// edges include every arc, with the arcs marked
+// (SphereTriangulation::SetFeatures) so that refinement splits them at
+// their midpoints and no simplification crosses them. Every face of the
+// result then lies on one side of every crease: a flat part of the surface
+// is covered by a few flat triangles instead of bands of small ones along
+// creases its faces would straddle.
+#ifndef SDCB_CORE_TESSELLATE_FEATURE_PATTERN_H_
+#define SDCB_CORE_TESSELLATE_FEATURE_PATTERN_H_
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "sdcb/core/common/status.h"
+#include "sdcb/core/tessellate/sphere_triangulation.h"
+
+namespace sdcb {
+
+// `corners`: #C by 3 unit vectors; `arcs`: pairs of corner indices, each the
+// shorter great-circle arc between them. The arcs' graph must cut the
+// sphere into faces each within an open hemisphere and bounded by a simple
+// cycle (as the edges of a convex solid projected from its centre do); each
+// face is triangulated by ear clipping in its gnomonic chart. The vertices
+// are the corners, in order. kInvalidArgument otherwise (a corner on no
+// arc, arcs that cross, a face not simple, a face too wide).
+StatusOr<SphereTriangulation> FeatureAlignedPattern(
+    const Eigen::MatrixX3d& corners,
+    const std::vector<std::array<int, 2>>& arcs);
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_TESSELLATE_FEATURE_PATTERN_H_

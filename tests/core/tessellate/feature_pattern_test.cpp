@@ -1,0 +1,131 @@
+// The tessellator's pattern along feature arcs (core/tessellate/
+// feature_pattern.h), against the cube: its 8 corners and 12 edges as arcs,
+// and the cube fitted with corner knot clusters, tessellated from the arcs
+// its knots hold, against the closed-form cube.
+#include "sdcb/core/tessellate/feature_pattern.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sdcb/core/fit/spline_fitter.h"
+#include "sdcb/core/knots/feature_knots.h"
+#include "sdcb/core/spline/piecewise_surface.h"
+#include "sdcb/core/spline/spherical_spline.h"
+#include "sdcb/core/tessellate/adaptive_tessellation.h"
+#include "testing/make_mesh.h"
+
+namespace sdcb {
+namespace {
+
+// The cube's corners (unit vectors, corner c at signs of its bits) and
+// edges (corners differing in one bit).
+void CubeArcs(Eigen::MatrixX3d* corners,
+              std::vector<std::array<int, 2>>* arcs) {
+  corners->resize(8, 3);
+  for (int c = 0; c < 8; ++c) {
+    corners->row(c) << (c & 1 ? 1 : -1), (c & 2 ? 1 : -1), (c & 4 ? 1 : -1);
+  }
+  corners->rowwise().normalize();
+  arcs->clear();
+  for (int a = 0; a < 8; ++a) {
+    for (int bit : {1, 2, 4}) {
+      if (!(a & bit)) arcs->push_back({a, a | bit});
+    }
+  }
+}
+
+TEST(FeatureAlignedPattern, TheCubesEdgesAreEdgesOfItsTriangulation) {
+  Eigen::MatrixX3d corners;
+  std::vector<std::array<int, 2>> arcs;
+  CubeArcs(&corners, &arcs);
+  StatusOr<SphereTriangulation> pattern = FeatureAlignedPattern(corners, arcs);
+  ASSERT_TRUE(pattern.ok()) << pattern.status().message();
+  EXPECT_EQ(pattern->num_vertices(), 8);
+  EXPECT_EQ(pattern->num_faces(), 12);  // two per face
+  for (const auto& [a, b] : arcs) {
+    EXPECT_GE(pattern->HalfEdge(a, b), 0);
+    EXPECT_TRUE(pattern->IsFeatureEdge(a, b));
+  }
+  for (int f = 0; f < pattern->num_face_slots(); ++f) {
+    EXPECT_TRUE(pattern->IsPositive(pattern->face(f)));
+  }
+  // An arc's edge does not flip; a corner does not collapse.
+  const int h = pattern->HalfEdge(arcs[0][0], arcs[0][1]);
+  std::array<SphereTriangulation::Face, 2> flipped;
+  EXPECT_FALSE(pattern->PreviewFlip(h, &flipped));
+  std::vector<SphereTriangulation::Face> faces;
+  EXPECT_FALSE(
+      pattern->PreviewCollapse(arcs[0][0], arcs[0][1], &faces, nullptr));
+  // A split of an arc's edge stays on the arc, and so do its halves.
+  const int m = pattern->SplitEdge(
+      h,
+      (pattern->vertex(arcs[0][0]) + pattern->vertex(arcs[0][1])).normalized());
+  EXPECT_EQ(pattern->vertex_arc(m), 0);
+  EXPECT_TRUE(pattern->IsFeatureEdge(arcs[0][0], m));
+  EXPECT_TRUE(pattern->IsFeatureEdge(m, arcs[0][1]));
+}
+
+TEST(FeatureAlignedPattern, ArcsThatCrossOrDangleAreRefused) {
+  Eigen::MatrixX3d corners;
+  std::vector<std::array<int, 2>> arcs;
+  CubeArcs(&corners, &arcs);
+  // Both diagonals of the face z = -1 (corners 0..3): they cross.
+  std::vector<std::array<int, 2>> crossing = arcs;
+  crossing.push_back({0, 3});
+  crossing.push_back({1, 2});
+  EXPECT_EQ(FeatureAlignedPattern(corners, crossing).status().code(),
+            StatusCode::kInvalidArgument);
+  // A corner at the end of a single arc.
+  std::vector<std::array<int, 2>> dangling(arcs.begin(), arcs.begin() + 1);
+  EXPECT_EQ(FeatureAlignedPattern(corners, dangling).status().code(),
+            StatusCode::kInvalidArgument);
+}
+
+// The cube fitted with its corners' knot clusters (FitOptions::keep_features),
+// tessellated from the pattern of the arcs its knots hold: 12 flat
+// triangles whose corners are the cube's (the closed form, side 1 in the
+// normalized frame). The icosphere's pattern crosses the creases and needs
+// ~70,000 (docs/FITTING.md).
+TEST(FeatureAlignedPattern, TheKeptCubeTessellatesIntoItsTwelveTriangles) {
+  const TriangleMesh cube = testing::CubeMesh();
+  FitOptions fit_options;
+  fit_options.rmse_percent = 0.1;
+  fit_options.keep_features = true;
+  auto fit = FitSphericalSpline(cube, fit_options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  ASSERT_TRUE(fit->features_kept);
+  auto spline = SurfaceFromModel(fit->model);
+  ASSERT_TRUE(spline.ok());
+  const PiecewiseSurface pieces(*spline);
+  const PiecewiseSplineSampler sampler(*spline, pieces);
+
+  const KnotFeatureArcs arcs = FeatureArcsOfKnots(fit->model.knots);
+  ASSERT_EQ(arcs.corners.size(), 8u);
+  ASSERT_EQ(arcs.arcs.size(), 12u);
+  Eigen::MatrixX3d corners(8, 3);
+  for (int c = 0; c < 8; ++c) {
+    corners.row(c) = fit->model.knots.row(arcs.corners[c]).normalized();
+  }
+  StatusOr<SphereTriangulation> pattern =
+      FeatureAlignedPattern(corners, arcs.arcs);
+  ASSERT_TRUE(pattern.ok()) << pattern.status().message();
+  TessellationOptions options;
+  options.tolerance = 1e-3;
+  options.initial_pattern = &*pattern;
+  StatusOr<Tessellation> t = TessellateAdaptively(sampler, options);
+  ASSERT_TRUE(t.ok()) << t.status().message();
+  EXPECT_EQ(t->faces.rows(), 12);
+  EXPECT_EQ(t->uncertified_faces, 0);
+  for (Eigen::Index v = 0; v < t->positions.rows(); ++v) {
+    const Eigen::Vector3d x = t->positions.row(v);
+    // A corner of the closed-form cube, its normal the mean of its three
+    // faces'.
+    EXPECT_NEAR(x.cwiseAbs().minCoeff(), 0.5, 1e-4) << x.transpose();
+    EXPECT_NEAR(t->normals.row(v).cwiseAbs().minCoeff(), 1.0 / std::sqrt(3.0),
+                1e-3);
+  }
+}
+
+}  // namespace
+}  // namespace sdcb
