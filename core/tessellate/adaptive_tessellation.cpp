@@ -87,6 +87,86 @@ class CreaseSampler : public SurfaceSampler {
   std::vector<Arc> arcs_;
 };
 
+// Every vertex of `out` on a crease (a feature arc of `pattern`; `vertices`:
+// the pattern vertex of each row) once per side of it: the faces around it
+// between two of the arc's edges get their own copy, whose normal is the
+// mean of their normals weighted by their angles at the vertex (a flat
+// side's normal however it is split into triangles).
+void SplitAlongCreases(const SphereTriangulation& pattern,
+                       const std::vector<int>& vertices, Tessellation* out) {
+  const Eigen::Index nf = out->faces.rows();
+  std::vector<Eigen::Vector3d> weighted(3 * nf, Eigen::Vector3d::Zero());
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    Eigen::Vector3d x[3];
+    for (int k = 0; k < 3; ++k) x[k] = out->positions.row(out->faces(f, k));
+    const Eigen::Vector3d n = (x[1] - x[0]).cross(x[2] - x[0]).normalized();
+    if (!n.allFinite()) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d u = x[(k + 1) % 3] - x[k];
+      const Eigen::Vector3d w = x[(k + 2) % 3] - x[k];
+      weighted[3 * f + k] = std::atan2(u.cross(w).norm(), u.dot(w)) * n;
+    }
+  }
+  std::vector<int> row_of_slot(pattern.num_face_slots(), -1);
+  for (int f = 0, r = 0; f < pattern.num_face_slots(); ++f) {
+    if (pattern.alive(f)) row_of_slot[f] = r++;
+  }
+  const Eigen::Index nv = out->positions.rows();
+  std::vector<Eigen::Index> copy_of;  // per new row, the row it copies
+  std::vector<Eigen::Vector3d> normal_of;
+  std::vector<int> star, ring;
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    const int v = vertices[i];
+    if (!pattern.IsFeatureVertex(v)) continue;
+    pattern.Star(v, &star, &ring);
+    const int n = static_cast<int>(star.size());
+    int first = 0;
+    while (first < n && !pattern.IsFeatureEdge(v, ring[first])) ++first;
+    if (first == n) continue;
+    // star[j] = (v, ring[j], ring[j + 1]): a side begins at each arc edge.
+    Eigen::Index target = -1;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    const auto finish = [&] {
+      if (target < 0 || !(sum.norm() > 0.0)) return;
+      if (target < nv) {
+        out->normals.row(target) = sum.normalized().transpose();
+      } else {
+        normal_of[target - nv] = sum.normalized();
+      }
+    };
+    for (int s = 0; s < n; ++s) {
+      const int j = (first + s) % n;
+      if (pattern.IsFeatureEdge(v, ring[j])) {
+        finish();
+        sum.setZero();
+        if (target < 0) {
+          target = i;
+        } else {
+          target = nv + static_cast<Eigen::Index>(copy_of.size());
+          copy_of.push_back(i);
+          normal_of.push_back(out->normals.row(i).transpose());
+        }
+      }
+      const int row = row_of_slot[star[j]];
+      for (int k = 0; k < 3; ++k) {
+        if (out->faces(row, k) != i) continue;
+        sum += weighted[3 * row + k];
+        out->faces(row, k) = static_cast<int>(target);
+      }
+    }
+    finish();
+  }
+  const Eigen::Index added = static_cast<Eigen::Index>(copy_of.size());
+  out->directions.conservativeResize(nv + added, 3);
+  out->positions.conservativeResize(nv + added, 3);
+  out->normals.conservativeResize(nv + added, 3);
+  for (Eigen::Index c = 0; c < added; ++c) {
+    out->directions.row(nv + c) = out->directions.row(copy_of[c]);
+    out->positions.row(nv + c) = out->positions.row(copy_of[c]);
+    out->normals.row(nv + c) = normal_of[c].transpose();
+  }
+}
+
 }  // namespace
 
 StatusOr<Tessellation> TessellateAdaptively(
@@ -190,28 +270,7 @@ StatusOr<Tessellation> TessellateAdaptively(
     out.positions.row(i) = samples.positions[v].transpose();
     out.normals.row(i) = samples.normals[v].transpose();
   }
-  if (pattern.has_features()) {
-    // Vertices on a crease: the mean of their faces' normals, each weighted
-    // by the face's angle there (a flat side counts the same however it is
-    // split into triangles).
-    std::vector<Eigen::Vector3d> sum(nv, Eigen::Vector3d::Zero());
-    for (Eigen::Index f = 0; f < out.faces.rows(); ++f) {
-      Eigen::Vector3d x[3];
-      for (int k = 0; k < 3; ++k) x[k] = out.positions.row(out.faces(f, k));
-      const Eigen::Vector3d n = (x[1] - x[0]).cross(x[2] - x[0]).normalized();
-      if (!n.allFinite()) continue;
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::Vector3d u = x[(k + 1) % 3] - x[k];
-        const Eigen::Vector3d w = x[(k + 2) % 3] - x[k];
-        sum[out.faces(f, k)] += std::atan2(u.cross(w).norm(), u.dot(w)) * n;
-      }
-    }
-    for (int i = 0; i < nv; ++i) {
-      if (pattern.IsFeatureVertex(vertices[i]) && sum[i].norm() > 0.0) {
-        out.normals.row(i) = sum[i].normalized().transpose();
-      }
-    }
-  }
+  if (pattern.has_features()) SplitAlongCreases(pattern, vertices, &out);
   out.certified_distance = verified.max_distance;
   out.max_normal_angle_degrees = verified.max_angle * 180.0 / kPi;
   out.uncertified_faces = verified.uncertified_faces;

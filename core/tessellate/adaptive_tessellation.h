@@ -19,7 +19,10 @@
 // The result is closed, manifold, genus 0 and consistently oriented by
 // construction (no T-junctions): it is a triangulation of the sphere mapped
 // by the surface. Vertices lie on the surface; normals are the surface's
-// analytic normals. Deterministic for any thread count.
+// analytic normals. Deterministic for any thread count. From a pattern with
+// feature arcs (TessellationOptions::initial_pattern) the vertices on the
+// creases are split per side (Tessellation::normals): closed in positions,
+// cut along the creases in indices.
 #ifndef SDCB_CORE_TESSELLATE_ADAPTIVE_TESSELLATION_H_
 #define SDCB_CORE_TESSELLATE_ADAPTIVE_TESSELLATION_H_
 
@@ -69,8 +72,9 @@ struct TessellationOptions {
 struct Tessellation {
   Eigen::MatrixX3d directions;  // #V by 3 domain points (unit vectors)
   Eigen::MatrixX3d positions;   // #V by 3 surface points
-  // #V by 3 analytic unit normals; on a feature arc (a crease) the mean of
-  // the normals of the faces around the vertex, weighted by their angles.
+  // #V by 3 analytic unit normals. With feature arcs (creases), a vertex
+  // on one appears once per side of it (same direction and position), with
+  // the mean of that side's face normals, weighted by their angles.
   Eigen::MatrixX3d normals;
   Eigen::MatrixX3i faces;  // #F by 3, counter-clockwise on the domain
   // Largest sampled distance over all faces (samples and verification
