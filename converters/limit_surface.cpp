@@ -27,7 +27,8 @@ LimitSurface::~LimitSurface() = default;
 
 StatusOr<LimitSurface> LimitSurface::Create(
     SubdivisionScheme scheme, int num_vertices,
-    const std::vector<std::array<int, 4>>& faces, int approximation_level) {
+    const std::vector<std::array<int, 4>>& faces, int approximation_level,
+    const std::vector<std::array<int, 2>>& creases) {
   const int corners = scheme == SubdivisionScheme::kLoop ? 3 : 4;
   const int nf = static_cast<int>(faces.size());
   if (nf == 0 || num_vertices < 3) {
@@ -52,6 +53,20 @@ StatusOr<LimitSurface> LimitSurface::Create(
   descriptor.numFaces = nf;
   descriptor.numVertsPerFace = sizes.data();
   descriptor.vertIndicesPerFace = indices.data();
+  std::vector<int> crease_pairs;
+  for (const auto& [a, b] : creases) {
+    if (a < 0 || a >= num_vertices || b < 0 || b >= num_vertices) {
+      return InvalidArgumentError(
+          "subdivision cage: a crease refers to a missing vertex");
+    }
+    crease_pairs.push_back(a);
+    crease_pairs.push_back(b);
+  }
+  const std::vector<float> crease_weights(creases.size(),
+                                          osd::Sdc::Crease::SHARPNESS_INFINITE);
+  descriptor.numCreases = static_cast<int>(creases.size());
+  descriptor.creaseVertexIndexPairs = crease_pairs.data();
+  descriptor.creaseWeights = crease_weights.data();
   osd::Sdc::Options sdc;
   sdc.SetVtxBoundaryInterpolation(osd::Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
   const osd::Sdc::SchemeType type = scheme == SubdivisionScheme::kLoop

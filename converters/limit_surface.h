@@ -37,10 +37,12 @@ class LimitSurface {
   // (Catmull-Clark) or triangles (Loop: the fourth entry is ignored) of a
   // closed manifold cage with `num_vertices` vertices. kInvalidArgument if
   // OpenSubdiv rejects the topology or a face has no limit surface.
+  // `creases`: edges (vertex pairs, each an edge of the faces) that are
+  // infinitely sharp (OpenSubdiv's Sdc::Crease::SHARPNESS_INFINITE).
   static StatusOr<LimitSurface> Create(
       SubdivisionScheme scheme, int num_vertices,
-      const std::vector<std::array<int, 4>>& faces,
-      int approximation_level = 4);
+      const std::vector<std::array<int, 4>>& faces, int approximation_level = 4,
+      const std::vector<std::array<int, 2>>& creases = {});
 
   LimitSurface(LimitSurface&&) noexcept;
   LimitSurface& operator=(LimitSurface&&) noexcept;

@@ -86,6 +86,8 @@ struct SubdivisionCage {
   // The faces and the sphere layout (SphereCage::faces: quads, or
   // triangles with -1 as fourth entry).
   SphereCage layout;
+  // Infinitely sharp edges (vertex pairs): a spline's creases.
+  std::vector<std::array<int, 2>> creases;
 };
 
 struct CageFit {
@@ -103,7 +105,12 @@ struct CageFit {
 };
 
 // Fits a cage to `spline` (any frame; distances in percent of
-// options.length_unit). kInvalidArgument for bad options.
+// options.length_unit). kInvalidArgument for bad options. A Catmull-Clark
+// cage of a spline whose knots hold feature arcs (a --keep-features fit,
+// core/knots/feature_knots.h) that cut the sphere into quads is first tried
+// as those quads with every arc an infinitely sharp crease (the cube: 8
+// vertices, 6 faces, 12 creases), kept if its limit surface meets the
+// tolerance.
 StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
                                      const CageOptions& options = {});
 
@@ -121,7 +128,10 @@ StatusOr<Eigen::MatrixX3d> FitCagePositions(const SurfaceSampler& spline,
                                             const CageOptions& options = {});
 
 // The cage as Wavefront OBJ text: "v x y z" per vertex (%.17g), "f a b c
-// [d]" per face (1-based), after a comment header naming the scheme.
+// [d]" per face (1-based), after a comment header naming the scheme; each
+// crease as OpenSubdiv's shape tag "t crease 2/1/0 a b 10" (0-based
+// vertices, sharpness 10 = infinitely sharp), which OBJ readers that do not
+// know it skip.
 std::string CageObjText(const SubdivisionCage& cage,
                         const Eigen::MatrixX3d& positions);
 

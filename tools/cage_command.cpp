@@ -71,6 +71,7 @@ int RunCage(const std::vector<std::string>& argv) {
     j["scheme"] = scheme;
     j["faces"] = cage.layout.num_faces();
     j["vertices"] = cage.layout.num_vertices();
+    j["creases"] = cage.creases.size();
     j["limit_rmse_percent"] = d.rms_percent;
     j["limit_max_error_percent"] = d.max_percent;
     j["limit_to_spline_rms_percent"] = d.limit_to_spline_rms_percent;

@@ -63,9 +63,28 @@ bool EarClip(const std::vector<Eigen::Vector2d>& points,
   return true;
 }
 
+// The centre of a face's gnomonic chart: the cycle's Newell normal (for
+// three corners the normal of their plane, equally far from each), or zero
+// if some corner is not well inside its hemisphere.
+Eigen::Vector3d ChartCentre(const Eigen::MatrixX3d& corners,
+                            const std::vector<int>& cycle) {
+  Eigen::Vector3d m = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < cycle.size(); ++i) {
+    const Eigen::Vector3d x = corners.row(cycle[i]);
+    const Eigen::Vector3d y = corners.row(cycle[(i + 1) % cycle.size()]);
+    m += x.cross(y);
+  }
+  if (!(m.norm() > 1e-9)) return Eigen::Vector3d::Zero();
+  m.normalize();
+  for (int c : cycle) {
+    if (!(corners.row(c).dot(m) > 0.05)) return Eigen::Vector3d::Zero();
+  }
+  return m;
+}
+
 }  // namespace
 
-StatusOr<SphereTriangulation> FeatureAlignedPattern(
+StatusOr<std::vector<std::vector<int>>> FeatureFaces(
     const Eigen::MatrixX3d& corners,
     const std::vector<std::array<int, 2>>& arcs) {
   const int n = static_cast<int>(corners.rows());
@@ -104,14 +123,13 @@ StatusOr<SphereTriangulation> FeatureAlignedPattern(
   };
   std::vector<std::vector<char>> used(n);
   for (int c = 0; c < n; ++c) used[c].assign(around[c].size(), 0);
-  std::vector<std::array<int, 3>> faces;
-  double area = 0.0;
+  std::vector<std::vector<int>> faces;
   for (int start = 0; start < n; ++start) {
     for (size_t k = 0; k < around[start].size(); ++k) {
       if (used[start][k]) continue;
       std::vector<int> cycle;
       int from = start, slot = static_cast<int>(k);
-      while (!used[from][slot]) {
+      while (!used[from][slot] && cycle.size() <= arcs.size() * 2) {
         used[from][slot] = 1;
         cycle.push_back(from);
         const int to = around[from][slot].second;
@@ -119,7 +137,6 @@ StatusOr<SphereTriangulation> FeatureAlignedPattern(
         const int deg = static_cast<int>(around[to].size());
         slot = (back + deg - 1) % deg;
         from = to;
-        if (cycle.size() > arcs.size() * 2) break;
       }
       if (from != start) {
         return InvalidArgumentError("the feature arcs do not bound faces");
@@ -129,46 +146,49 @@ StatusOr<SphereTriangulation> FeatureAlignedPattern(
       if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
         return InvalidArgumentError("a face of the feature arcs is not simple");
       }
-      // The chart's centre: the cycle's Newell normal (for three corners the
-      // normal of their plane, equally far from each).
-      Eigen::Vector3d m = Eigen::Vector3d::Zero();
-      for (size_t i = 0; i < cycle.size(); ++i) {
-        const Eigen::Vector3d x = corners.row(cycle[i]);
-        const Eigen::Vector3d y = corners.row(cycle[(i + 1) % cycle.size()]);
-        m += x.cross(y);
-      }
-      if (!(m.norm() > 1e-9)) {
+      if (ChartCentre(corners, cycle).isZero(0.0)) {
         return InvalidArgumentError("a face of the feature arcs is too wide");
       }
-      m.normalize();
-      Eigen::Vector3d e1, e2;
-      Basis(m, &e1, &e2);
-      std::vector<Eigen::Vector2d> chart;
-      for (int c : cycle) {
-        const Eigen::Vector3d x = corners.row(c);
-        if (!(x.dot(m) > 0.05)) {
-          return InvalidArgumentError("a face of the feature arcs is too wide");
-        }
-        const Eigen::Vector3d y = x / x.dot(m);
-        chart.emplace_back(y.dot(e1), y.dot(e2));
-      }
-      std::vector<std::array<int, 3>> pieces;
-      if (!EarClip(chart, &pieces)) {
-        return InvalidArgumentError(
-            "a face of the feature arcs does not triangulate");
-      }
-      for (const auto& t : pieces) {
-        const std::array<int, 3> f = {cycle[t[0]], cycle[t[1]], cycle[t[2]]};
-        area += SphericalArea(corners.row(f[0]), corners.row(f[1]),
-                              corners.row(f[2]));
-        faces.push_back(f);
-      }
+      faces.push_back(std::move(cycle));
+    }
+  }
+  return faces;
+}
+
+StatusOr<SphereTriangulation> FeatureAlignedPattern(
+    const Eigen::MatrixX3d& corners,
+    const std::vector<std::array<int, 2>>& arcs) {
+  SDCB_ASSIGN_OR_RETURN(const std::vector<std::vector<int>> cycles,
+                        FeatureFaces(corners, arcs));
+  std::vector<std::array<int, 3>> faces;
+  double area = 0.0;
+  for (const std::vector<int>& cycle : cycles) {
+    const Eigen::Vector3d m = ChartCentre(corners, cycle);
+    Eigen::Vector3d e1, e2;
+    Basis(m, &e1, &e2);
+    std::vector<Eigen::Vector2d> chart;
+    for (int c : cycle) {
+      const Eigen::Vector3d x = corners.row(c);
+      const Eigen::Vector3d y = x / x.dot(m);
+      chart.emplace_back(y.dot(e1), y.dot(e2));
+    }
+    std::vector<std::array<int, 3>> pieces;
+    if (!EarClip(chart, &pieces)) {
+      return InvalidArgumentError(
+          "a face of the feature arcs does not triangulate");
+    }
+    for (const auto& t : pieces) {
+      const std::array<int, 3> f = {cycle[t[0]], cycle[t[1]], cycle[t[2]]};
+      area += SphericalArea(corners.row(f[0]), corners.row(f[1]),
+                            corners.row(f[2]));
+      faces.push_back(f);
     }
   }
   // Faces that overlap (arcs that cross) cover more than the sphere.
   if (std::abs(area - 4.0 * kPi) > 1e-9) {
     return InvalidArgumentError("the feature arcs cross");
   }
+  const int n = static_cast<int>(corners.rows());
   Eigen::MatrixX3i face_matrix(faces.size(), 3);
   for (size_t f = 0; f < faces.size(); ++f) {
     face_matrix.row(f) << faces[f][0], faces[f][1], faces[f][2];

@@ -26,6 +26,13 @@ namespace sdcb {
 // face is triangulated by ear clipping in its gnomonic chart. The vertices
 // are the corners, in order. kInvalidArgument otherwise (a corner on no
 // arc, arcs that cross, a face not simple, a face too wide).
+// The faces the arcs cut the sphere into: each a cycle of corners,
+// counter-clockwise seen from outside, simple and within an open
+// hemisphere. kInvalidArgument as below otherwise.
+StatusOr<std::vector<std::vector<int>>> FeatureFaces(
+    const Eigen::MatrixX3d& corners,
+    const std::vector<std::array<int, 2>>& arcs);
+
 StatusOr<SphereTriangulation> FeatureAlignedPattern(
     const Eigen::MatrixX3d& corners,
     const std::vector<std::array<int, 2>>& arcs);

@@ -8,6 +8,7 @@
 #include <opensubdiv/far/topologyDescriptor.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -23,8 +24,10 @@ struct FarPoint {
 };
 
 // The Far refiner of a closed polygon cage (`faces`: corner lists).
+// `creases`: infinitely sharp edges (vertex pairs).
 inline std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> MakeFarRefiner(
-    bool loop, int num_vertices, const std::vector<std::vector<int>>& faces) {
+    bool loop, int num_vertices, const std::vector<std::vector<int>>& faces,
+    const std::vector<std::array<int, 2>>& creases = {}) {
   namespace osd = OpenSubdiv;
   std::vector<int> sizes, indices;
   for (const auto& f : faces) {
@@ -36,6 +39,16 @@ inline std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> MakeFarRefiner(
   d.numFaces = static_cast<int>(faces.size());
   d.numVertsPerFace = sizes.data();
   d.vertIndicesPerFace = indices.data();
+  std::vector<int> pairs;
+  for (const auto& [a, b] : creases) {
+    pairs.push_back(a);
+    pairs.push_back(b);
+  }
+  const std::vector<float> sharpness(creases.size(),
+                                     osd::Sdc::Crease::SHARPNESS_INFINITE);
+  d.numCreases = static_cast<int>(creases.size());
+  d.creaseVertexIndexPairs = pairs.data();
+  d.creaseWeights = sharpness.data();
   osd::Sdc::Options sdc;
   sdc.SetVtxBoundaryInterpolation(osd::Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
   using Factory =
@@ -54,11 +67,13 @@ struct FarRefined {
 
 // Refines the cage `levels` times uniformly (Far) and evaluates the finest
 // level's vertices at the limit (PrimvarRefiner::Limit).
-inline FarRefined RefineWithFar(bool loop, const Eigen::MatrixX3d& cage,
-                                const std::vector<std::vector<int>>& faces,
-                                int levels) {
+inline FarRefined RefineWithFar(
+    bool loop, const Eigen::MatrixX3d& cage,
+    const std::vector<std::vector<int>>& faces, int levels,
+    const std::vector<std::array<int, 2>>& creases = {}) {
   namespace osd = OpenSubdiv;
-  auto refiner = MakeFarRefiner(loop, static_cast<int>(cage.rows()), faces);
+  auto refiner =
+      MakeFarRefiner(loop, static_cast<int>(cage.rows()), faces, creases);
   FarRefined out;
   if (!refiner) return out;
   osd::Far::TopologyRefiner::UniformOptions uniform(levels);
