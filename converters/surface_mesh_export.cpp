@@ -2,10 +2,12 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -75,6 +77,54 @@ double Percentile(const Eigen::VectorXd& values, double q) {
 
 bool IsGltf(ExportFormat f) {
   return f == ExportFormat::kGltf || f == ExportFormat::kGlb;
+}
+
+// The tessellation splits a vertex on a crease once per side (hard edges
+// for glTF renderers). Mesh files are closed meshes to be read back (sdcb
+// check, a refit): the copies (equal `directions` rows) become one vertex
+// again, whose normal is the mean of the copies'.
+void WeldCreaseCopies(const Eigen::MatrixX3d& directions, SurfaceMesh* mesh) {
+  const Eigen::Index n = directions.rows();
+  std::map<std::array<double, 3>, Eigen::Index> first;
+  std::vector<Eigen::Index> to(n);
+  Eigen::Index kept = 0;
+  std::vector<Eigen::Index> kept_row;
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const std::array<double, 3> key = {directions(v, 0), directions(v, 1),
+                                       directions(v, 2)};
+    const auto [it, inserted] = first.emplace(key, kept);
+    if (inserted) {
+      kept_row.push_back(v);
+      ++kept;
+    }
+    to[v] = it->second;
+  }
+  if (kept == n) return;
+  SurfaceMesh welded;
+  welded.positions.resize(kept, 3);
+  for (Eigen::Index k = 0; k < kept; ++k) {
+    welded.positions.row(k) = mesh->positions.row(kept_row[k]);
+  }
+  if (mesh->normals.rows() == n) {
+    welded.normals = Eigen::MatrixX3d::Zero(kept, 3);
+    for (Eigen::Index v = 0; v < n; ++v) {
+      welded.normals.row(to[v]) += mesh->normals.row(v);
+    }
+    welded.normals.rowwise().normalize();
+  }
+  if (mesh->colors.rows() == n) {
+    welded.colors.resize(kept, 3);
+    for (Eigen::Index k = 0; k < kept; ++k) {
+      welded.colors.row(k) = mesh->colors.row(kept_row[k]);
+    }
+  }
+  welded.faces = mesh->faces;
+  for (Eigen::Index f = 0; f < welded.faces.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      welded.faces(f, c) = static_cast<int>(to[mesh->faces(f, c)]);
+    }
+  }
+  *mesh = std::move(welded);
 }
 
 const char* FormatName(ExportFormat f) {
@@ -306,6 +356,9 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
   mesh.faces = t.faces;
   SDCB_RETURN_IF_ERROR(
       ColorVertices(options, sampler, t, transform, &mesh, &report.colors));
+  if (report.feature_arcs > 0 && !IsGltf(options.format)) {
+    WeldCreaseCopies(t.directions, &mesh);
+  }
   GltfExportResult gltf;
   int bits = 0;
   if (IsGltf(options.format)) {
@@ -341,7 +394,7 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
                                  : "none";
   report.mode = options.uniform_vertices > 0 ? "uniform" : "adaptive";
   report.triangles = t.faces.rows();
-  report.vertices = t.positions.rows();
+  report.vertices = mesh.positions.rows();
   report.bytes = static_cast<int64_t>(out.bytes.size());
   report.tolerance_percent = options.tolerance_percent;
   report.surface_tolerance_percent = 100.0 * surface_tolerance;

@@ -9,7 +9,9 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "sdcb/core/fit/spline_fitter.h"
@@ -17,6 +19,7 @@
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/sdcb_file.h"
+#include "testing/make_mesh.h"
 #include "testing/run_sdcb.h"
 #include "testing/temp_dir.h"
 
@@ -222,6 +225,45 @@ TEST_F(SurfaceMeshExportTest, ProgressRisesToOneAndBytesIgnoreThreads) {
   single.execute([&] { one = ExportSurfaceMesh(*model_, options); });
   ASSERT_TRUE(one.ok());
   EXPECT_TRUE(one->bytes == many->bytes);
+}
+
+// A --keep-features cube follows its creases: glTF gets each corner once per
+// side (24 vertices, the faces' normals: hard edges), a mesh file one closed
+// mesh of the cube's 8 corners (every edge in exactly two triangles), as
+// `sdcb check` needs to read it back.
+TEST(SurfaceMeshExportCreases, GltfSplitsTheCornersAndMeshFilesWeldThem) {
+  FitOptions fit_options;
+  fit_options.rmse_percent = 0.1;
+  fit_options.keep_features = true;
+  auto fit = FitSphericalSpline(testing::CubeMesh(), fit_options);
+  ASSERT_TRUE(fit.ok() && fit->features_kept);
+  SurfaceMeshExportOptions options;
+  options.format = ExportFormat::kGlb;
+  auto glb = ExportSurfaceMesh(fit->model, options);
+  ASSERT_TRUE(glb.ok()) << glb.status().message();
+  EXPECT_EQ(glb->report.feature_arcs, 12);
+  EXPECT_EQ(glb->mesh.faces.rows(), 12);
+  EXPECT_EQ(glb->mesh.positions.rows(), 24);
+  options.format = ExportFormat::kPly;
+  auto ply = ExportSurfaceMesh(fit->model, options);
+  ASSERT_TRUE(ply.ok()) << ply.status().message();
+  ASSERT_EQ(ply->mesh.positions.rows(), 8);
+  EXPECT_EQ(ply->report.vertices, 8);
+  std::map<std::pair<int, int>, int> uses;
+  for (Eigen::Index f = 0; f < ply->mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = ply->mesh.faces(f, k), b = ply->mesh.faces(f, (k + 1) % 3);
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  EXPECT_EQ(uses.size(), 18u);  // 12 edges + 6 diagonals
+  for (const auto& [edge, count] : uses) EXPECT_EQ(count, 2);
+  for (Eigen::Index v = 0; v < 8; ++v) {
+    // The input's corners (side 2), each normal the mean of three faces'.
+    EXPECT_NEAR(ply->mesh.positions.row(v).cwiseAbs().minCoeff(), 1.0, 1e-3);
+    EXPECT_NEAR(ply->mesh.normals.row(v).cwiseAbs().minCoeff(),
+                1.0 / std::sqrt(3.0), 1e-3);
+  }
 }
 
 }  // namespace
