@@ -20,7 +20,7 @@
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/far_refinement.h"
-#include "testing/make_mesh.h"
+#include "testing/kept_cube.h"
 #include "testing/temp_dir.h"
 
 namespace sdcb {
@@ -254,10 +254,7 @@ TEST(SubdivisionCageTest, SameCageForAnyThreadCount) {
 // closed-form cube within 0.1 % of its side; without the creases it rounds
 // into a blob.
 TEST(SubdivisionCageTest, TheKeptCubesCageIsItsCornersWithSharpEdges) {
-  FitOptions fit_options;
-  fit_options.rmse_percent = 0.1;
-  fit_options.keep_features = true;
-  auto fit = FitSphericalSpline(testing::CubeMesh(), fit_options);
+  auto fit = testing::FitKeptCube();
   ASSERT_TRUE(fit.ok() && fit->features_kept);
   auto spline = SurfaceFromModel(fit->model);
   ASSERT_TRUE(spline.ok());

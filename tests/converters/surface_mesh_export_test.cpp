@@ -19,7 +19,7 @@
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/sdcb_file.h"
-#include "testing/make_mesh.h"
+#include "testing/kept_cube.h"
 #include "testing/run_sdcb.h"
 #include "testing/temp_dir.h"
 
@@ -232,10 +232,7 @@ TEST_F(SurfaceMeshExportTest, ProgressRisesToOneAndBytesIgnoreThreads) {
 // mesh of the cube's 8 corners (every edge in exactly two triangles), as
 // `sdcb check` needs to read it back.
 TEST(SurfaceMeshExportCreases, GltfSplitsTheCornersAndMeshFilesWeldThem) {
-  FitOptions fit_options;
-  fit_options.rmse_percent = 0.1;
-  fit_options.keep_features = true;
-  auto fit = FitSphericalSpline(testing::CubeMesh(), fit_options);
+  auto fit = testing::FitKeptCube();
   ASSERT_TRUE(fit.ok() && fit->features_kept);
   SurfaceMeshExportOptions options;
   options.format = ExportFormat::kGlb;

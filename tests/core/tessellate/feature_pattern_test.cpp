@@ -14,7 +14,7 @@
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/core/tessellate/adaptive_tessellation.h"
-#include "testing/make_mesh.h"
+#include "testing/kept_cube.h"
 
 namespace sdcb {
 namespace {
@@ -89,11 +89,7 @@ TEST(FeatureAlignedPattern, ArcsThatCrossOrDangleAreRefused) {
 // normalized frame), split along the edges with the faces' normals. The
 // icosphere's pattern crosses the creases and needs ~70,000 (docs/FITTING.md).
 TEST(FeatureAlignedPattern, TheKeptCubeTessellatesIntoItsTwelveTriangles) {
-  const TriangleMesh cube = testing::CubeMesh();
-  FitOptions fit_options;
-  fit_options.rmse_percent = 0.1;
-  fit_options.keep_features = true;
-  auto fit = FitSphericalSpline(cube, fit_options);
+  auto fit = testing::FitKeptCube();
   ASSERT_TRUE(fit.ok()) << fit.status().message();
   ASSERT_TRUE(fit->features_kept);
   auto spline = SurfaceFromModel(fit->model);

@@ -1,0 +1,21 @@
+// CGAL's cube fitted with its sharp edges kept (FitOptions::keep_features,
+// rmse 0.1 %): the corners' knot clusters alone, 212 control points. The
+// model the crease-following converters are tested on.
+#ifndef SDCB_TESTS_TESTING_KEPT_CUBE_H_
+#define SDCB_TESTS_TESTING_KEPT_CUBE_H_
+
+#include "sdcb/core/fit/spline_fitter.h"
+#include "testing/make_mesh.h"
+
+namespace sdcb::testing {
+
+inline StatusOr<FitResult> FitKeptCube() {
+  FitOptions options;
+  options.rmse_percent = 0.1;
+  options.keep_features = true;
+  return FitSphericalSpline(CubeMesh(), options);
+}
+
+}  // namespace sdcb::testing
+
+#endif  // SDCB_TESTS_TESTING_KEPT_CUBE_H_
