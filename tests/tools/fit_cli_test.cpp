@@ -120,7 +120,8 @@ TEST(FitCliTest, ReportCountsTheCubesSharpFeatures) {
 
 // --keep-features: the cube's corners' knot clusters alone reach the
 // target (docs/FITTING.md): a few hundred control points where the smooth
-// fit needs thousands, and the report says the features were used.
+// fit needs thousands, and the report says the features were used; with
+// --quantize as well, and its export follows the creases.
 TEST(FitCliTest, KeepFeaturesKeepsTheCubeWithItsCornerClusters) {
   const std::string dir = FreshTestDir();
   RunResult r =
@@ -134,6 +135,19 @@ TEST(FitCliTest, KeepFeaturesKeepsTheCubeWithItsCornerClusters) {
   EXPECT_EQ(report["final"]["knots"], 32);
   EXPECT_LE(report["final"]["control_points"], 300);
   EXPECT_LE(report["final"]["max_error_percent"], 0.2);
+  // Quantized too (the clusters are not snapped to the knot grid): the
+  // export still follows the 12 creases, 12 triangles.
+  r = RunSdcb({"fit", MeshPath("cube.off"), "-o", dir + "/q.sdcb", "--rmse",
+               "0.1", "--keep-features", "--quantize", "auto", "--quiet"},
+              dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunSdcb({"export", dir + "/q.sdcb", "-o", dir + "/q.glb", "--json",
+               dir + "/q.json", "--quiet"},
+              dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto exported = nlohmann::json::parse(ReadBytes(dir + "/q.json"));
+  EXPECT_EQ(exported["feature_arcs"], 12);
+  EXPECT_EQ(exported["triangles"], 12);
 }
 
 // Without --quiet the summary prints the seconds of every stage: the
