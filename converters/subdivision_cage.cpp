@@ -266,10 +266,7 @@ StatusOr<std::optional<CageFit>> CreasedCage(const SphericalSpline& spline,
   const KnotFeatureArcs arcs = FeatureArcsOfKnots(spline.knots());
   if (arcs.arcs.empty()) return std::optional<CageFit>();
   const int n = static_cast<int>(arcs.corners.size());
-  Eigen::MatrixX3d corners(n, 3);
-  for (int c = 0; c < n; ++c) {
-    corners.row(c) = spline.knots().row(arcs.corners[c]).normalized();
-  }
+  const Eigen::MatrixX3d& corners = arcs.corner_directions;
   StatusOr<std::vector<std::vector<int>>> cycles =
       FeatureFaces(corners, arcs.arcs);
   if (!cycles.ok() || static_cast<int>(cycles->size()) > options.max_faces) {

@@ -307,19 +307,13 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
     // Creases along the knots' feature arcs: a pattern whose edges follow
     // them (arcs that do not cut the sphere into simple faces are left to
     // the plain pattern, which crosses them).
-    if (!feature_pattern) {
-      const KnotFeatureArcs arcs = FeatureArcsOfKnots(model.knots);
-      Eigen::MatrixX3d corners(arcs.corners.size(), 3);
-      for (size_t c = 0; c < arcs.corners.size(); ++c) {
-        corners.row(c) = model.knots.row(arcs.corners[c]).normalized();
-      }
-      if (!arcs.arcs.empty()) {
-        StatusOr<SphereTriangulation> pattern =
-            FeatureAlignedPattern(corners, arcs.arcs);
-        if (pattern.ok()) {
-          feature_pattern = std::move(pattern).value();
-          report.feature_arcs = static_cast<int>(arcs.arcs.size());
-        }
+    const KnotFeatureArcs arcs = FeatureArcsOfKnots(model.knots);
+    if (!arcs.arcs.empty()) {
+      StatusOr<SphereTriangulation> pattern =
+          FeatureAlignedPattern(arcs.corner_directions, arcs.arcs);
+      if (pattern.ok()) {
+        feature_pattern = std::move(pattern).value();
+        report.feature_arcs = static_cast<int>(arcs.arcs.size());
       }
     }
     if (feature_pattern) tessellation.initial_pattern = &*feature_pattern;

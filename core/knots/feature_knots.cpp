@@ -137,6 +137,10 @@ KnotFeatureArcs FeatureArcsOfKnots(const Eigen::MatrixX3d& knots, double gap) {
   };
   for (const auto& arc : arcs)
     out.arcs.push_back({index(arc[0]), index(arc[1])});
+  out.corner_directions.resize(out.corners.size(), 3);
+  for (size_t c = 0; c < out.corners.size(); ++c) {
+    out.corner_directions.row(c) = knots.row(out.corners[c]).normalized();
+  }
   return out;
 }
 

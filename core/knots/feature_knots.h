@@ -48,6 +48,7 @@ Eigen::MatrixX3d CornerKnotClusters(const MeshFeatures& features,
 // Deterministic.
 struct KnotFeatureArcs {
   std::vector<int> corners;              // knot rows, ascending
+  Eigen::MatrixX3d corner_directions;    // their knots, unit length
   std::vector<std::array<int, 2>> arcs;  // indices into corners, a < b
 };
 KnotFeatureArcs FeatureArcsOfKnots(const Eigen::MatrixX3d& knots,

@@ -100,12 +100,8 @@ TEST(FeatureAlignedPattern, TheKeptCubeTessellatesIntoItsTwelveTriangles) {
   const KnotFeatureArcs arcs = FeatureArcsOfKnots(fit->model.knots);
   ASSERT_EQ(arcs.corners.size(), 8u);
   ASSERT_EQ(arcs.arcs.size(), 12u);
-  Eigen::MatrixX3d corners(8, 3);
-  for (int c = 0; c < 8; ++c) {
-    corners.row(c) = fit->model.knots.row(arcs.corners[c]).normalized();
-  }
   StatusOr<SphereTriangulation> pattern =
-      FeatureAlignedPattern(corners, arcs.arcs);
+      FeatureAlignedPattern(arcs.corner_directions, arcs.arcs);
   ASSERT_TRUE(pattern.ok()) << pattern.status().message();
   TessellationOptions options;
   options.tolerance = 1e-3;
