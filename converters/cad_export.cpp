@@ -79,6 +79,8 @@ StatusOr<CadExportReport> WriteCadExport(const SplineModel& model,
   CadExportReport r;
   r.format = options.format == CadFormat::kStep ? "step" : "iges";
   r.faces = static_cast<int>(fit.faces.size());
+  r.layout = fit.layout.name();
+  r.crease_edges = fit.crease_edges;
   r.control_points = fit.control_points;
   r.tolerance_percent = o.tolerance_percent;
   r.smoothness_degrees = o.smoothness_degrees;
@@ -112,6 +114,8 @@ nlohmann::ordered_json CadExportReportToJson(const CadExportReport& r) {
   j["format"] = r.format;
   j["unit"] = "mm";
   j["faces"] = r.faces;
+  j["layout"] = r.layout;
+  j["crease_edges"] = r.crease_edges;
   j["control_points"] = r.control_points;
   j["bytes"] = r.bytes;
   j["tolerance_percent"] = r.tolerance_percent;

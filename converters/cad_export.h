@@ -34,6 +34,9 @@ struct CadExportOptions {
 struct CadExportReport {
   std::string format;  // "step", "iges"
   int faces = 0;       // B-spline faces
+  // The network's layout (CadQuadLayout::name) and its edges on creases.
+  std::string layout;
+  int crease_edges = 0;
   int control_points = 0;
   double tolerance_percent = 0.0;
   double smoothness_degrees = 0.0;

@@ -8,11 +8,13 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <utility>
 
 #include "sdcb/converters/gauss_legendre.h"
 #include "sdcb/converters/stopwatch.h"
 #include "sdcb/core/fit/least_squares.h"
+#include "sdcb/core/knots/feature_knots.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 
 namespace sdcb {
@@ -24,6 +26,9 @@ constexpr double kDegrees = 180.0 / kPi;
 // frame per unit of the face parameter (a face spans 2 / face_grid of it);
 // typical derivatives are ~0.5 in a normalized frame.
 constexpr double kMinDerivative = 0.05;
+// Where the spline's normal on a crease is taken, as a share of the face's
+// parameter box inside the face.
+constexpr double kCreaseInset = 1e-3;
 // Spans are not halved below this parameter length.
 constexpr double kMinSpan = 1.0 / 4096;
 // A cell over the tolerance halves its span along a direction when the
@@ -34,30 +39,6 @@ constexpr double kAnisotropy = 0.7;
 const GaussLegendre<4>& Gauss() {
   static const GaussLegendre<4> rule;
   return rule;
-}
-
-// Cube face c: its normal axis and sign, and the cube axes of its u and v
-// (right-handed with the outward normal).
-struct CubeFace {
-  int axis, sign, u_axis, v_axis;
-};
-
-CubeFace CubeFaceOf(int c) {
-  CubeFace f;
-  f.axis = c / 2;
-  f.sign = c % 2 == 0 ? 1 : -1;
-  const int i = (f.axis + 1) % 3, j = (f.axis + 2) % 3;
-  f.u_axis = f.sign > 0 ? i : j;
-  f.v_axis = f.sign > 0 ? j : i;
-  return f;
-}
-
-// tan(pi t / 4), exactly +-1 at t = +-1 (so a cube edge's points are the same
-// numbers seen from both faces).
-double TanQuarter(double t) {
-  if (t == 1.0) return 1.0;
-  if (t == -1.0) return -1.0;
-  return std::tan(0.25 * kPi * t);
 }
 
 // Side k of a face over [u0, u1] x [v0, v1]: the parameter it runs along (0:
@@ -167,9 +148,11 @@ const KnotBreaks& AlongBreaks(const BSplineFace& face, int k) {
 // the unknowns of every pole.
 class NetworkFitter {
  public:
-  NetworkFitter(const PiecewiseSurface& surface, int grid, int spans)
-      : surface_(surface) {
-    for (int c = 0; c < 6; ++c) {
+  NetworkFitter(const PiecewiseSurface& surface, const CadQuadLayout& layout,
+                int spans)
+      : surface_(surface), layout_(layout) {
+    const int grid = layout.grid;
+    for (int c = 0; c < layout.num_quads(); ++c) {
       for (int j = 0; j < grid; ++j) {
         for (int i = 0; i < grid; ++i) {
           BSplineFace face;
@@ -180,7 +163,7 @@ class NetworkFitter {
                                     2.0 * (j + double(k) / spans) / grid);
           }
           faces_.push_back(std::move(face));
-          cube_.push_back(c);
+          quad_.push_back(c);
         }
       }
     }
@@ -189,7 +172,8 @@ class NetworkFitter {
 
   int num_faces() const { return static_cast<int>(faces_.size()); }
   const std::vector<BSplineFace>& faces() const { return faces_; }
-  const std::vector<int>& cube() const { return cube_; }
+  const std::vector<int>& quad() const { return quad_; }
+  const CadQuadLayout& layout() const { return layout_; }
   int num_vars() const { return num_vars_; }
   int num_vertices() const { return num_vertices_; }
   const std::vector<std::array<int, 4>>& face_edges() const {
@@ -200,14 +184,25 @@ class NetworkFitter {
   Eigen::Vector3d Sphere(int f, double u, double v,
                          Eigen::Vector3d* du = nullptr,
                          Eigen::Vector3d* dv = nullptr) const {
-    return CubeSpherePoint(cube_[f], u, v, du, dv);
+    return layout_.Point(quad_[f], u, v, du, dv);
   }
 
-  // Every side: its two (face, side) and its vertices at the start and end
-  // of its parameter.
+  // Whether side k of face f lies on a crease of the layout.
+  bool OnCrease(int f, int k) const {
+    const BSplineFace& face = faces_[f];
+    const bool at_quad_side = (k == 0 && face.v_breaks.front() == -1.0) ||
+                              (k == 1 && face.u_breaks.back() == 1.0) ||
+                              (k == 2 && face.v_breaks.back() == 1.0) ||
+                              (k == 3 && face.u_breaks.front() == -1.0);
+    return at_quad_side && layout_.crease[quad_[f]][k];
+  }
+
+  // Every side: its two (face, side), its vertices at the start and end of
+  // its parameter, and whether it lies on a crease.
   struct Edge {
     int face[2], side[2];
     int start = -1, end = -1;
+    bool crease = false;
     KnotBreaks breaks;  // the knots both faces have along it
     std::vector<int> vars;
   };
@@ -320,6 +315,7 @@ class NetworkFitter {
     });
     std::vector<LocalBlock> tangent(tangent_weight > 0.0 ? edges_.size() : 0);
     tbb::parallel_for(size_t{0}, tangent.size(), [&](size_t e) {
+      if (edges_[e].crease) return;
       AddTangentRows(edges_[e], tangent_weight, &tangent[e]);
     });
 
@@ -409,6 +405,7 @@ class NetworkFitter {
           e.face[1] = e.side[1] = -1;
           e.start = start;
           e.end = end;
+          e.crease = OnCrease(static_cast<int>(f), k);
           edges_.push_back(e);
         } else {
           edges_[it->second].face[1] = static_cast<int>(f);
@@ -505,8 +502,9 @@ class NetworkFitter {
   }
 
   const PiecewiseSurface& surface_;
+  const CadQuadLayout& layout_;
   std::vector<BSplineFace> faces_;
-  std::vector<int> cube_;
+  std::vector<int> quad_;
   std::vector<std::array<int, 4>> face_edges_;
   std::vector<Edge> edges_;
   std::vector<CadEdge> curves_;
@@ -567,7 +565,44 @@ std::vector<CellFigures> MeasureCells(const NetworkFitter& fitter,
     }
   });
   Eigen::MatrixX3d positions, normals;
-  surface.EvaluateMany(directions, &positions, &normals);
+  if (!fitter.layout().has_creases()) {
+    surface.EvaluateMany(directions, &positions, &normals);
+  } else {
+    // The spline's normal at a point on a crease is either side's: it is
+    // taken kCreaseInset of the face's parameter box inside the face.
+    Eigen::MatrixX3d inside = directions;
+    tbb::parallel_for(size_t{0}, cells.size(), [&](size_t c) {
+      const CellFigures& cell = cells[c];
+      const BSplineFace& face = faces[cell.face];
+      const double inset_u =
+          kCreaseInset * (face.u_breaks.back() - face.u_breaks.front());
+      const double inset_v =
+          kCreaseInset * (face.v_breaks.back() - face.v_breaks.front());
+      for (int k = 0; k < per_cell; ++k) {
+        double u, v;
+        parameter(cell, k, &u, &v);
+        const double u0 = u, v0 = v;
+        if (v == face.v_breaks.front() && fitter.OnCrease(cell.face, 0)) {
+          v += inset_v;
+        }
+        if (u == face.u_breaks.back() && fitter.OnCrease(cell.face, 1)) {
+          u -= inset_u;
+        }
+        if (v == face.v_breaks.back() && fitter.OnCrease(cell.face, 2)) {
+          v -= inset_v;
+        }
+        if (u == face.u_breaks.front() && fitter.OnCrease(cell.face, 3)) {
+          u += inset_u;
+        }
+        if (u != u0 || v != v0) {
+          inside.row(c * per_cell + k) = fitter.Sphere(cell.face, u, v);
+        }
+      }
+    });
+    surface.EvaluateMany(directions, &positions, nullptr);
+    Eigen::MatrixX3d inside_positions;
+    surface.EvaluateMany(inside, &inside_positions, &normals);
+  }
   tbb::parallel_for(size_t{0}, cells.size(), [&](size_t c) {
     CellFigures& cell = cells[c];
     const BSplineFace& face = faces[cell.face];
@@ -605,13 +640,15 @@ std::vector<CellFigures> MeasureCells(const NetworkFitter& fitter,
   return cells;
 }
 
-// The largest angle between the two faces' normals along every edge, at 8
-// points of every span of both faces' knots and the ends; the points.
+// The largest angle between the two faces' normals along every edge but
+// the creases, at 8 points of every span of both faces' knots and the ends;
+// the points.
 double MaxNormalJump(const NetworkFitter& fitter, int* points) {
   const std::vector<BSplineFace>& faces = fitter.faces();
   double jump = 0.0;
   *points = 0;
   for (const NetworkFitter::Edge& e : fitter.edges()) {
+    if (e.crease) continue;  // the spline turns there too
     const BSplineFace &f0 = faces[e.face[0]], &f1 = faces[e.face[1]];
     const SideFrame s0 = SideFrameOf(f0, e.side[0]);
     const SideFrame s1 = SideFrameOf(f1, e.side[1]);
@@ -668,26 +705,6 @@ void PropagateAcrossSides(
 
 }  // namespace
 
-Eigen::Vector3d CubeSpherePoint(int c, double u, double v, Eigen::Vector3d* du,
-                                Eigen::Vector3d* dv) {
-  const CubeFace f = CubeFaceOf(c);
-  const double tu = TanQuarter(u), tv = TanQuarter(v);
-  Eigen::Vector3d w;
-  w[f.axis] = f.sign;
-  w[f.u_axis] = tu;
-  w[f.v_axis] = tv;
-  const double length = w.norm();
-  const Eigen::Vector3d p = w / length;
-  const auto derivative = [&](int axis, double t) {
-    Eigen::Vector3d dw = Eigen::Vector3d::Zero();
-    dw[axis] = 0.25 * kPi * (1.0 + t * t);
-    return Eigen::Vector3d((dw - p * p.dot(dw)) / length);
-  };
-  if (du != nullptr) *du = derivative(f.u_axis, tu);
-  if (dv != nullptr) *dv = derivative(f.v_axis, tv);
-  return p;
-}
-
 StatusOr<CadNetwork> FitCadNetwork(const SphericalSpline& spline,
                                    const CadNetworkOptions& o) {
   if (!(o.tolerance_percent > 0.0) || !(o.length_unit > 0.0) ||
@@ -702,7 +719,12 @@ StatusOr<CadNetwork> FitCadNetwork(const SphericalSpline& spline,
         "weight, length unit, rounds, lattice and control point budget, and "
         "a face grid and initial spans that are powers of 2 (grid <= 64)");
   }
-  const int num_faces = 6 * o.face_grid * o.face_grid;
+  std::optional<CadQuadLayout> layout;
+  if (o.follow_creases) {
+    layout = FeatureQuadLayout(FeatureArcsOfKnots(spline.knots()));
+  }
+  if (!layout) layout = CubeSphereLayout(o.face_grid);
+  const int num_faces = layout->num_quads() * layout->grid * layout->grid;
   if (o.max_faces < num_faces) {
     return InvalidArgumentError(
         "the CAD network has " + std::to_string(num_faces) +
@@ -710,8 +732,11 @@ StatusOr<CadNetwork> FitCadNetwork(const SphericalSpline& spline,
   }
   const PiecewiseSurface surface(spline);
   const double tolerance = o.tolerance_percent / 100.0 * o.length_unit;
-  NetworkFitter fitter(surface, o.face_grid, o.initial_spans);
+  NetworkFitter fitter(surface, *layout, o.initial_spans);
   CadNetwork net;
+  net.layout = *layout;
+  for (const NetworkFitter::Edge& e : fitter.edges())
+    net.crease_edges += e.crease;
   // Without a smoothness limit the faces are fitted to the distance alone.
   double tangent_weight =
       o.smoothness_degrees >= 180.0 ? 0.0 : o.tangent_weight;
@@ -730,7 +755,7 @@ StatusOr<CadNetwork> FitCadNetwork(const SphericalSpline& spline,
     watch.Restart();
     net.rounds = round;
     net.faces = fitter.faces();
-    net.face_cube = fitter.cube();
+    net.face_quad = fitter.quad();
     net.face_edges = fitter.face_edges();
     net.edges = fitter.curves();
     net.num_vertices = fitter.num_vertices();

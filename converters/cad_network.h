@@ -1,13 +1,13 @@
 // The surface of a spherical spline as a network of bicubic B-spline faces,
 // tangent-continuous across their edges, for CAD (docs/CAD.md).
 //
-// - Layout: the cube-sphere, each cube face cut into G x G faces. Cube face
-//   c is projected onto the sphere by the equiangular map (a cube coordinate
-//   x / |x_axis| = tan(pi t / 4), t in [-1, 1]), so a face's parameters
-//   (u, v) are the cube face's angles over the face's box, and the spline's
-//   surface over it is S(sigma_c(u, v)). Along every side two faces use
-//   the same parameter (inside a cube face trivially; across a cube edge it
-//   is the coordinate of the edge's axis in both).
+// - Layout: quads of the sphere (converters/cad_layout.h), each cut into
+//   G x G faces: the cube-sphere's six (each cube face projected by the
+//   equiangular map, G = face_grid), or, for a spline whose knots hold
+//   feature arcs, quads whose sides are the arcs (G = 1), so that the faces'
+//   borders lie on the creases. A face's parameters (u, v) are its quad's
+//   over the face's box, and the spline's surface over it is
+//   S(sigma_q(u, v)). Along every side two faces use the same parameter.
 // - Knots: every face has its own knot vectors (uniform at first, halved
 //   where the face is too far from the spline). Every side shared by two
 //   faces is one cubic B-spline curve whose knots are those the two faces
@@ -24,13 +24,16 @@
 //   derivative out of one face lies in the plane of the derivative out of
 //   the other and the side's tangent, with the coefficients the sphere map
 //   gives (the spline satisfies them exactly); each such row is divided by
-//   the spline's derivative there, so its residual is an angle. One sparse
+//   the spline's derivative there, so its residual is an angle. Not across
+//   a crease: there the spline itself turns. One sparse
 //   Cholesky factorization, three right-hand sides (x, y, z).
 // - Measurement: |X_f(u, v) - S(sigma(u, v))| (the parametric distance,
 //   which bounds the distance both ways since the faces' regions tile the
 //   sphere) and the angle between the two normals, sampled on a lattice of
 //   every knot cell (not bounded between its points); the normal jump
-//   across every side at 8 points of every span (of both faces' knots).
+//   across every side but creases at 8 points of every span (of both
+//   faces' knots). On a crease the spline's normal is taken a hair inside
+//   the face.
 // - Refinement: a knot cell over 95 % of the tolerance gets its face's spans
 //   through it halved, along the directions in which the residual changes (a
 //   cell at a side also along the side, and the neighbour's span there, so
@@ -50,6 +53,7 @@
 #include <vector>
 
 #include "sdcb/converters/bspline_face.h"
+#include "sdcb/converters/cad_layout.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/spline/spherical_spline.h"
 
@@ -64,9 +68,13 @@ struct CadNetworkOptions {
   double smoothness_degrees = 0.5;
   // The length that is 100 % (1 in a model's normalized frame).
   double length_unit = 1.0;
-  // Each cube face is cut into face_grid x face_grid faces (a power of 2).
+  // Each cube face of the cube-sphere is cut into face_grid x face_grid
+  // faces (a power of 2).
   int face_grid = 8;
-  // Budgets: faces (6 face_grid^2 must fit) and free poles.
+  // Whether a spline whose knots hold feature arcs gets the layout of their
+  // faces (FeatureQuadLayout) instead of the cube-sphere.
+  bool follow_creases = true;
+  // Budgets: faces (all of the layout's must fit) and free poles.
   int max_faces = 1000;
   int max_control_points = 200000;
   // The weight of the tangent rows (residuals in radians) against the
@@ -99,7 +107,8 @@ struct CadNetwork {
   // decreasing parameter on sides 2 and 3. Each face's boundary is its edge
   // curves with the face's knots inserted: the same points.
   std::vector<BSplineFace> faces;
-  std::vector<int> face_cube;  // the cube face (0..5) of every face
+  CadQuadLayout layout;
+  std::vector<int> face_quad;  // the layout's quad of every face
   std::vector<std::array<int, 4>> face_edges;
   std::vector<CadEdge> edges;
   int num_vertices = 0;
@@ -115,10 +124,11 @@ struct CadNetwork {
   // sphere point, and how many measured points are above 90 degrees.
   double max_normal_angle_degrees = 0.0;
   int64_t folded_points = 0;
-  // The largest angle between the two faces' normals along the sides, and
-  // the points measured.
+  // The largest angle between the two faces' normals along the sides that
+  // are not creases, and the points measured; the edges on creases.
   double max_normal_jump_degrees = 0.0;
   int jump_points = 0;
+  int crease_edges = 0;
   int rounds = 0;
   bool within_tolerance = false;  // distance and smoothness both met
   std::string stop_reason;
@@ -138,15 +148,9 @@ struct CadNetwork {
 
 // The network for `spline`, refined until the distance and the smoothness
 // hold or a budget stops it (not an error: see within_tolerance).
-// kInvalidArgument for bad options or a face budget below 6 face_grid^2.
+// kInvalidArgument for bad options or a face budget below the layout's.
 StatusOr<CadNetwork> FitCadNetwork(const SphericalSpline& spline,
                                    const CadNetworkOptions& options = {});
-
-// The sphere point of cube face c (0..5) at (u, v) in [-1, 1]^2 (the
-// equiangular map), and its derivatives when not null.
-Eigen::Vector3d CubeSpherePoint(int c, double u, double v,
-                                Eigen::Vector3d* du = nullptr,
-                                Eigen::Vector3d* dv = nullptr);
 
 }  // namespace sdcb
 

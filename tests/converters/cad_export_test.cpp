@@ -29,12 +29,14 @@
 #include "sdcb/converters/cad_file.h"
 #include "sdcb/converters/cad_network.h"
 #include "sdcb/io/sdcb_file.h"
+#include "testing/kept_cube.h"
 #include "testing/occt_reread.h"
 #include "testing/temp_dir.h"
 
 namespace sdcb {
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
 constexpr double kTolerance = 0.1;
 constexpr double kSmoothness = 0.5;
 
@@ -243,6 +245,68 @@ TEST_F(CadExportTest, FacesThatDoNotCloseWriteNothing) {
   EXPECT_FALSE(report.ok());
   EXPECT_FALSE(std::filesystem::exists(path));
   EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+// The cube fitted with its edges kept (its knots hold 12 feature arcs): the
+// STEP solid has the cube's six faces, flat, on the cube's planes, meeting
+// at right angles along its edges. Oracles: the cube's closed form and
+// OpenCASCADE's reader.
+TEST(CadExportCreaseTest, KeptCubeIsSixFlatFacesMeetingAtRightAngles) {
+  auto fit = testing::FitKeptCube();
+  ASSERT_TRUE(fit.ok() && fit->features_kept);
+  const std::string dir = testing::FreshTestDir();
+  const std::string path = dir + "/cube.step";
+  CadExportOptions options;  // 0.05 %, 0.5 degrees
+  auto report = WriteCadExport(fit->model, options, path);
+  ASSERT_TRUE(report.ok()) << report.status().message();
+  EXPECT_EQ(report->layout, "feature faces");
+  EXPECT_EQ(report->crease_edges, 12);
+
+  const testing::RereadShape r = testing::Reread(path, false);
+  ASSERT_TRUE(r.read);
+  EXPECT_EQ(r.solids, 1);
+  EXPECT_TRUE(r.valid);
+  EXPECT_EQ(r.free_edges, 0);
+  ASSERT_EQ(r.faces, 6);
+  // The input is the cube [-1, 1]^3: within the tolerance (0.05 % of its
+  // side 2) its volume is 8 to the area times that.
+  const double tolerance = 0.0005 * 2.0;
+  EXPECT_NEAR(r.volume, 8.0, 24.0 * tolerance);
+  EXPECT_NEAR(r.area, 24.0, 0.01 * 24.0);
+  // Every face on one of the cube's planes, its normal the plane's.
+  std::set<int> planes;
+  for (int f = 0; f < r.faces; ++f) {
+    const auto& b = r.bounds[f];
+    int plane = -1;
+    for (int j = 0; j <= 8; ++j) {
+      for (int i = 0; i <= 8; ++i) {
+        gp_Pnt p;
+        gp_Vec du, dv;
+        r.surfaces[f]->D1(b[0] + (b[1] - b[0]) * i / 8,
+                          b[2] + (b[3] - b[2]) * j / 8, p, du, dv);
+        const Eigen::Vector3d x(p.X(), p.Y(), p.Z());
+        gp_Vec n = du.Crossed(dv);
+        Eigen::Vector3d normal(n.X(), n.Y(), n.Z());
+        normal.normalize();
+        int axis = 0;
+        normal.cwiseAbs().maxCoeff(&axis);
+        const int side = 2 * axis + (x[axis] > 0.0 ? 0 : 1);
+        if (plane < 0) plane = side;
+        EXPECT_EQ(side, plane) << f;
+        // The plane x[axis] = +-1, the normal along the axis (either way: a
+        // read face may be reversed; the volume says the solid points out).
+        EXPECT_NEAR(std::abs(x[axis]), 1.0, tolerance) << f;
+        EXPECT_GT(std::abs(normal[axis]), std::cos(1.0 * kPi / 180.0)) << f;
+      }
+    }
+    planes.insert(plane);
+  }
+  EXPECT_EQ(planes.size(), 6u);
+  // Right angles along every edge, all along it.
+  const testing::NormalJumps jumps = testing::MeasureNormalJumps(r, 24);
+  EXPECT_EQ(jumps.edges, 12);
+  EXPECT_GT(jumps.min_degrees, 89.0);
+  EXPECT_LT(jumps.max_degrees, 91.0);
 }
 
 // The library call behind `sdcb export OUT.step`: the file and its report,

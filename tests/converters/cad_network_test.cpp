@@ -1,12 +1,9 @@
-// Tests of converters/cad_network: the cube-sphere map (derivatives against
-// differences, outward orientation, the six faces meeting along their
-// sides at the same parameter, found by brute force over every face and
-// side), and the network of blobby.off's spline (2 x 2 faces per cube
-// face): at 31 points of every side exactly one other face has the same
-// sphere point (brute force over all faces and sides), the two faces meet
-// there and their normals differ by at most the smoothness limit, and
-// the distance to the spline at random points off the measuring lattice is
-// within the tolerance plus a quarter.
+// Tests of converters/cad_network: the network of blobby.off's spline (2 x 2
+// faces per cube face): at 31 points of every side exactly one other face has
+// the same sphere point (brute force over all faces and sides), the two faces
+// meet there and their normals differ by at most the smoothness limit, and the
+// distance to the spline at random points off the measuring lattice is within
+// the tolerance plus a quarter.
 #include "sdcb/converters/cad_network.h"
 
 #include <gtest/gtest.h>
@@ -23,95 +20,6 @@ namespace sdcb {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// (u, v) of side k (0: v = -1, 1: u = 1, 2: v = 1, 3: u = -1) at t.
-Eigen::Vector2d SidePoint(int k, double t) {
-  switch (k) {
-    case 0:
-      return {t, -1.0};
-    case 1:
-      return {1.0, t};
-    case 2:
-      return {t, 1.0};
-    default:
-      return {-1.0, t};
-  }
-}
-
-// The one other face and side whose point at the same t is the same sphere
-// point (brute force); false when there is not exactly one.
-bool Neighbour(int f, int k, double t, int* g, int* side) {
-  const Eigen::Vector2d a = SidePoint(k, t);
-  const Eigen::Vector3d p = CubeSpherePoint(f, a.x(), a.y());
-  int found = 0;
-  for (int h = 0; h < 6; ++h) {
-    if (h == f) continue;
-    for (int s = 0; s < 4; ++s) {
-      const Eigen::Vector2d b = SidePoint(s, t);
-      if ((CubeSpherePoint(h, b.x(), b.y()) - p).norm() < 1e-12) {
-        *g = h;
-        *side = s;
-        ++found;
-      }
-    }
-  }
-  return found == 1;
-}
-
-TEST(CubeSphereTest, DerivativesOrientationAndSharedSides) {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> d(-0.999, 0.999);
-  for (int f = 0; f < 6; ++f) {
-    for (int k = 0; k < 50; ++k) {
-      const double u = d(rng), v = d(rng), h = 1e-6;
-      Eigen::Vector3d du, dv;
-      const Eigen::Vector3d p = CubeSpherePoint(f, u, v, &du, &dv);
-      EXPECT_NEAR(p.norm(), 1.0, 1e-15);
-      EXPECT_GT(du.cross(dv).dot(p), 0.0);  // counter-clockwise from outside
-      const Eigen::Vector3d fu =
-          (CubeSpherePoint(f, u + h, v) - CubeSpherePoint(f, u - h, v)) /
-          (2 * h);
-      const Eigen::Vector3d fv =
-          (CubeSpherePoint(f, u, v + h) - CubeSpherePoint(f, u, v - h)) /
-          (2 * h);
-      EXPECT_LT((du - fu).norm(), 1e-8);
-      EXPECT_LT((dv - fv).norm(), 1e-8);
-    }
-    for (int side = 0; side < 4; ++side) {
-      for (const double t : {-1.0, -0.6, 0.1, 0.77, 1.0}) {
-        int g = -1, s = -1;
-        if (std::abs(t) == 1.0) continue;  // corners: three faces
-        EXPECT_TRUE(Neighbour(f, side, t, &g, &s)) << f << " " << side;
-      }
-    }
-  }
-  // The faces tile the sphere: the equiangular map's inverse of a random
-  // direction lands in exactly one face's open square.
-  std::normal_distribution<double> n;
-  for (int k = 0; k < 200; ++k) {
-    const Eigen::Vector3d p =
-        Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
-    int inside = 0;
-    for (int f = 0; f < 6; ++f) {
-      // Newton on (u, v) from the centre.
-      Eigen::Vector2d x(0, 0);
-      for (int it = 0; it < 50; ++it) {
-        Eigen::Vector3d du, dv;
-        const Eigen::Vector3d q = CubeSpherePoint(f, x[0], x[1], &du, &dv);
-        if (q.dot(p) <= 0) break;
-        Eigen::Matrix<double, 3, 2> j;
-        j << du, dv;
-        x -= (j.transpose() * j).ldlt().solve(j.transpose() * (q - p));
-        if (x.cwiseAbs().maxCoeff() > 3) break;
-      }
-      if (x.cwiseAbs().maxCoeff() < 1 &&
-          (CubeSpherePoint(f, x[0], x[1]) - p).norm() < 1e-12) {
-        ++inside;
-      }
-    }
-    EXPECT_EQ(inside, 1);
-  }
-}
 
 // (u, v) of side k of a face over its knots' box at t.
 Eigen::Vector2d FaceSidePoint(const BSplineFace& face, int k, double t) {
@@ -139,7 +47,7 @@ TEST(CadNetworkTest, BlobbyIsSmoothAcrossEdgesAndWithinTheTolerance) {
   ASSERT_TRUE(net->within_tolerance) << net->stop_reason;
   ASSERT_EQ(net->faces.size(), 24u);
   const auto sphere = [&](int f, const Eigen::Vector2d& p) {
-    return CubeSpherePoint(net->face_cube[f], p.x(), p.y());
+    return net->layout.Point(net->face_quad[f], p.x(), p.y());
   };
 
   // Every side point has exactly one other face whose side has the same

@@ -172,13 +172,14 @@ inline double DistanceToFace(const RereadShape& r, int f,
   return projection.LowerDistance();
 }
 
-// The largest angle between the two faces' outward normals across the
-// edges shared by two faces, at `per_edge` points of every edge (evenly in
+// The largest and smallest angle between the two faces' outward normals across
+// the edges shared by two faces, at `per_edge` points of every edge (evenly in
 // its parameter, ends included): each face's point from the edge's pcurve
 // on it, its normal from the surface's derivatives there, flipped for a
 // reversed face.
 struct NormalJumps {
   double max_degrees = 0.0;
+  double min_degrees = 180.0;  // the smallest angle measured
   int edges = 0;
   int64_t points = 0;
 };
@@ -215,6 +216,7 @@ inline NormalJumps MeasureNormalJumps(const RereadShape& r, int per_edge) {
                                       normal[0].dot(normal[1])) *
                            180.0 / 3.14159265358979323846;
       j.max_degrees = std::max(j.max_degrees, angle);
+      j.min_degrees = std::min(j.min_degrees, angle);
       ++j.points;
     }
   }

@@ -120,8 +120,9 @@ TEST(FitCliTest, ReportCountsTheCubesSharpFeatures) {
 
 // --keep-features: the cube's corners' knot clusters alone reach the
 // target (docs/FITTING.md): a few hundred control points where the smooth
-// fit needs thousands, and the report says the features were used; with
-// --quantize as well, and its export follows the creases.
+// fit needs thousands, and the report says the features were used; its
+// STEP export has the cube's faces; with --quantize as well, and its mesh
+// export follows the creases.
 TEST(FitCliTest, KeepFeaturesKeepsTheCubeWithItsCornerClusters) {
   const std::string dir = FreshTestDir();
   RunResult r =
@@ -135,6 +136,16 @@ TEST(FitCliTest, KeepFeaturesKeepsTheCubeWithItsCornerClusters) {
   EXPECT_EQ(report["final"]["knots"], 32);
   EXPECT_LE(report["final"]["control_points"], 300);
   EXPECT_LE(report["final"]["max_error_percent"], 0.2);
+  // Its STEP solid is the cube's six faces, bordered by the 12 creases.
+  r = RunSdcb({"export", dir + "/c.sdcb", "-o", dir + "/c.step", "--json",
+               dir + "/step.json", "--quiet"},
+              dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto step = nlohmann::json::parse(ReadBytes(dir + "/step.json"));
+  EXPECT_EQ(step["layout"], "feature faces");
+  EXPECT_EQ(step["faces"], 6);
+  EXPECT_EQ(step["crease_edges"], 12);
+  EXPECT_EQ(step["valid"], true);
   // Quantized too (the clusters are not snapped to the knot grid): the
   // export still follows the 12 creases, 12 triangles.
   r = RunSdcb({"fit", MeshPath("cube.off"), "-o", dir + "/q.sdcb", "--rmse",

@@ -1,0 +1,249 @@
+#include "sdcb/converters/cad_layout.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <utility>
+
+#include "sdcb/core/tessellate/feature_pattern.h"
+
+namespace sdcb {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Steps of the search for an order of the feature quads' corners.
+constexpr int kMaxOrderSteps = 100000;
+// Each quad's map is checked for folds on an n x n lattice.
+constexpr int kCheckLattice = 9;
+
+// tan(pi t / 4), exactly +-1 at t = +-1 (so a side's points are the same
+// numbers seen from both quads).
+double TanQuarter(double t) {
+  if (t == 1.0) return 1.0;
+  if (t == -1.0) return -1.0;
+  return std::tan(0.25 * kPi * t);
+}
+
+// Cube face c: its normal axis and sign, and the cube axes of its u and v
+// (right-handed with the outward normal).
+struct CubeFace {
+  int axis, sign, u_axis, v_axis;
+};
+
+CubeFace CubeFaceOf(int c) {
+  CubeFace f;
+  f.axis = c / 2;
+  f.sign = c % 2 == 0 ? 1 : -1;
+  const int i = (f.axis + 1) % 3, j = (f.axis + 2) % 3;
+  f.u_axis = f.sign > 0 ? i : j;
+  f.v_axis = f.sign > 0 ? j : i;
+  return f;
+}
+
+// The cube-sphere's point of cube face c at (u, v) (the equiangular map).
+Eigen::Vector3d EquiangularPoint(int c, double u, double v, Eigen::Vector3d* du,
+                                 Eigen::Vector3d* dv) {
+  const CubeFace f = CubeFaceOf(c);
+  const double tu = TanQuarter(u), tv = TanQuarter(v);
+  Eigen::Vector3d w;
+  w[f.axis] = f.sign;
+  w[f.u_axis] = tu;
+  w[f.v_axis] = tv;
+  const double length = w.norm();
+  const Eigen::Vector3d p = w / length;
+  const auto derivative = [&](int axis, double t) {
+    Eigen::Vector3d dw = Eigen::Vector3d::Zero();
+    dw[axis] = 0.25 * kPi * (1.0 + t * t);
+    return Eigen::Vector3d((dw - p * p.dot(dw)) / length);
+  };
+  if (du != nullptr) *du = derivative(f.u_axis, tu);
+  if (dv != nullptr) *dv = derivative(f.v_axis, tv);
+  return p;
+}
+
+// Whether quad q's map keeps its orientation (the derivatives' cross
+// product points out) on a lattice that includes its sides.
+bool MapIsOriented(const CadQuadLayout& layout, int q) {
+  for (int j = 0; j < kCheckLattice; ++j) {
+    for (int i = 0; i < kCheckLattice; ++i) {
+      const double u = -1.0 + 2.0 * i / (kCheckLattice - 1);
+      const double v = -1.0 + 2.0 * j / (kCheckLattice - 1);
+      Eigen::Vector3d du, dv;
+      const Eigen::Vector3d p = layout.Point(q, u, v, &du, &dv);
+      if (!(du.cross(dv).dot(p) > 0.0)) return false;
+    }
+  }
+  return true;
+}
+
+// The increasing direction of a quad's sides: side k runs from corner
+// kSideFrom[k] to kSideTo[k].
+constexpr int kSideFrom[4] = {0, 1, 3, 0};
+constexpr int kSideTo[4] = {1, 2, 2, 3};
+
+// Rotations of the 4-corner cycles (corner 0 of face f is cycle[rotation])
+// under which every arc runs the same way in both its faces; empty if the
+// search finds none within its budget.
+std::vector<int> OrderQuadCorners(const std::vector<std::vector<int>>& cycles) {
+  const int n = static_cast<int>(cycles.size());
+  // Direction of every arc: +1 from its smaller corner, -1 from its larger.
+  std::map<std::pair<int, int>, int> direction;
+  std::vector<int> rotation(n, -1);
+  int steps = 0;
+  // Applies rotation r to face f, recording the directions it set.
+  const auto apply = [&](int f, int r,
+                         std::vector<std::pair<int, int>>* set) -> bool {
+    for (int k = 0; k < 4; ++k) {
+      const int a = cycles[f][(kSideFrom[k] + r) % 4];
+      const int b = cycles[f][(kSideTo[k] + r) % 4];
+      const std::pair<int, int> key{std::min(a, b), std::max(a, b)};
+      const int d = a < b ? 1 : -1;
+      auto [it, inserted] = direction.try_emplace(key, d);
+      if (inserted) {
+        set->push_back(key);
+      } else if (it->second != d) {
+        return false;
+      }
+    }
+    return true;
+  };
+  // Depth-first over the faces in order.
+  std::function<bool(int)> search = [&](int f) -> bool {
+    if (f == n) return true;
+    for (int r = 0; r < 4; ++r) {
+      if (++steps > kMaxOrderSteps) return false;
+      std::vector<std::pair<int, int>> set;
+      if (apply(f, r, &set)) {
+        rotation[f] = r;
+        if (search(f + 1)) return true;
+      }
+      for (const auto& key : set) direction.erase(key);
+    }
+    return false;
+  };
+  if (!search(0)) return {};
+  return rotation;
+}
+
+}  // namespace
+
+Eigen::Vector3d CubeSpherePoint(int c, double u, double v, Eigen::Vector3d* du,
+                                Eigen::Vector3d* dv) {
+  return EquiangularPoint(c, u, v, du, dv);
+}
+
+bool CadQuadLayout::has_creases() const {
+  for (const auto& sides : crease) {
+    for (const bool c : sides) {
+      if (c) return true;
+    }
+  }
+  return false;
+}
+
+const char* CadQuadLayout::name() const {
+  return kind == Kind::kCubeSphere ? "cube-sphere" : "feature faces";
+}
+
+Eigen::Vector3d CadQuadLayout::Point(int q, double u, double v,
+                                     Eigen::Vector3d* du,
+                                     Eigen::Vector3d* dv) const {
+  if (kind == Kind::kCubeSphere) return EquiangularPoint(q, u, v, du, dv);
+  const std::array<Eigen::Vector3d, 4>& c = corners[q];
+  const double tu = TanQuarter(u), tv = TanQuarter(v);
+  const double s = 0.5 * (1.0 + tu), r = 0.5 * (1.0 + tv);
+  // Term by term, so that on a side the two vanishing terms add exact
+  // zeros and both quads of the side compute the same numbers.
+  const Eigen::Vector3d w = (1.0 - s) * (1.0 - r) * c[0] +
+                            s * (1.0 - r) * c[1] + s * r * c[2] +
+                            (1.0 - s) * r * c[3];
+  const double length = w.norm();
+  const Eigen::Vector3d p = w / length;
+  const auto project = [&](const Eigen::Vector3d& dw) {
+    return Eigen::Vector3d((dw - p * p.dot(dw)) / length);
+  };
+  if (du != nullptr) {
+    const double ds = 0.125 * kPi * (1.0 + tu * tu);
+    *du = project(ds * ((1.0 - r) * (c[1] - c[0]) + r * (c[2] - c[3])));
+  }
+  if (dv != nullptr) {
+    const double dr = 0.125 * kPi * (1.0 + tv * tv);
+    *dv = project(dr * ((1.0 - s) * (c[3] - c[0]) + s * (c[2] - c[1])));
+  }
+  return p;
+}
+
+CadQuadLayout CubeSphereLayout(int grid) {
+  CadQuadLayout layout;
+  layout.kind = CadQuadLayout::Kind::kCubeSphere;
+  layout.grid = grid;
+  for (int c = 0; c < 6; ++c) {
+    const CubeFace f = CubeFaceOf(c);
+    std::array<Eigen::Vector3d, 4> corners;
+    for (int k = 0; k < 4; ++k) {
+      Eigen::Vector3d w;
+      w[f.axis] = f.sign;
+      w[f.u_axis] = k == 1 || k == 2 ? 1.0 : -1.0;
+      w[f.v_axis] = k >= 2 ? 1.0 : -1.0;
+      corners[k] = w;
+    }
+    layout.corners.push_back(corners);
+    layout.crease.push_back({false, false, false, false});
+  }
+  return layout;
+}
+
+std::optional<CadQuadLayout> FeatureQuadLayout(const KnotFeatureArcs& arcs) {
+  if (arcs.arcs.empty()) return std::nullopt;
+  const Eigen::MatrixX3d& corners = arcs.corner_directions;
+  StatusOr<std::vector<std::vector<int>>> cycles =
+      FeatureFaces(corners, arcs.arcs);
+  if (!cycles.ok()) return std::nullopt;
+  CadQuadLayout layout;
+  layout.kind = CadQuadLayout::Kind::kFeatureFaces;
+  layout.grid = 1;
+  const auto corner = [&](int c) {
+    return Eigen::Vector3d(corners.row(c).transpose());
+  };
+  const bool all_quads =
+      std::all_of(cycles->begin(), cycles->end(),
+                  [](const std::vector<int>& c) { return c.size() == 4; });
+  const std::vector<int> rotation =
+      all_quads ? OrderQuadCorners(*cycles) : std::vector<int>();
+  if (!rotation.empty()) {
+    for (size_t f = 0; f < cycles->size(); ++f) {
+      std::array<Eigen::Vector3d, 4> quad;
+      for (int k = 0; k < 4; ++k) {
+        quad[k] = corner((*cycles)[f][(k + rotation[f]) % 4]);
+      }
+      layout.corners.push_back(quad);
+      layout.crease.push_back({true, true, true, true});
+    }
+  } else {
+    // Corner 0 at the feature corner, 1 and 3 at its arcs' midpoints, 2 at
+    // the face's centre: every arc half runs from its corner, every inner
+    // side from its midpoint, in both quads.
+    for (const std::vector<int>& cycle : *cycles) {
+      const int n = static_cast<int>(cycle.size());
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (const int c : cycle) centre += corner(c);
+      centre.normalize();
+      for (int i = 0; i < n; ++i) {
+        const Eigen::Vector3d c = corner(cycle[i]);
+        const Eigen::Vector3d next = corner(cycle[(i + 1) % n]);
+        const Eigen::Vector3d previous = corner(cycle[(i + n - 1) % n]);
+        layout.corners.push_back(
+            {c, (c + next).normalized(), centre, (c + previous).normalized()});
+        layout.crease.push_back({true, false, false, true});
+      }
+    }
+  }
+  for (int q = 0; q < layout.num_quads(); ++q) {
+    if (!MapIsOriented(layout, q)) return std::nullopt;
+  }
+  return layout;
+}
+
+}  // namespace sdcb
