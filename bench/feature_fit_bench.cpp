@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
                                  .count();
       if (!fit.ok()) {
         std::printf("| %s | %s | - | - | - | - | - | %s | %.1f |\n",
-                    path.c_str(), keep ? "keep_features" : "default",
+                    path.c_str(), keep ? "kept" : "smooth",
                     fit.status().message().c_str(), seconds);
         continue;
       }
@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
       std::printf(
           "| %s | %s | %s | %d | %.4f | %.3f | %.4f | %.3f (%zu points) | "
           "%.1f |\n",
-          path.c_str(), keep ? "keep_features" : "default",
+          path.c_str(), keep ? "kept" : "smooth",
           fit->features_kept ? "yes" : "no", f.control_points, f.rmse_percent,
           f.max_error_percent, f.folded_area_percent, normals.max_degrees,
           normals.angles_degrees.size(), seconds);

@@ -4,7 +4,6 @@
 //          [--lambda L]
 //          [--threads T] [--regularization R] [--store-parameters]
 //          [--quantize BITS|auto] [--knot-grid BITS] [--feature-angle DEG]
-//          [--keep-features]
 //          [--json FILE] [--plot FILE.svg] [--quiet]
 //          [--accept-folds] [--repair] [--max-file-mb N] [--max-memory-mb N]
 #include <tbb/task_arena.h>
@@ -34,8 +33,7 @@ const CommandOptions& FitOptionNames() {
               "threads", "json", "plot", "regularization", "quantize",
               "knot-grid", "feature-angle"},
              kMeshValueOptions),
-      Concat({"quiet", "store-parameters", "accept-folds", "keep-features"},
-             kMeshFlagOptions)};
+      Concat({"quiet", "store-parameters", "accept-folds"}, kMeshFlagOptions)};
   return names;
 }
 
@@ -69,7 +67,6 @@ int RunFit(const std::vector<std::string>& argv) {
   options.fallback_accepts_folds = args.Has("accept-folds");
   options.feature_angle_degrees =
       args.GetDouble("feature-angle", options.feature_angle_degrees, 1e-3, 180);
-  options.keep_features = args.Has("keep-features");
   SdcbWriteOptions write_options;
   write_options.store_parameters = options.store_parameters;
   // --quantize auto: the coarsest grid whose bound is within a fraction of the

@@ -33,8 +33,8 @@ commands:
   fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--max-error PCT] [--knots-per-round N]
       [--knots-growth G] [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
       [--regularization R] [--store-parameters] [--quantize BITS|auto] [--knot-grid BITS]
-      [--accept-folds] [--feature-angle DEG] [--keep-features] [--json FILE] [--plot FILE.svg]
-      [--quiet] [--repair]
+      [--accept-folds] [--feature-angle DEG] [--json FILE] [--plot FILE.svg] [--quiet]
+      [--repair]
                              Fit one smooth spherical DCB-spline (defaults:
                              degree 4, rmse 0.05 %, max error 10 x rmse,
                              100 knots per round or
@@ -48,11 +48,12 @@ commands:
                              (--knot-grid BITS: on that grid, 0 = off);
                              --accept-folds: a missed target returns the
                              most accurate round even if it folds;
-                             --feature-angle DEG (default 30) reports the
-                             input's sharp edges, curves and corners;
-                             --keep-features keeps them sharp where every
-                             feature is one edge between corners (knot
-                             clusters at the corners); --repair as for check.
+                             --feature-angle DEG (default 30): the input's
+                             sharp edges, curves and corners, reported and
+                             kept sharp where every feature is one edge
+                             between corners (knot clusters at the
+                             corners); 180 finds none (smooth everywhere);
+                             --repair as for check.
   info MODEL.sdcb [--json FILE]
                              Summary of a model (format version, size,
                              quantization bound).

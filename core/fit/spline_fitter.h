@@ -116,17 +116,16 @@ struct FitOptions {
   // (0, 180]; 180: none) are detected as sharp features and reported
   // (FitResult::features, core/mesh/feature_curves.h).
   double feature_angle_degrees = 30.0;
-  // Library only, off by default: when every feature is a single mesh edge
-  // between two corners (ClustersKeepEveryFeature), round 0 first tries a
-  // cluster of knots at every corner alone (core/knots/feature_knots.h),
-  // on a solid whose faces all see its centroid with the central projection
-  // as its parameterization (core/param/central_projection.h), which keeps
-  // the corners and edges sharp, and keeps that round if it meets the
-  // target; otherwise the fit goes on from its usual round 0 and
-  // parameterization, smooth across them. Not offered by the command line: the
-  // exporters do not handle creases yet (the adaptive tessellation refines
-  // along them without end; docs/FITTING.md, "Creases from knots").
-  bool keep_features = false;
+  // When every feature is a single mesh edge between two corners
+  // (ClustersKeepEveryFeature), round 0 first tries a cluster of knots at
+  // every corner alone (core/knots/feature_knots.h), on a solid whose faces
+  // all see its centroid with the central projection as its
+  // parameterization (core/param/central_projection.h), which keeps the
+  // corners and edges sharp, and keeps that round if it meets the target;
+  // otherwise the fit goes on from its usual round 0 and parameterization,
+  // smooth across them, as it does with this false or without features
+  // (feature_angle_degrees 180).
+  bool keep_features = true;
   // 0: knots where the placement puts them. Otherwise each new knot is moved
   // to the nearest point of the octahedral grid of this many bits per
   // coordinate (core/sphere/unit_vector_grid.h, kMinUnitVectorGridBits..

@@ -247,7 +247,7 @@ TEST(SubdivisionCageTest, SameCageForAnyThreadCount) {
   EXPECT_EQ(one->deviation.rms_percent, many->deviation.rms_percent);
 }
 
-// The cube fitted with its corners' knot clusters (--keep-features): its
+// The cube fitted with its corners' knot clusters (FitOptions::keep_features): its
 // Catmull-Clark cage is the cube's 8 corners, 6 quads and 12 infinitely
 // sharp edges, and OpenSubdiv's Far refinement of that cage with those
 // creases (the oracle, no code shared with the converter) reaches the

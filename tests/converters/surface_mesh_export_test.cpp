@@ -227,7 +227,7 @@ TEST_F(SurfaceMeshExportTest, ProgressRisesToOneAndBytesIgnoreThreads) {
   EXPECT_TRUE(one->bytes == many->bytes);
 }
 
-// A --keep-features cube follows its creases: glTF gets each corner once per
+// A cube that kept its edges follows its creases: glTF gets each corner once per
 // side (24 vertices, the faces' normals: hard edges), a mesh file one closed
 // mesh of the cube's 8 corners (every edge in exactly two triangles), as
 // `sdcb check` needs to read it back.

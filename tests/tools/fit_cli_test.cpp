@@ -87,8 +87,10 @@ TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
 }
 
 // The report names the input's sharp features (core/mesh/feature_curves.h):
-// the cube's 12 edges, each a curve between two of its 8 corners; none at
-// --feature-angle 180; an angle outside (0, 180] is a usage error.
+// the cube's 12 edges, each a curve between two of its 8 corners, kept by
+// the corners' clusters (32 knots); none at --feature-angle 180, which fits
+// the cube smooth (knots placed by curvature); an angle outside (0, 180] is
+// a usage error.
 TEST(FitCliTest, ReportCountsTheCubesSharpFeatures) {
   const std::string dir = FreshTestDir();
   const auto fit = [&](const std::string& angle) {
@@ -108,27 +110,31 @@ TEST(FitCliTest, ReportCountsTheCubesSharpFeatures) {
   EXPECT_EQ(features["edges"], 12);
   EXPECT_EQ(features["curves"], 12);
   EXPECT_EQ(features["corners"], 8);
-  EXPECT_EQ(features["used"], false);
+  EXPECT_EQ(features["used"], true);
+  EXPECT_EQ(nlohmann::json::parse(ReadBytes(dir + "/c.json"))["final"]["knots"],
+            32);
   r = fit("180");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  features = nlohmann::json::parse(ReadBytes(dir + "/c.json"))["features"];
+  const auto smooth = nlohmann::json::parse(ReadBytes(dir + "/c.json"));
+  features = smooth["features"];
   EXPECT_EQ(features["edges"], 0);
   EXPECT_EQ(features["corners"], 0);
+  EXPECT_EQ(features["used"], false);
+  EXPECT_GE(smooth["final"]["knots"], 100);
   r = fit("0");
   EXPECT_EQ(r.exit_code, 2);
 }
 
-// --keep-features: the cube's corners' knot clusters alone reach the
+// By default the cube's corners' knot clusters alone reach the
 // target (docs/FITTING.md): a few hundred control points where the smooth
 // fit needs thousands, and the report says the features were used; its
 // STEP export has the cube's faces; with --quantize as well, and its mesh
 // export follows the creases.
-TEST(FitCliTest, KeepFeaturesKeepsTheCubeWithItsCornerClusters) {
+TEST(FitCliTest, TheCubeKeepsItsEdgesWithItsCornerClusters) {
   const std::string dir = FreshTestDir();
-  RunResult r =
-      RunSdcb({"fit", MeshPath("cube.off"), "-o", dir + "/c.sdcb", "--rmse",
-               "0.1", "--keep-features", "--json", dir + "/c.json", "--quiet"},
-              dir);
+  RunResult r = RunSdcb({"fit", MeshPath("cube.off"), "-o", dir + "/c.sdcb",
+                         "--rmse", "0.1", "--json", dir + "/c.json", "--quiet"},
+                        dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = nlohmann::json::parse(ReadBytes(dir + "/c.json"));
   EXPECT_EQ(report["features"]["used"], true);
@@ -149,7 +155,7 @@ TEST(FitCliTest, KeepFeaturesKeepsTheCubeWithItsCornerClusters) {
   // Quantized too (the clusters are not snapped to the knot grid): the
   // export still follows the 12 creases, 12 triangles.
   r = RunSdcb({"fit", MeshPath("cube.off"), "-o", dir + "/q.sdcb", "--rmse",
-               "0.1", "--keep-features", "--quantize", "auto", "--quiet"},
+               "0.1", "--quantize", "auto", "--quiet"},
               dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = RunSdcb({"export", dir + "/q.sdcb", "-o", dir + "/q.glb", "--json",

@@ -75,11 +75,12 @@ TEST(FeatureFitTest, TheCubeKeepsItsEdgesWithAFewHundredControlPoints) {
   std::printf("cube: the spline off the central projection by %.3g\n", slide);
   EXPECT_LT(slide, 1e-3);
 
-  // The default fit (keep_features off) gets no clusters; its round 0, of
+  // Without keep_features the fit gets no clusters; its round 0, of
   // 100 knots placed by curvature, rounds the edges.
   FitOptions smooth_options;
   smooth_options.rmse_percent = 0.1;
   smooth_options.max_rounds = 1;
+  smooth_options.keep_features = false;
   auto smooth = FitSphericalSpline(cube, smooth_options);
   ASSERT_TRUE(smooth.ok());
   EXPECT_FALSE(smooth->features_kept);
