@@ -1,13 +1,16 @@
-// sdcb cage MODEL.sdcb -o CAGE.obj [--scheme catmark|loop] [--faces N]
+// sdcb cage MODEL.sdcb -o CAGE.{obj,fbx} [--scheme catmark|loop] [--faces N]
 //           [--tolerance PCT] [--json FILE] [--quiet]
 // A subdivision cage whose limit surface follows the model's surface
-// (converters/subdivision_cage.h, docs/CAGE.md).
+// (converters/subdivision_cage.h, docs/CAGE.md): OBJ with OpenSubdiv's
+// crease tags, or binary FBX with an edge-crease layer (what Blender reads
+// creases from, converters/cage_fbx.h).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "sdcb/converters/cage_fbx.h"
 #include "sdcb/converters/subdivision_cage.h"
 #include "sdcb/io/atomic_file.h"
 #include "sdcb/io/sdcb_file.h"
@@ -20,17 +23,19 @@ namespace sdcb::cli {
 int RunCage(const std::vector<std::string>& argv) {
   const Args args(argv, {"output", "scheme", "faces", "tolerance", "json"},
                   {"quiet"});
-  args.RequirePositionals(1,
-                          "MODEL (usage: sdcb cage MODEL.sdcb -o CAGE.obj "
-                          "[--scheme catmark|loop] [--faces N] "
-                          "[--tolerance PCT] [--json FILE])");
+  args.RequirePositionals(
+      1,
+      "MODEL (usage: sdcb cage MODEL.sdcb -o CAGE.{obj,fbx} "
+      "[--scheme catmark|loop] [--faces N] "
+      "[--tolerance PCT] [--json FILE])");
   const std::string& path = args.positionals()[0];
   const std::string output = args.Get("output");
-  if (output.empty()) throw UsageError{"missing -o CAGE.obj"};
-  if (LowercaseExtension(output) != ".obj") {
+  if (output.empty()) throw UsageError{"missing -o CAGE.obj or -o CAGE.fbx"};
+  const std::string format = LowercaseExtension(output);
+  if (format != ".obj" && format != ".fbx") {
     throw UsageError{
-        "the cage is written as Wavefront OBJ: -o must name a "
-        ".obj file, not '" +
+        "the cage is written as Wavefront OBJ or binary FBX: -o must name a "
+        ".obj or .fbx file, not '" +
         output + "'"};
   }
   CageOptions options;
@@ -40,6 +45,11 @@ int RunCage(const std::vector<std::string>& argv) {
   } else if (scheme != "catmark") {
     throw UsageError{"--scheme takes 'catmark' or 'loop', not '" + scheme +
                      "'"};
+  }
+  if (format == ".fbx" && options.scheme == SubdivisionScheme::kLoop) {
+    throw UsageError{
+        "FBX holds Catmull-Clark cages only (it has no Loop scheme): write a "
+        "Loop cage as .obj"};
   }
   options.max_faces = args.GetInt("faces", options.max_faces, 1, 10000000);
   options.tolerance_percent =
@@ -61,8 +71,10 @@ int RunCage(const std::vector<std::string>& argv) {
 
   const SubdivisionCage& cage = fit->cage;
   const CageDeviation& d = fit->deviation;
-  Status written = WriteFileAtomically(
-      CageObjText(cage, model->transform.ToInput(cage.vertices)), output);
+  const Eigen::MatrixX3d positions = model->transform.ToInput(cage.vertices);
+  Status written = format == ".fbx" ? WriteCageFbx(cage, positions, output)
+                                    : WriteFileAtomically(
+                                          CageObjText(cage, positions), output);
   if (!written.ok()) return ReportError(written);
   if (args.Has("json")) {
     nlohmann::ordered_json j;

@@ -112,14 +112,15 @@ commands:
                              JOB_COMPLETION_INDEX with SDCB_SHARD_COUNT)
                              takes every N-th row. Exit 1 if any row failed.
                              docs/BATCH.md.
-  cage MODEL.sdcb -o CAGE.obj [--scheme catmark|loop] [--faces N]
+  cage MODEL.sdcb -o CAGE.{obj,fbx} [--scheme catmark|loop] [--faces N]
        [--tolerance PCT] [--json FILE] [--quiet]
                              Fit a subdivision cage (Catmull-Clark quads by
                              default, or Loop triangles) whose limit surface
                              follows the model's surface; refined until the
                              two-sided rms is within PCT (default 0.1) or the
                              cage would exceed N faces (default 20000).
-                             docs/CAGE.md.
+                             .fbx (Catmull-Clark only) carries the creases
+                             into Blender. docs/CAGE.md.
 
 PCT values are percent of the largest side of the input's bounding box.
 

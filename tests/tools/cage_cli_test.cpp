@@ -12,12 +12,14 @@
 #include "sdcb/core/fit/surface_deviation.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/far_refinement.h"
+#include "testing/fbx_binary_reader.h"
 #include "testing/run_sdcb.h"
 
 namespace sdcb {
 namespace {
 
 using testing::FreshTestDir;
+using testing::MeshPath;
 using testing::ReadBytes;
 using testing::RunResult;
 using testing::RunSdcb;
@@ -140,6 +142,55 @@ TEST_P(CageCliTest, FarRefinementOfTheWrittenCageAgreesWithTheReport) {
 INSTANTIATE_TEST_SUITE_P(Schemes, CageCliTest,
                          ::testing::Values("catmark", "loop"));
 
+// -o CAGE.fbx: the kept cube's cage as binary FBX (converters/cage_fbx.h),
+// read back with the test-side reader: the OBJ's vertices, 6 quads, 12 of
+// its edges with crease 1.0 (the report's `creases`), the same report.
+TEST(CageCliTest, FbxOutputCarriesTheKeptCubesCreases) {
+  const std::string dir = FreshTestDir();
+  RunResult r = RunSdcb({"fit", MeshPath("cube.off"), "-o", dir + "/cube.sdcb",
+                         "--rmse", "0.1", "--keep-features", "--quiet"},
+                        dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* ext : {"obj", "fbx"}) {
+    r = RunSdcb({"cage", dir + "/cube.sdcb", "-o", dir + "/cage." + ext,
+                 "--json", dir + "/" + ext + ".json", "--quiet"},
+                dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  auto obj_report = nlohmann::json::parse(ReadBytes(dir + "/obj.json"));
+  auto fbx_report = nlohmann::json::parse(ReadBytes(dir + "/fbx.json"));
+  EXPECT_EQ(fbx_report["output"], dir + "/cage.fbx");
+  EXPECT_EQ(fbx_report["creases"], 12);
+  for (auto* report : {&obj_report, &fbx_report}) {
+    report->erase("output");
+    report->erase("seconds");
+    for (auto& round : (*report)["rounds"]) round.erase("seconds");
+  }
+  EXPECT_EQ(fbx_report, obj_report);
+
+  const testing::FbxDocument doc =
+      testing::ParseFbxBinary(ReadBytes(dir + "/cage.fbx"));
+  const testing::FbxNode* geometry = doc.root.Find("Objects")->Find("Geometry");
+  ASSERT_NE(geometry, nullptr);
+  const Obj obj = ParseObj(ReadBytes(dir + "/cage.obj"));
+  const std::vector<double>& xyz =
+      geometry->Find("Vertices")->properties.at(0).numbers;
+  ASSERT_EQ(xyz.size(), 3u * obj.vertices.rows());
+  for (Eigen::Index i = 0; i < obj.vertices.rows(); ++i) {
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(xyz[3 * i + c], obj.vertices(i, c));
+  }
+  const auto& corners =
+      geometry->Find("PolygonVertexIndex")->properties.at(0).integers;
+  EXPECT_EQ(corners.size(), 24u);
+  EXPECT_EQ(std::count_if(corners.begin(), corners.end(),
+                          [](int64_t c) { return c < 0; }),
+            6);
+  const testing::FbxNode* layer = geometry->Find("LayerElementEdgeCrease");
+  ASSERT_NE(layer, nullptr);
+  const auto& crease = layer->Find("EdgeCrease")->properties.at(0).numbers;
+  EXPECT_EQ(std::count(crease.begin(), crease.end(), 1.0), 12);
+}
+
 TEST(CageCliBadInputTest, ExitOneWithOneSentenceAndNothingWritten) {
   const std::string dir = FreshTestDir();
   // A truncated model.
@@ -152,6 +203,9 @@ TEST(CageCliBadInputTest, ExitOneWithOneSentenceAndNothingWritten) {
       {"cage", dir + "/garbage.sdcb", "-o", dir + "/out.obj"},
       {"cage", TestDataPath(kModel), "-o", dir + "/no/such/dir/out.obj",
        "--faces", "50"},
+      {"cage", dir + "/garbage.sdcb", "-o", dir + "/out.fbx"},
+      {"cage", TestDataPath(kModel), "-o", dir + "/no/such/dir/out.fbx",
+       "--faces", "50"},
   };
   for (const auto& args : cases) {
     const RunResult r = RunSdcb(args, dir);
@@ -160,6 +214,7 @@ TEST(CageCliBadInputTest, ExitOneWithOneSentenceAndNothingWritten) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_EQ(r.err.rfind("sdcb: ", 0), 0u) << r.err;
     EXPECT_FALSE(fs::exists(dir + "/out.obj"));
+    EXPECT_FALSE(fs::exists(dir + "/out.fbx"));
   }
   // A report that cannot be written (a folder in its way) is refused before
   // the fit, and no cage is written either.
@@ -194,12 +249,17 @@ TEST(CageCliBadInputTest, UsageErrorsExitTwo) {
       {"cage", model, "-o", dir + "/cage.obj", "--faces", "0"},
       {"cage", model, "-o", dir + "/cage.obj", "--tolerance", "-1"},
       {"cage", model, "-o", dir + "/cage.obj", "--bogus"},
+      {"cage", model, "-o", dir + "/cage.abc"},
+      // FBX has no Loop scheme.
+      {"cage", model, "-o", dir + "/cage.fbx", "--scheme", "loop"},
   };
   for (const auto& args : cases) {
     const RunResult r = RunSdcb(args, dir);
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_FALSE(fs::exists(dir + "/cage.obj"));
     EXPECT_FALSE(fs::exists(dir + "/cage.ply"));
+    EXPECT_FALSE(fs::exists(dir + "/cage.abc"));
+    EXPECT_FALSE(fs::exists(dir + "/cage.fbx"));
   }
 }
 
