@@ -1,6 +1,6 @@
 // The quads of the sphere that the CAD network's faces cut (docs/CAD.md,
 // "Layout"): the cube-sphere's six, or, for a spline whose knots hold
-// feature arcs (a --keep-features fit, core/knots/feature_knots.h), quads
+// feature arcs (a fit that kept its sharp edges, core/knots/feature_knots.h), quads
 // whose sides run along the arcs, so that the B-rep's face borders lie on
 // the surface's creases.
 //

@@ -106,7 +106,7 @@ struct CageFit {
 
 // Fits a cage to `spline` (any frame; distances in percent of
 // options.length_unit). kInvalidArgument for bad options. A Catmull-Clark
-// cage of a spline whose knots hold feature arcs (a --keep-features fit,
+// cage of a spline whose knots hold feature arcs (a fit that kept its sharp edges,
 // core/knots/feature_knots.h) that cut the sphere into quads is first tried
 // as those quads with every arc an infinitely sharp crease (the cube: 8
 // vertices, 6 faces, 12 creases), kept if its limit surface meets the

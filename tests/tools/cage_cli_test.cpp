@@ -148,7 +148,7 @@ INSTANTIATE_TEST_SUITE_P(Schemes, CageCliTest,
 TEST(CageCliTest, FbxOutputCarriesTheKeptCubesCreases) {
   const std::string dir = FreshTestDir();
   RunResult r = RunSdcb({"fit", MeshPath("cube.off"), "-o", dir + "/cube.sdcb",
-                         "--rmse", "0.1", "--keep-features", "--quiet"},
+                         "--rmse", "0.1", "--quiet"},
                         dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* ext : {"obj", "fbx"}) {
