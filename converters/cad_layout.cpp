@@ -86,7 +86,8 @@ constexpr int kSideTo[4] = {1, 2, 2, 3};
 // Rotations of the 4-corner cycles (corner 0 of face f is cycle[rotation])
 // under which every arc runs the same way in both its faces; empty if the
 // search finds none within its budget.
-std::vector<int> OrderQuadCorners(const std::vector<std::vector<int>>& cycles) {
+std::vector<int> OrderQuadCorners(
+    const std::vector<std::array<int, 4>>& cycles) {
   const int n = static_cast<int>(cycles.size());
   // Direction of every arc: +1 from its smaller corner, -1 from its larger.
   std::map<std::pair<int, int>, int> direction;
@@ -197,48 +198,38 @@ CadQuadLayout CubeSphereLayout(int grid) {
 
 std::optional<CadQuadLayout> FeatureQuadLayout(const KnotFeatureArcs& arcs) {
   if (arcs.arcs.empty()) return std::nullopt;
-  const Eigen::MatrixX3d& corners = arcs.corner_directions;
-  StatusOr<std::vector<std::vector<int>>> cycles =
-      FeatureFaces(corners, arcs.arcs);
-  if (!cycles.ok()) return std::nullopt;
+  StatusOr<FeatureQuadMesh> quads =
+      FeatureQuads(arcs.corner_directions, arcs.arcs, /*split=*/false);
+  if (!quads.ok()) return std::nullopt;
+  // Quads as they are need their corners ordered; cut ones start at a
+  // feature corner, so every arc half runs from its corner and every inner
+  // side from its midpoint, in both quads.
+  std::vector<int> rotation(quads->quads.size(), 0);
+  if (!quads->split) {
+    rotation = OrderQuadCorners(quads->quads);
+    if (rotation.empty()) {
+      quads = FeatureQuads(arcs.corner_directions, arcs.arcs, /*split=*/true);
+      if (!quads.ok()) return std::nullopt;
+      rotation.assign(quads->quads.size(), 0);
+    }
+  }
   CadQuadLayout layout;
   layout.kind = CadQuadLayout::Kind::kFeatureFaces;
   layout.grid = 1;
-  const auto corner = [&](int c) {
-    return Eigen::Vector3d(corners.row(c).transpose());
-  };
-  const bool all_quads =
-      std::all_of(cycles->begin(), cycles->end(),
-                  [](const std::vector<int>& c) { return c.size() == 4; });
-  const std::vector<int> rotation =
-      all_quads ? OrderQuadCorners(*cycles) : std::vector<int>();
-  if (!rotation.empty()) {
-    for (size_t f = 0; f < cycles->size(); ++f) {
-      std::array<Eigen::Vector3d, 4> quad;
-      for (int k = 0; k < 4; ++k) {
-        quad[k] = corner((*cycles)[f][(k + rotation[f]) % 4]);
-      }
-      layout.corners.push_back(quad);
-      layout.crease.push_back({true, true, true, true});
+  for (size_t q = 0; q < quads->quads.size(); ++q) {
+    std::array<int, 4> c;
+    for (int k = 0; k < 4; ++k) c[k] = quads->quads[q][(k + rotation[q]) % 4];
+    std::array<Eigen::Vector3d, 4> corners;
+    std::array<bool, 4> crease;
+    for (int k = 0; k < 4; ++k) {
+      corners[k] = quads->points.row(c[k]).transpose();
+      const int a = c[kSideFrom[k]], b = c[kSideTo[k]];
+      crease[k] = std::binary_search(
+          quads->creases.begin(), quads->creases.end(),
+          std::array<int, 2>{std::min(a, b), std::max(a, b)});
     }
-  } else {
-    // Corner 0 at the feature corner, 1 and 3 at its arcs' midpoints, 2 at
-    // the face's centre: every arc half runs from its corner, every inner
-    // side from its midpoint, in both quads.
-    for (const std::vector<int>& cycle : *cycles) {
-      const int n = static_cast<int>(cycle.size());
-      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-      for (const int c : cycle) centre += corner(c);
-      centre.normalize();
-      for (int i = 0; i < n; ++i) {
-        const Eigen::Vector3d c = corner(cycle[i]);
-        const Eigen::Vector3d next = corner(cycle[(i + 1) % n]);
-        const Eigen::Vector3d previous = corner(cycle[(i + n - 1) % n]);
-        layout.corners.push_back(
-            {c, (c + next).normalized(), centre, (c + previous).normalized()});
-        layout.crease.push_back({true, false, false, true});
-      }
-    }
+    layout.corners.push_back(corners);
+    layout.crease.push_back(crease);
   }
   for (int q = 0; q < layout.num_quads(); ++q) {
     if (!MapIsOriented(layout, q)) return std::nullopt;

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 
 namespace sdcb {
@@ -198,6 +199,56 @@ StatusOr<SphereTriangulation> FeatureAlignedPattern(
   pattern.SetFeatures(arcs,
                       std::vector<int>(n, SphereTriangulation::kCornerVertex));
   return pattern;
+}
+
+StatusOr<FeatureQuadMesh> FeatureQuads(
+    const Eigen::MatrixX3d& corners,
+    const std::vector<std::array<int, 2>>& arcs, bool split) {
+  SDCB_ASSIGN_OR_RETURN(const std::vector<std::vector<int>> cycles,
+                        FeatureFaces(corners, arcs));
+  FeatureQuadMesh out;
+  out.split = split || !std::all_of(cycles.begin(), cycles.end(),
+                                    [](const std::vector<int>& c) {
+                                      return c.size() == 4;
+                                    });
+  const auto sorted = [](int a, int b) {
+    return std::array<int, 2>{std::min(a, b), std::max(a, b)};
+  };
+  if (!out.split) {
+    out.points = corners;
+    for (const std::vector<int>& c : cycles) {
+      out.quads.push_back({c[0], c[1], c[2], c[3]});
+    }
+    for (const auto& arc : arcs) out.creases.push_back(sorted(arc[0], arc[1]));
+    std::sort(out.creases.begin(), out.creases.end());
+    return out;
+  }
+  const int n = static_cast<int>(corners.rows());
+  const int m = static_cast<int>(arcs.size());
+  out.points.resize(n + m + static_cast<Eigen::Index>(cycles.size()), 3);
+  out.points.topRows(n) = corners;
+  std::map<std::array<int, 2>, int> midpoint;
+  for (int a = 0; a < m; ++a) {
+    const std::array<int, 2> key = sorted(arcs[a][0], arcs[a][1]);
+    midpoint[key] = n + a;
+    out.points.row(n + a) =
+        (corners.row(key[0]) + corners.row(key[1])).normalized();
+  }
+  for (size_t f = 0; f < cycles.size(); ++f) {
+    const std::vector<int>& cycle = cycles[f];
+    const int centre = n + m + static_cast<int>(f);
+    out.points.row(centre) = ChartCentre(corners, cycle).transpose();
+    const int k = static_cast<int>(cycle.size());
+    for (int i = 0; i < k; ++i) {
+      const int c = cycle[i];
+      const int next = midpoint.at(sorted(c, cycle[(i + 1) % k]));
+      const int previous = midpoint.at(sorted(cycle[(i + k - 1) % k], c));
+      out.quads.push_back({c, next, centre, previous});
+      out.creases.push_back(sorted(c, next));
+    }
+  }
+  std::sort(out.creases.begin(), out.creases.end());
+  return out;
 }
 
 }  // namespace sdcb

@@ -67,6 +67,80 @@ TEST(FeatureAlignedPattern, TheCubesEdgesAreEdgesOfItsTriangulation) {
   EXPECT_TRUE(pattern->IsFeatureEdge(m, arcs[0][1]));
 }
 
+// The spherical area of the quad (a, b, c, d) as two triangles' excesses.
+double QuadArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+  const auto excess = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y,
+                         const Eigen::Vector3d& z) {
+    return 2.0 *
+           std::atan2(x.dot(y.cross(z)), 1.0 + x.dot(y) + y.dot(z) + z.dot(x));
+  };
+  return excess(a, b, c) + excess(a, c, d);
+}
+
+// FeatureQuads: the cube's faces as they are; the same cut (split), and the
+// octahedron's triangles cut, into quads that tile the sphere (areas by the
+// closed-form excess add up to 4 pi, each positive), with every crease on
+// an arc and every arc covered by its two halves.
+TEST(FeatureQuads, FacesAsQuadsOrCutIntoQuadsTileTheSphere) {
+  Eigen::MatrixX3d cube;
+  std::vector<std::array<int, 2>> cube_arcs;
+  CubeArcs(&cube, &cube_arcs);
+  Eigen::MatrixX3d octahedron(6, 3);
+  octahedron << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
+  std::vector<std::array<int, 2>> octahedron_arcs;
+  for (int a = 0; a < 6; ++a) {
+    for (int b = a + 1; b < 6; ++b) {
+      if (a / 2 != b / 2) octahedron_arcs.push_back({a, b});
+    }
+  }
+  struct Case {
+    const Eigen::MatrixX3d* corners;
+    const std::vector<std::array<int, 2>>* arcs;
+    bool split;
+    int points, quads;
+    bool split_result;
+  };
+  for (const Case& c :
+       {Case{&cube, &cube_arcs, false, 8, 6, false},
+        Case{&cube, &cube_arcs, true, 8 + 12 + 6, 24, true},
+        Case{&octahedron, &octahedron_arcs, false, 6 + 12 + 8, 24, true}}) {
+    StatusOr<FeatureQuadMesh> q = FeatureQuads(*c.corners, *c.arcs, c.split);
+    ASSERT_TRUE(q.ok()) << q.status().message();
+    EXPECT_EQ(q->split, c.split_result);
+    ASSERT_EQ(q->points.rows(), c.points);
+    ASSERT_EQ(static_cast<int>(q->quads.size()), c.quads);
+    EXPECT_TRUE(q->points.topRows(c.corners->rows()).isApprox(*c.corners));
+    double area = 0.0;
+    for (const auto& quad : q->quads) {
+      EXPECT_LT(quad[0], c.corners->rows());  // starts at a corner
+      const double a = QuadArea(q->points.row(quad[0]), q->points.row(quad[1]),
+                                q->points.row(quad[2]), q->points.row(quad[3]));
+      EXPECT_GT(a, 0.0);
+      area += a;
+    }
+    EXPECT_NEAR(area, 4.0 * 3.14159265358979323846, 1e-12);
+    ASSERT_EQ(q->creases.size(), c.arcs->size() * (c.split_result ? 2 : 1));
+    for (const auto& [a, b] : q->creases) {
+      // On an arc: both ends on one arc's great circle, between its ends.
+      bool on_arc = false;
+      for (const auto& arc : *c.arcs) {
+        const Eigen::Vector3d x = c.corners->row(arc[0]);
+        const Eigen::Vector3d y = c.corners->row(arc[1]);
+        const Eigen::Vector3d n = x.cross(y).normalized();
+        bool both = true;
+        for (const int p : {a, b}) {
+          const Eigen::Vector3d v = q->points.row(p);
+          both &= std::abs(n.dot(v)) < 1e-15 && v.dot(x) >= x.dot(y) - 1e-15 &&
+                  v.dot(y) >= x.dot(y) - 1e-15;
+        }
+        on_arc |= both;
+      }
+      EXPECT_TRUE(on_arc) << a << " " << b;
+    }
+  }
+}
+
 TEST(FeatureAlignedPattern, ArcsThatCrossOrDangleAreRefused) {
   Eigen::MatrixX3d corners;
   std::vector<std::array<int, 2>> arcs;
