@@ -302,15 +302,19 @@ StatusOr<CadSolidReport> WriteCadSolid(
   }
   CadSolidReport report;
   Stopwatch t0;
-  // The faces are counter-clockwise seen from outside, so the solid is
-  // oriented outward as built; its volume says so.
+  // The faces are counter-clockwise seen from their sphere parameters' side,
+  // which is outside unless the model was fitted to a mesh whose faces point
+  // inward (its parameterization then mirrors the sphere): the faces' signed
+  // volume says which, and inward faces enter the shell reversed, so that
+  // the solid is oriented outward either way.
   std::vector<BicubicPatch> patches;
   for (const BSplineFace& face : faces) {
     const std::vector<BicubicPatch> spans = face.BezierPatches();
     patches.insert(patches.end(), spans.begin(), spans.end());
   }
   const PatchSetMeasures measures = MeasurePatchSet(patches);
-  report.volume = measures.volume;
+  const bool inward = measures.volume < 0.0;
+  report.volume = std::abs(measures.volume);
   report.area = measures.area;
   std::string contents;
   try {
@@ -359,7 +363,7 @@ StatusOr<CadSolidReport> WriteCadSolid(
       }
       wire.Closed(true);
       builder.Add(face, wire);
-      builder.Add(shell, face);
+      builder.Add(shell, inward ? TopoDS::Face(face.Reversed()) : face);
       ++report.faces;
     }
     for (const int n : uses) {

@@ -251,8 +251,15 @@ TEST_F(CadExportTest, FacesThatDoNotCloseWriteNothing) {
 // STEP solid has the cube's six faces, flat, on the cube's planes, meeting
 // at right angles along its edges. Oracles: the cube's closed form and
 // OpenCASCADE's reader.
-TEST(CadExportCreaseTest, KeptCubeIsSixFlatFacesMeetingAtRightAngles) {
-  auto fit = testing::FitKeptCube();
+// The same from the cube stored with its faces pointing inward: its sphere
+// map is mirrored, and the solid is still oriented outward.
+class CadExportCreaseTest : public ::testing::TestWithParam<bool> {};
+INSTANTIATE_TEST_SUITE_P(Outward, CadExportCreaseTest,
+                         ::testing::Values(false));
+INSTANTIATE_TEST_SUITE_P(Inward, CadExportCreaseTest, ::testing::Values(true));
+
+TEST_P(CadExportCreaseTest, KeptCubeIsSixFlatFacesMeetingAtRightAngles) {
+  auto fit = testing::FitKeptCube(/*inward=*/GetParam());
   ASSERT_TRUE(fit.ok() && fit->features_kept);
   const std::string dir = testing::FreshTestDir();
   const std::string path = dir + "/cube.step";

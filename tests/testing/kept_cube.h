@@ -9,11 +9,15 @@
 
 namespace sdcb::testing {
 
-inline StatusOr<FitResult> FitKeptCube() {
+// `inward`: the cube's faces reversed (pointing in, as CGAL's beam and
+// tetrahedron are stored).
+inline StatusOr<FitResult> FitKeptCube(bool inward = false) {
   FitOptions options;
   options.rmse_percent = 0.1;
   options.keep_features = true;
-  return FitSphericalSpline(CubeMesh(), options);
+  TriangleMesh cube = CubeMesh();
+  if (inward) cube.faces.col(1).swap(cube.faces.col(2));
+  return FitSphericalSpline(cube, options);
 }
 
 }  // namespace sdcb::testing

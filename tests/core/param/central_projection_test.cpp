@@ -46,6 +46,29 @@ TEST(CentralProjection, AConvexSolidProjectsFromItsCentroid) {
   }
 }
 
+// Faces that all point inward (CGAL's beam and tetrahedron are stored so):
+// the directions mirrored in x, every sphere triangle still counter-
+// clockwise in the faces' order.
+TEST(CentralProjection, AnInwardSolidIsMirroredToKeepItsTrianglesOrder) {
+  TriangleMesh inward = Octahedron(Eigen::Vector3d(1, 1, 1), {0, 0, 1});
+  inward.faces.col(1).swap(inward.faces.col(2));
+  auto sphere = CentralProjection(inward);
+  ASSERT_TRUE(sphere.has_value());
+  EXPECT_LT((sphere->row(0) - Eigen::RowVector3d(-1, 0, 0)).norm(), 1e-15);
+  EXPECT_LT((sphere->row(1) - Eigen::RowVector3d(0, 1, 0)).norm(), 1e-15);
+  for (Eigen::Index f = 0; f < inward.faces.rows(); ++f) {
+    const Eigen::Vector3d a = sphere->row(inward.faces(f, 0));
+    const Eigen::Vector3d b = sphere->row(inward.faces(f, 1));
+    const Eigen::Vector3d c = sphere->row(inward.faces(f, 2));
+    EXPECT_GT(a.cross(b).dot(c), 0.0);
+  }
+  // Faces pointing both ways: no projection keeps them all.
+  TriangleMesh mixed = Octahedron(Eigen::Vector3d::Zero(), {0, 0, 1});
+  mixed.faces.row(0) = Eigen::RowVector3i(mixed.faces(0, 0), mixed.faces(0, 2),
+                                          mixed.faces(0, 1));
+  EXPECT_FALSE(CentralProjection(mixed).has_value());
+}
+
 TEST(CentralProjection, AFaceThatDoesNotSeeTheCentroidRefuses) {
   // The apex pulled in below the equator: its four triangles face away
   // from the centroid.
