@@ -42,27 +42,6 @@ CubeFace CubeFaceOf(int c) {
   return f;
 }
 
-// The cube-sphere's point of cube face c at (u, v) (the equiangular map).
-Eigen::Vector3d EquiangularPoint(int c, double u, double v, Eigen::Vector3d* du,
-                                 Eigen::Vector3d* dv) {
-  const CubeFace f = CubeFaceOf(c);
-  const double tu = TanQuarter(u), tv = TanQuarter(v);
-  Eigen::Vector3d w;
-  w[f.axis] = f.sign;
-  w[f.u_axis] = tu;
-  w[f.v_axis] = tv;
-  const double length = w.norm();
-  const Eigen::Vector3d p = w / length;
-  const auto derivative = [&](int axis, double t) {
-    Eigen::Vector3d dw = Eigen::Vector3d::Zero();
-    dw[axis] = 0.25 * kPi * (1.0 + t * t);
-    return Eigen::Vector3d((dw - p * p.dot(dw)) / length);
-  };
-  if (du != nullptr) *du = derivative(f.u_axis, tu);
-  if (dv != nullptr) *dv = derivative(f.v_axis, tv);
-  return p;
-}
-
 // Whether quad q's map keeps its orientation (the derivatives' cross
 // product points out) on a lattice that includes its sides.
 bool MapIsOriented(const CadQuadLayout& layout, int q) {
@@ -132,7 +111,22 @@ std::vector<int> OrderQuadCorners(
 
 Eigen::Vector3d CubeSpherePoint(int c, double u, double v, Eigen::Vector3d* du,
                                 Eigen::Vector3d* dv) {
-  return EquiangularPoint(c, u, v, du, dv);
+  const CubeFace f = CubeFaceOf(c);
+  const double tu = TanQuarter(u), tv = TanQuarter(v);
+  Eigen::Vector3d w;
+  w[f.axis] = f.sign;
+  w[f.u_axis] = tu;
+  w[f.v_axis] = tv;
+  const double length = w.norm();
+  const Eigen::Vector3d p = w / length;
+  const auto derivative = [&](int axis, double t) {
+    Eigen::Vector3d dw = Eigen::Vector3d::Zero();
+    dw[axis] = 0.25 * kPi * (1.0 + t * t);
+    return Eigen::Vector3d((dw - p * p.dot(dw)) / length);
+  };
+  if (du != nullptr) *du = derivative(f.u_axis, tu);
+  if (dv != nullptr) *dv = derivative(f.v_axis, tv);
+  return p;
 }
 
 bool CadQuadLayout::has_creases() const {
@@ -151,7 +145,7 @@ const char* CadQuadLayout::name() const {
 Eigen::Vector3d CadQuadLayout::Point(int q, double u, double v,
                                      Eigen::Vector3d* du,
                                      Eigen::Vector3d* dv) const {
-  if (kind == Kind::kCubeSphere) return EquiangularPoint(q, u, v, du, dv);
+  if (kind == Kind::kCubeSphere) return CubeSpherePoint(q, u, v, du, dv);
   const std::array<Eigen::Vector3d, 4>& c = corners[q];
   const double tu = TanQuarter(u), tv = TanQuarter(v);
   const double s = 0.5 * (1.0 + tu), r = 0.5 * (1.0 + tv);

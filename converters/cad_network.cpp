@@ -23,7 +23,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegrees = 180.0 / kPi;
 // The smallest derivative the tangent rows are divided by, in the spline's
-// frame per unit of the face parameter (a face spans 2 / face_grid of it);
+// frame per unit of the face parameter (a face spans 2 / grid of it);
 // typical derivatives are ~0.5 in a normalized frame.
 constexpr double kMinDerivative = 0.05;
 // Where the spline's normal on a crease is taken, as a share of the face's
