@@ -587,6 +587,17 @@ StatusOr<Eigen::VectorXd> DensityFromValues(const Eigen::VectorXd& values,
       (values / values.maxCoeff()).array().pow(alpha).matrix());
 }
 
+StatusOr<Eigen::VectorXd> PullBackDensity(const Eigen::VectorXd& values,
+                                          const Eigen::VectorXd& area_ratio) {
+  if (area_ratio.size() != values.size() || !area_ratio.allFinite() ||
+      !(area_ratio.size() == 0 || area_ratio.minCoeff() > 0)) {
+    return InvalidArgumentError(
+        "area ratios must be finite, > 0 and one per density value");
+  }
+  return DensityFromValues(values.cwiseProduct(area_ratio.cwiseAbs2()).eval(),
+                           1.0);
+}
+
 KnotSeparation MinimumKnotSeparation(const Eigen::MatrixX3d& knots) {
   KnotSeparation result;
   result.angle = kInf;

@@ -51,6 +51,19 @@ struct SphericalDensity {
 StatusOr<Eigen::VectorXd> DensityFromValues(const Eigen::VectorXd& values,
                                             double alpha = 4.0);
 
+// Density values that spread knots as `values` asks per unit of the mesh's
+// area instead of the sphere's: values x ratio^2, normalized to a largest
+// value of 1, `area_ratio` the parameterization's area ratio at each vertex
+// (VertexAreaRatio, core/param/parameterization_distortion.h). A CVT on a
+// 2-D domain places its points at a density proportional to the square
+// root of its density function (Gersho), so these knots have
+// sqrt(values) x ratio per unit of sphere area: sqrt(values) per unit of
+// mesh area, wherever the map compresses or stretches the surface. Sizes
+// must match, values as for DensityFromValues, ratios finite and > 0
+// (kInvalidArgument otherwise).
+StatusOr<Eigen::VectorXd> PullBackDensity(const Eigen::VectorXd& values,
+                                          const Eigen::VectorXd& area_ratio);
+
 struct CvtOptions {
   // Lloyd iterations at most.
   int max_iterations = 100;

@@ -131,4 +131,36 @@ StatusOr<ParameterizationDistortion> MeasureParameterizationDistortion(
   return d;
 }
 
+StatusOr<Eigen::VectorXd> VertexAreaRatio(const TriangleMesh& mesh,
+                                          const Eigen::MatrixX3d& sphere) {
+  if (sphere.rows() != mesh.vertices.rows()) {
+    return InvalidArgumentError(
+        "the sphere points must be one per mesh vertex");
+  }
+  SDCB_ASSIGN_OR_RETURN(const double scale, AreaScaleToUnitSphere(mesh));
+  Eigen::VectorXd mesh_area = Eigen::VectorXd::Zero(sphere.rows());
+  Eigen::VectorXd sphere_area = Eigen::VectorXd::Zero(sphere.rows());
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    const Eigen::Vector3i v = mesh.faces.row(f).transpose();
+    const Eigen::Vector3d m0 = mesh.vertices.row(v[0]);
+    const Eigen::Vector3d m1 = mesh.vertices.row(v[1]);
+    const Eigen::Vector3d m2 = mesh.vertices.row(v[2]);
+    const double a = 0.5 * scale * (m1 - m0).cross(m2 - m0).norm();
+    const double s = std::abs(SphericalTriangleArea(
+        sphere.row(v[0]).transpose(), sphere.row(v[1]).transpose(),
+        sphere.row(v[2]).transpose()));
+    for (int k = 0; k < 3; ++k) {
+      mesh_area[v[k]] += a;
+      sphere_area[v[k]] += s;
+    }
+  }
+  Eigen::VectorXd ratio = Eigen::VectorXd::Ones(sphere.rows());
+  for (Eigen::Index i = 0; i < ratio.size(); ++i) {
+    if (sphere_area[i] > 0 && mesh_area[i] > 0) {
+      ratio[i] = mesh_area[i] / sphere_area[i];
+    }
+  }
+  return ratio;
+}
+
 }  // namespace sdcb

@@ -211,6 +211,17 @@ inline double TriangleEnergy(const MeshTriangleShape& shape,
 // kInvalidInput for a mesh of zero or non-finite total area.
 StatusOr<double> AreaScaleToUnitSphere(const TriangleMesh& mesh);
 
+// The parameterization's area ratio at every vertex: the mesh area of the
+// vertex's triangles over the spherical area of their images, with the mesh
+// scaled to total area 4*pi (AreaScaleToUnitSphere), so 1 where the map
+// keeps area; above 1 where it compresses the surface (thin parts, sharp
+// features). `sphere`: #V by 3 unit vectors (a bijective map, either
+// orientation). A vertex without triangles, or whose images have no area,
+// gets 1. kInvalidArgument when the sizes do not match; kInvalidInput for a
+// mesh without area.
+StatusOr<Eigen::VectorXd> VertexAreaRatio(const TriangleMesh& mesh,
+                                          const Eigen::MatrixX3d& sphere);
+
 // Paper Table 1, for a mesh and a position on S^2 for each of its vertices.
 struct ParameterizationDistortion {
   double angle_distortion_max = 0.0;

@@ -291,6 +291,43 @@ TEST(SphericalCvtTest, DensityFromValuesNormalizesThenPowers) {
   EXPECT_FALSE(DensityFromValues(Eigen::VectorXd::Ones(3), 0).ok());
 }
 
+TEST(SphericalCvtTest, PullBackDensityWeighsSquaredAreaRatios) {
+  Eigen::VectorXd v(3), ratio(3);
+  v << 1, 4, 0;
+  ratio << 2, 1, 5;
+  const auto rho = PullBackDensity(v, ratio);
+  ASSERT_TRUE(rho.ok());
+  EXPECT_DOUBLE_EQ((*rho)[0], 1);  // 1 x 4 = 4 x 1: the largest, both
+  EXPECT_DOUBLE_EQ((*rho)[1], 1);
+  EXPECT_DOUBLE_EQ((*rho)[2], 0);
+  ratio[2] = 0;
+  EXPECT_FALSE(PullBackDensity(v, ratio).ok());
+  EXPECT_FALSE(PullBackDensity(v, Eigen::VectorXd::Ones(2)).ok());
+}
+
+// Gersho's law, the oracle: a CVT's points have a density proportional to
+// the square root of its density. A map that compresses the northern
+// hemisphere's surface 4:1 (area ratio 4 there, 1 in the south) and a
+// uniform need per unit of mesh area: the pulled-back density puts 4 times
+// the knots in the north (the same per unit of mesh area).
+TEST(SphericalCvtTest, PulledBackKnotsAreUniformPerMeshArea) {
+  SphericalDensity density = Uniform(4);
+  Eigen::VectorXd ratio(density.values.size());
+  for (Eigen::Index i = 0; i < ratio.size(); ++i) {
+    ratio[i] = density.sphere_vertices(i, 2) > 0 ? 4.0 : 1.0;
+  }
+  density.values = *PullBackDensity(density.values, ratio);
+  const Eigen::MatrixX3d none(0, 3);
+  const auto placed = PlaceKnots(density, none, 500);
+  ASSERT_TRUE(placed.ok());
+  int north = 0;
+  for (Eigen::Index k = 0; k < placed->knots.rows(); ++k) {
+    north += placed->knots(k, 2) > 0;
+  }
+  const double share = static_cast<double>(north) / placed->knots.rows();
+  EXPECT_NEAR(share, 0.8, 0.04);  // 4 : 1
+}
+
 TEST(SphericalCvtTest, RejectsBadInput) {
   const Eigen::MatrixX3d none(0, 3);
   SphericalDensity bad = Uniform(2);

@@ -264,5 +264,31 @@ TEST(ParameterizationDistortion, SeriesAreaMatchesAtan2AndGirard) {
   }
 }
 
+// An octahedron stretched along +x (vertex (2, 0, 0); the others at 1) maps
+// by central projection onto the eight octants (pi / 2 each). Its +x faces
+// have area 3 / 2, its -x faces sqrt(3) / 2 (total 6 + 2 sqrt(3)): at +x
+// the ratio is 6 / (3 + sqrt(3)), at -x 2 sqrt(3) / (3 + sqrt(3)), at the
+// four others (two faces of each kind) 1.
+TEST(ParameterizationDistortion, VertexAreaRatioOfAStretchedOctahedron) {
+  TriangleMesh m;
+  m.vertices.resize(6, 3);
+  m.vertices << 2, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
+  m.faces.resize(8, 3);
+  m.faces << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0,
+      3, 5;
+  const Eigen::MatrixX3d sphere = m.vertices.rowwise().normalized();
+  const auto ratio = VertexAreaRatio(m, sphere);
+  ASSERT_TRUE(ratio.ok());
+  const double r3 = std::sqrt(3.0);
+  EXPECT_NEAR((*ratio)[0], 6 / (3 + r3), 1e-12);
+  EXPECT_NEAR((*ratio)[1], 2 * r3 / (3 + r3), 1e-12);
+  for (int v = 2; v < 6; ++v) EXPECT_NEAR((*ratio)[v], 1.0, 1e-12);
+  // Either orientation of the map (a mirrored sphere).
+  Eigen::MatrixX3d mirrored = sphere;
+  mirrored.col(0) *= -1;
+  EXPECT_NEAR((*VertexAreaRatio(m, mirrored))[0], 6 / (3 + r3), 1e-12);
+  EXPECT_FALSE(VertexAreaRatio(m, sphere.topRows(5)).ok());
+}
+
 }  // namespace
 }  // namespace sdcb
