@@ -237,7 +237,7 @@ StatusOr<std::string> CageFbxBytes(const SubdivisionCage& cage,
   std::vector<int32_t> polygon_vertices;
   std::vector<int32_t> edges;
   std::map<std::pair<int, int>, int> edge_index;
-  for (const auto& f : layout.faces) {
+  for (const auto& f : OutwardCageFaces(cage, positions)) {
     for (int k = 0; k < 4; ++k) {
       const int a = f[k], b = f[(k + 1) % 4];
       if (a < 0 || a >= n) {

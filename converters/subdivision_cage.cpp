@@ -14,6 +14,7 @@
 #include "sdcb/converters/stopwatch.h"
 #include "sdcb/core/fit/least_squares.h"
 #include "sdcb/core/knots/feature_knots.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/tessellate/feature_pattern.h"
 
@@ -455,6 +456,24 @@ StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
   return fit;
 }
 
+std::vector<std::array<int, 4>> OutwardCageFaces(
+    const SubdivisionCage& cage, const Eigen::MatrixX3d& positions) {
+  std::vector<std::array<int, 4>> faces = cage.layout.faces;
+  const int size = cage.layout.face_size;
+  std::vector<Eigen::Vector3i> fan;
+  for (const auto& f : faces) {
+    for (int k = 1; k + 1 < size; ++k) fan.emplace_back(f[0], f[k], f[k + 1]);
+  }
+  Eigen::MatrixX3i triangles(static_cast<Eigen::Index>(fan.size()), 3);
+  for (size_t t = 0; t < fan.size(); ++t) {
+    triangles.row(static_cast<Eigen::Index>(t)) = fan[t].transpose();
+  }
+  if (SignedVolume(positions, triangles) < 0) {
+    for (auto& f : faces) std::reverse(f.begin(), f.begin() + size);
+  }
+  return faces;
+}
+
 std::string CageObjText(const SubdivisionCage& cage,
                         const Eigen::MatrixX3d& positions) {
   const SphereCage& layout = cage.layout;
@@ -470,7 +489,7 @@ std::string CageObjText(const SubdivisionCage& cage,
                   positions(i, 0), positions(i, 1), positions(i, 2));
     text += buffer;
   }
-  for (const auto& f : layout.faces) {
+  for (const auto& f : OutwardCageFaces(cage, positions)) {
     text += "f";
     for (int k = 0; k < layout.face_size; ++k) {
       text += ' ' + std::to_string(f[k] + 1);

@@ -106,9 +106,9 @@ struct CageFit {
 
 // Fits a cage to `spline` (any frame; distances in percent of
 // options.length_unit). kInvalidArgument for bad options. A Catmull-Clark
-// cage of a spline whose knots hold feature arcs (a fit that kept its sharp edges,
-// core/knots/feature_knots.h) that cut the sphere into quads is first tried
-// as those quads with every arc an infinitely sharp crease (the cube: 8
+// cage of a spline whose knots hold feature arcs (a fit that kept its sharp
+// edges, core/knots/feature_knots.h) that cut the sphere into quads is first
+// tried as those quads with every arc an infinitely sharp crease (the cube: 8
 // vertices, 6 faces, 12 creases), kept if its limit surface meets the
 // tolerance.
 StatusOr<CageFit> FitSubdivisionCage(const SphericalSpline& spline,
@@ -127,11 +127,18 @@ StatusOr<Eigen::MatrixX3d> FitCagePositions(const SurfaceSampler& spline,
                                             const LimitSurface& limit,
                                             const CageOptions& options = {});
 
+// The cage's faces as files write them, counter-clockwise seen from
+// outside: the layout's (SphereCage::faces), each reversed when the cage at
+// `positions` encloses a negative volume (a spline fitted to a mesh stored
+// inward turns its faces as that mesh did).
+std::vector<std::array<int, 4>> OutwardCageFaces(
+    const SubdivisionCage& cage, const Eigen::MatrixX3d& positions);
+
 // The cage as Wavefront OBJ text: "v x y z" per vertex (%.17g), "f a b c
-// [d]" per face (1-based), after a comment header naming the scheme; each
-// crease as OpenSubdiv's shape tag "t crease 2/1/0 a b 10" (0-based
-// vertices, sharpness 10 = infinitely sharp), which OBJ readers that do not
-// know it skip.
+// [d]" per face (1-based, OutwardCageFaces), after a comment header naming the
+// scheme; each crease as OpenSubdiv's shape tag "t crease 2/1/0 a b 10"
+// (0-based vertices, sharpness 10 = infinitely sharp), which OBJ readers that
+// do not know it skip.
 std::string CageObjText(const SubdivisionCage& cage,
                         const Eigen::MatrixX3d& positions);
 

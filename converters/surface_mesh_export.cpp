@@ -18,6 +18,7 @@
 #include "sdcb/core/knots/feature_knots.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/core/tessellate/feature_pattern.h"
@@ -348,6 +349,12 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
   mesh.positions = transform.ToInput(t.positions);
   mesh.normals = CompleteNormals(t);
   mesh.faces = t.faces;
+  // A model fitted to a mesh stored inward turns its faces as that mesh
+  // did (its sphere is mirrored); the file's faces turn outward.
+  if (SignedVolume(mesh.positions, mesh.faces) < 0) {
+    mesh.faces.col(1).swap(mesh.faces.col(2));
+    mesh.normals = -mesh.normals;
+  }
   SDCB_RETURN_IF_ERROR(
       ColorVertices(options, sampler, t, transform, &mesh, &report.colors));
   if (report.feature_arcs > 0 && !IsGltf(options.format)) {

@@ -38,6 +38,18 @@ Eigen::VectorXd VertexAreas(const TriangleMesh& mesh) {
   return area;
 }
 
+double SignedVolume(const Eigen::MatrixX3d& vertices,
+                    const Eigen::MatrixX3i& faces) {
+  double six_volume = 0.0;
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const Eigen::Vector3d a = vertices.row(faces(f, 0));
+    const Eigen::Vector3d b = vertices.row(faces(f, 1));
+    const Eigen::Vector3d c = vertices.row(faces(f, 2));
+    six_volume += a.dot(b.cross(c));
+  }
+  return six_volume / 6.0;
+}
+
 Eigen::MatrixX3d VertexNormals(const TriangleMesh& mesh) {
   Eigen::MatrixX3d normal = Eigen::MatrixX3d::Zero(mesh.vertices.rows(), 3);
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {

@@ -33,6 +33,13 @@ Eigen::VectorXd VertexAreas(const TriangleMesh& mesh);
 // normals (right-hand rule over the corner order); zero where that sum is.
 Eigen::MatrixX3d VertexNormals(const TriangleMesh& mesh);
 
+// The volume a closed triangle mesh encloses, signed: positive when its
+// faces turn counter-clockwise seen from outside (right-hand normals point
+// out), negative when they point in. The sum of det[a b c] / 6 over the
+// faces (the divergence theorem).
+double SignedVolume(const Eigen::MatrixX3d& vertices,
+                    const Eigen::MatrixX3i& faces);
+
 // How far a point of the triangle (a, b, c) can be from the nearest of its
 // corners, at most: the circumradius of a triangle without an obtuse angle
 // (its circumcentre is the farthest point, so this is exact), half the

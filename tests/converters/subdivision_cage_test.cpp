@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
+#include <sstream>
 #include <unordered_map>
 
 #include "sdcb/core/fit/spline_fitter.h"
@@ -247,8 +248,8 @@ TEST(SubdivisionCageTest, SameCageForAnyThreadCount) {
   EXPECT_EQ(one->deviation.rms_percent, many->deviation.rms_percent);
 }
 
-// The cube fitted with its corners' knot clusters (FitOptions::keep_features): its
-// Catmull-Clark cage is the cube's 8 corners, 6 quads and 12 infinitely
+// The cube fitted with its corners' knot clusters (FitOptions::keep_features):
+// its Catmull-Clark cage is the cube's 8 corners, 6 quads and 12 infinitely
 // sharp edges, and OpenSubdiv's Far refinement of that cage with those
 // creases (the oracle, no code shared with the converter) reaches the
 // closed-form cube within 0.1 % of its side; without the creases it rounds
@@ -287,6 +288,51 @@ TEST(SubdivisionCageTest, TheKeptCubesCageIsItsCornersWithSharpEdges) {
   EXPECT_GT(off_cube(smooth.limit), 0.05);
   const std::string obj = CageObjText(cage->cage, cage->cage.vertices);
   EXPECT_NE(obj.find("t crease 2/1/0 "), std::string::npos);
+}
+
+// The volume enclosed by an OBJ's faces (fans), summed from the text alone.
+double ObjVolume(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<Eigen::Vector3d> v;
+  double six_volume = 0;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string tag;
+    fields >> tag;
+    if (tag == "v") {
+      Eigen::Vector3d p;
+      fields >> p.x() >> p.y() >> p.z();
+      v.push_back(p);
+    } else if (tag == "f") {
+      std::vector<int> f;
+      int i;
+      while (fields >> i) f.push_back(i - 1);
+      for (size_t k = 1; k + 1 < f.size(); ++k) {
+        six_volume += v[f[0]].dot(v[f[k]].cross(v[f[k + 1]]));
+      }
+    }
+  }
+  return six_volume / 6;
+}
+
+// A cage whose positions turn its layout inside out (a spline fitted to a
+// mesh stored inward) is written with its faces reversed: outward.
+TEST(SubdivisionCageTest, ObjFacesTurnOutward) {
+  SubdivisionCage cage;
+  cage.layout = SphereCageTopology::Create(CageCellShape::kQuad, 1).cage();
+  const Eigen::MatrixX3d outward = cage.layout.sphere_points;
+  Eigen::MatrixX3d mirrored = outward;
+  mirrored.col(0) *= -1;
+  const double out_volume = ObjVolume(CageObjText(cage, outward));
+  const double mirrored_volume = ObjVolume(CageObjText(cage, mirrored));
+  EXPECT_GT(out_volume, 3.0);  // inscribed in the unit sphere (4.19)
+  EXPECT_NEAR(mirrored_volume, out_volume, 1e-12);
+  EXPECT_TRUE(OutwardCageFaces(cage, outward) == cage.layout.faces);
+  const auto reversed = OutwardCageFaces(cage, mirrored);
+  ASSERT_EQ(reversed.size(), cage.layout.faces.size());
+  EXPECT_EQ(reversed[0][0], cage.layout.faces[0][3]);
+  EXPECT_EQ(reversed[0][3], cage.layout.faces[0][0]);
 }
 
 TEST(SubdivisionCageTest, ObjTextListsVerticesAndFaces) {

@@ -9,6 +9,7 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -227,9 +228,9 @@ TEST_F(SurfaceMeshExportTest, ProgressRisesToOneAndBytesIgnoreThreads) {
   EXPECT_TRUE(one->bytes == many->bytes);
 }
 
-// A cube that kept its edges follows its creases: glTF gets each corner once per
-// side (24 vertices, the faces' normals: hard edges), a mesh file one closed
-// mesh of the cube's 8 corners (every edge in exactly two triangles), as
+// A cube that kept its edges follows its creases: glTF gets each corner once
+// per side (24 vertices, the faces' normals: hard edges), a mesh file one
+// closed mesh of the cube's 8 corners (every edge in exactly two triangles), as
 // `sdcb check` needs to read it back.
 TEST(SurfaceMeshExportCreases, GltfSplitsTheCornersAndMeshFilesWeldThem) {
   auto fit = testing::FitKeptCube();
@@ -260,6 +261,37 @@ TEST(SurfaceMeshExportCreases, GltfSplitsTheCornersAndMeshFilesWeldThem) {
     EXPECT_NEAR(ply->mesh.positions.row(v).cwiseAbs().minCoeff(), 1.0, 1e-3);
     EXPECT_NEAR(ply->mesh.normals.row(v).cwiseAbs().minCoeff(),
                 1.0 / std::sqrt(3.0), 1e-3);
+  }
+}
+
+// A model fitted to a cube stored inward (faces reversed) exports outward, as
+// glTF (counter-clockwise front faces) and the mesh formats expect: the
+// enclosed volume is +8 (the cube of side 2; summed here face by face, the
+// divergence theorem), and every vertex normal points out of the face it
+// belongs to.
+TEST(SurfaceMeshExportCreases, InwardStoredCubeExportsOutward) {
+  auto fit = testing::FitKeptCube(/*inward=*/true);
+  ASSERT_TRUE(fit.ok() && fit->features_kept);
+  for (const ExportFormat format : {ExportFormat::kGlb, ExportFormat::kObj}) {
+    SurfaceMeshExportOptions options;
+    options.format = format;
+    auto out = ExportSurfaceMesh(fit->model, options);
+    ASSERT_TRUE(out.ok()) << out.status().message();
+    const SurfaceMesh& m = out->mesh;
+    double six_volume = 0;
+    for (Eigen::Index f = 0; f < m.faces.rows(); ++f) {
+      const Eigen::Vector3d a = m.positions.row(m.faces(f, 0));
+      const Eigen::Vector3d b = m.positions.row(m.faces(f, 1));
+      const Eigen::Vector3d c = m.positions.row(m.faces(f, 2));
+      six_volume += a.x() * (b.y() * c.z() - b.z() * c.y()) -
+                    a.y() * (b.x() * c.z() - b.z() * c.x()) +
+                    a.z() * (b.x() * c.y() - b.y() * c.x());
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_GT(m.normals.row(m.faces(f, k)).dot(n), 0) << "face " << f;
+      }
+    }
+    EXPECT_NEAR(six_volume / 6, 8.0, 0.01);
   }
 }
 
