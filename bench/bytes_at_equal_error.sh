@@ -14,7 +14,7 @@
 #   3. Draco (edgebreaker, level 10) of the Garland-Heckbert decimation, the
 #      faces bisected per position quantization, the smallest file within
 #      the same rms.
-#   bash bench/bytes_at_equal_error.sh            (~10 min on 2 cores)
+#   bash bench/bytes_at_equal_error.sh            (~15 min on 2 cores)
 #   MODELS="bunny00" BITS="0 12 auto" bash bench/bytes_at_equal_error.sh
 # Needs the build (scripts/setup.sh) and scripts/gltf_tools (gltfpack).
 set -euo pipefail
