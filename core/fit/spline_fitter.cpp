@@ -1009,17 +1009,23 @@ int SplineFitter::State::EstimateRounds() {
 }
 
 int SplineFitter::State::KnotsToTarget(int planned) const {
-  // rms = c knots^-p through the last two rounds (both above the target,
-  // without folds) gives the knots at the target; the round adds
-  // kLastRoundShare of the difference when that is less than planned.
+  // rms = c knots^-p through the last two rounds (both above the rms
+  // target, neither folded, the last within the Hausdorff target) gives the
+  // knots at the target; the round adds kLastRoundShare of the difference
+  // when that is less than planned. A round still above the Hausdorff
+  // target is not sized: that distance (at a crease, a corner) falls
+  // unevenly, and rounds sized by it come short many times over.
   const auto& rounds = result.model.statistics.rounds;
   const size_t n = rounds.size();
   if (n < 2) return planned;
   const RoundStatistics& a = rounds[n - 2];
   const RoundStatistics& b = rounds[n - 1];
   const double target = options.rmse_percent;
+  const double max_target = MaxErrorTarget(options);
   if (!(b.knots > a.knots && a.rmse_percent > b.rmse_percent &&
-        b.rmse_percent > target && b.folded_area_percent == 0)) {
+        b.rmse_percent > target && a.folded_area_percent == 0 &&
+        b.folded_area_percent == 0 &&
+        (max_target < 0 || b.max_error_percent <= max_target))) {
     return planned;
   }
   const double p = std::log(a.rmse_percent / b.rmse_percent) /
