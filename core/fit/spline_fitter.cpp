@@ -101,7 +101,7 @@ constexpr int kMinFoldKnots = 10;
 // rms falls faster than that law says (bunny00, --rmse 0.067: the law
 // through 200 and 300 knots has exponent 1.24; 300 to 369 knots fell with
 // 1.66), so the whole difference overshoots the target (0.0613 % at 369
-// knots while this was tuned; 0.0646 % at 360 with 0.7).
+// knots; 0.0646 % at 360 with 0.7).
 constexpr double kLastRoundShare = 0.7;
 // Fold rounds stop early when, after this many, the folded area has not
 // shrunk to kFoldShrink of what it was when they began (measured on CGAL's
