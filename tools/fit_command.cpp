@@ -158,9 +158,11 @@ int RunFit(const std::vector<std::string>& argv) {
     const MeshFeatures& features = fit->features;
     std::printf(
         "  sharp features (normals turning by > %g deg): %zu edges, %zu "
-        "curves, %zu corners (detected; the surface is smooth across them)\n",
+        "curves, %zu corners (%s)\n",
         features.angle_degrees, features.edges.size(), features.curves.size(),
-        features.corners.size());
+        features.corners.size(),
+        fit->features_kept ? "kept: the surface is creased along them"
+                           : "detected; the surface is smooth across them");
     if (!quantization.lossless()) {
       std::printf(
           "  control points quantized to %d bits: the stored surface is "

@@ -329,8 +329,9 @@ struct SplineFitter::State {
   Eigen::MatrixX3d u;  // the vertices' sphere parameters
   // The feature corners' knot clusters (core/knots/feature_knots.h): the
   // knots of the first round 0 while not empty, dropped with that round when
-  // it does not meet the target.
+  // it does not meet the target; their knots along each feature edge.
   Eigen::MatrixX3d feature_knots;
+  int feature_knots_per_edge = 0;
   // The optimized parameterization while that round uses the central
   // projection (empty otherwise).
   Eigen::MatrixX3d default_u;
@@ -398,6 +399,14 @@ struct SplineFitter::State {
     return out.str();
   }
 
+  // The sphere points of the feature corners.
+  Eigen::MatrixX3d FeatureCorners() const {
+    const std::vector<int>& corners = result.features.corners;
+    Eigen::MatrixX3d out(corners.size(), 3);
+    for (size_t c = 0; c < corners.size(); ++c) out.row(c) = u.row(corners[c]);
+    return out;
+  }
+
   // Round 0 on the feature corners' clusters (core/knots/feature_knots.h):
   // those knots alone, none placed by the density.
   static StatusOr<KnotPlacement> FeatureKnotPlacement(
@@ -410,13 +419,22 @@ struct SplineFitter::State {
 
   // Forgets a round 0 on the feature clusters that missed the target, as if
   // it had not run (its seconds stay in the stage timings): the next round
-  // is an ordinary round 0.
+  // tries the clusters with `degree` knots along each feature edge when
+  // this one had one (an arc alone on its great circle needs k + 1 knots
+  // there for a crease: the tetrahedron), and is otherwise an ordinary
+  // round 0.
   void DropFeatureRound() {
-    feature_knots.resize(0, 3);
-    if (default_u.rows() > 0) {
-      u = std::move(default_u);
-      default_u.resize(0, 3);
-      parameter_tree = std::make_unique<PointKdTree>(u);
+    if (feature_knots_per_edge < options.degree) {
+      feature_knots_per_edge = options.degree;
+      feature_knots = CornerKnotClusters(result.features, u, kCornerClusterGap,
+                                         feature_knots_per_edge);
+    } else {
+      feature_knots.resize(0, 3);
+      if (default_u.rows() > 0) {
+        u = std::move(default_u);
+        default_u.resize(0, 3);
+        parameter_tree = std::make_unique<PointKdTree>(u);
+      }
     }
     SplineModel& model = result.model;
     model.knots.resize(0, 3);
@@ -729,13 +747,17 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   // centroid, with the central projection as its parameterization (each
   // face one projective map; the optimized one comes back if the round is
   // dropped).
-  if (o.keep_features && ClustersKeepEveryFeature(s.result.features)) {
-    if (std::optional<Eigen::MatrixX3d> central = CentralProjection(s.mesh)) {
-      s.default_u = std::move(s.u);
-      s.u = std::move(*central);
-      s.parameter_tree = std::make_unique<PointKdTree>(s.u);
+  if (o.keep_features && FeatureCurvesJoinCorners(s.result.features)) {
+    std::optional<Eigen::MatrixX3d> central = CentralProjection(s.mesh);
+    if (ClustersKeepEveryFeature(s.result.features, central ? *central : s.u)) {
+      if (central) {
+        s.default_u = std::move(s.u);
+        s.u = std::move(*central);
+        s.parameter_tree = std::make_unique<PointKdTree>(s.u);
+      }
+      s.feature_knots_per_edge = 1;
+      s.feature_knots = CornerKnotClusters(s.result.features, s.u);
     }
-    s.feature_knots = CornerKnotClusters(s.result.features, s.u);
   }
   s.result.timings.knot_placement += stage.Seconds();
   return SplineFitter(std::move(state));
@@ -828,7 +850,12 @@ StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
   std::optional<FitSamples> samples_or;
   tbb::task_group side;
   side.run([&] {
-    samples_or.emplace(BuildFitSamples(mesh, u, knots, sample_options));
+    // The clusters' knots are a gap apart: spaced by them, the samples
+    // would be that dense over each one's whole Voronoi cell (28 million
+    // rows on a cube of 866 vertices). Spaced by the corners alone; the
+    // rows beside the edges below pin the thin triangles.
+    samples_or.emplace(BuildFitSamples(
+        mesh, u, feature_round ? FeatureCorners() : knots, sample_options));
   });
   StatusOr<DcbBasis> basis_or = DcbBasis::Create(knots, configurations);
   side.wait();

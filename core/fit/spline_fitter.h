@@ -116,15 +116,16 @@ struct FitOptions {
   // (0, 180]; 180: none) are detected as sharp features and reported
   // (FitResult::features, core/mesh/feature_curves.h).
   double feature_angle_degrees = 30.0;
-  // When every feature is a single mesh edge between two corners
-  // (ClustersKeepEveryFeature), round 0 first tries a cluster of knots at
-  // every corner alone (core/knots/feature_knots.h), on a solid whose faces
-  // all see its centroid with the central projection as its
-  // parameterization (core/param/central_projection.h), which keeps the
-  // corners and edges sharp, and keeps that round if it meets the target;
-  // otherwise the fit goes on from its usual round 0 and parameterization,
-  // smooth across them, as it does with this false or without features
-  // (feature_angle_degrees 180).
+  // When every feature curve joins two corners along one great-circle arc
+  // (ClustersKeepEveryFeature: a single mesh edge, or a straight chain of
+  // them on a solid whose faces all see its centroid, parameterized then by
+  // the central projection, core/param/central_projection.h), round 0 first
+  // tries a cluster of knots at every corner alone (core/knots/
+  // feature_knots.h), one knot along each feature edge, then `degree` of
+  // them, which keeps the corners and edges sharp, and keeps the first that
+  // meets the target; otherwise the fit goes on from its usual round 0 and
+  // parameterization, smooth across them, as it does with this false or
+  // without features (feature_angle_degrees 180).
   bool keep_features = true;
   // 0: knots where the placement puts them. Otherwise each new knot is moved
   // to the nearest point of the octahedral grid of this many bits per

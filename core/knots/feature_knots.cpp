@@ -3,39 +3,81 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <utility>
 #include <vector>
 
 namespace sdcb {
 
-bool ClustersKeepEveryFeature(const MeshFeatures& features) {
+bool FeatureCurvesJoinCorners(const MeshFeatures& features) {
   if (features.corners.empty()) return false;
+  const auto is_corner = [&](int v) {
+    return std::binary_search(features.corners.begin(), features.corners.end(),
+                              v);
+  };
   for (const FeatureCurve& curve : features.curves) {
-    if (curve.closed || curve.vertices.size() != 2) return false;
-    for (const int end : curve.vertices) {
-      if (!std::binary_search(features.corners.begin(), features.corners.end(),
-                              end)) {
-        return false;
-      }
+    if (curve.closed || curve.vertices.size() < 2 ||
+        !is_corner(curve.vertices.front()) ||
+        !is_corner(curve.vertices.back())) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool ClustersKeepEveryFeature(const MeshFeatures& features,
+                              const Eigen::MatrixX3d& sphere) {
+  if (!FeatureCurvesJoinCorners(features)) return false;
+  constexpr double kOffArc = 1e-8;  // radians
+  for (const FeatureCurve& curve : features.curves) {
+    const Eigen::Vector3d a = sphere.row(curve.vertices.front());
+    const Eigen::Vector3d b = sphere.row(curve.vertices.back());
+    const Eigen::Vector3d normal = a.cross(b);
+    if (!(normal.norm() > 0)) return false;
+    const Eigen::Vector3d pole = normal.normalized();
+    const Eigen::Vector3d along = pole.cross(a);
+    const auto phase = [&](const Eigen::Vector3d& x) {
+      return std::atan2(x.dot(along), x.dot(a));
+    };
+    double last = 0.0;
+    for (size_t i = 1; i < curve.vertices.size(); ++i) {
+      const Eigen::Vector3d x = sphere.row(curve.vertices[i]);
+      const double t = phase(x);
+      if (std::abs(pole.dot(x)) > kOffArc || !(t > last)) return false;
+      last = t;
     }
   }
   return true;
 }
 
 Eigen::MatrixX3d CornerKnotClusters(const MeshFeatures& features,
-                                    const Eigen::MatrixX3d& sphere,
-                                    double gap) {
+                                    const Eigen::MatrixX3d& sphere, double gap,
+                                    int knots_per_edge) {
+  // The far end of the curve that begins with the edge (end, next).
+  std::map<std::pair<int, int>, int> far_end;
+  for (const FeatureCurve& curve : features.curves) {
+    const std::vector<int>& v = curve.vertices;
+    if (curve.closed || v.size() < 2) continue;
+    far_end[{v.front(), v[1]}] = v.back();
+    far_end[{v.back(), v[v.size() - 2]}] = v.front();
+  }
   std::vector<Eigen::Vector3d> knots;
   for (const int corner : features.corners) {
     const Eigen::Vector3d a = sphere.row(corner).transpose();
     knots.push_back(a);
     for (const std::array<int, 2>& edge : features.edges) {
       if (edge[0] != corner && edge[1] != corner) continue;
+      const int next = edge[0] == corner ? edge[1] : edge[0];
+      const auto it = far_end.find({corner, next});
       const Eigen::Vector3d b =
-          sphere.row(edge[0] == corner ? edge[1] : edge[0]).transpose();
+          sphere.row(it != far_end.end() ? it->second : next).transpose();
       // The unit tangent at a of the great circle toward b.
       const Eigen::Vector3d toward = b - a.dot(b) * a;
       if (!(toward.norm() > 0)) continue;
-      knots.push_back(std::cos(gap) * a + std::sin(gap) * toward.normalized());
+      double at = gap;
+      for (int k = 0; k < knots_per_edge; ++k, at *= 2.0) {
+        knots.push_back(std::cos(at) * a + std::sin(at) * toward.normalized());
+      }
     }
   }
   Eigen::MatrixX3d out(knots.size(), 3);
@@ -109,13 +151,14 @@ KnotFeatureArcs FeatureArcsOfKnots(const Eigen::MatrixX3d& knots, double gap) {
       };
       const double tk = phase(pk), tl = phase(pl), tb = phase(pb);
       if (!(tk > 0 && tk < tl && tl < tb && tb < 3.14159265358979)) continue;
-      // No knot between the two clusters: the arc is one edge.
+      // No corner between the two: the arc is one feature curve (the
+      // knots between are the clusters' further knots along it).
       bool between = false;
       for (int k = 0; k < n && !between; ++k) {
         const Eigen::Vector3d x = knots.row(k);
-        if (std::abs(pole.dot(x)) > kOffCircle) continue;
+        if (!corner[k] || std::abs(pole.dot(x)) > kOffCircle) continue;
         const double t = phase(x);
-        between = t > tk && t < tl && k != a_knot && k != b_knot;
+        between = t > 0 && t < tb && k != a && k != b;
       }
       if (!between) arcs.push_back({a, b});
     }

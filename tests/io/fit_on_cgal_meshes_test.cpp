@@ -14,6 +14,7 @@
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/cgal_test_mesh.h"
+#include "testing/feature_normals.h"
 #include "testing/honest_fit_errors.h"
 #include "testing/temp_dir.h"
 
@@ -84,6 +85,34 @@ TEST(AdaptiveFitTest, TheCoarseCowFollowsItsMeshEverywhere) {
   }
   ExpectHonestVertexErrors(mesh, *fit);
   ExpectHonestSurfaceErrors(mesh, *fit, 4000);
+}
+
+// CGAL's cube-meshed.off: 866 vertices, each of the cube's edges a straight
+// chain of 16 mesh edges. Parameterized by the central projection from its
+// centroid, every chain maps to one great-circle arc, so the corners'
+// clusters keep it sharp, as they keep the 8-vertex cube.
+TEST(AdaptiveFitTest, AFinelyMeshedCubeKeepsItsEdges) {
+  const TriangleMesh mesh = ReadCgalMesh("cube-meshed.off");
+  FitOptions options;
+  options.rmse_percent = 0.1;
+  auto fit = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  EXPECT_TRUE(fit->reached_target()) << fit->shortfall;
+  EXPECT_TRUE(fit->features_kept);
+  EXPECT_EQ(fit->features.curves.size(), 12u);
+  EXPECT_EQ(fit->features.corners.size(), 8u);
+  const RoundStatistics& r = fit->model.statistics.final_result;
+  EXPECT_LE(r.control_points, 300);
+  EXPECT_LE(r.max_error_percent, 0.2);
+  EXPECT_EQ(r.folded_area_percent, 0.0);
+  ExpectHonestSurfaceErrors(mesh, *fit, 3000);
+  auto spline = SurfaceFromModel(fit->model);
+  ASSERT_TRUE(spline.ok());
+  const testing::FeatureNormals normals = testing::MeasureFeatureNormals(
+      *spline, fit->model.transform.ToNormalized(mesh.vertices), mesh.faces,
+      fit->features, 0.01, 150000);
+  EXPECT_GT(normals.angles_degrees.size(), 12u * 16u);
+  EXPECT_LT(normals.max_degrees, 2.0);
 }
 
 TEST(AdaptiveFitTest, SameInputSameBytesForAnyThreadCount) {

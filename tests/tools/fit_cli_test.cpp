@@ -130,6 +130,36 @@ TEST(FitCliTest, ReportCountsTheCubesSharpFeatures) {
 // fit needs thousands, and the report says the features were used; its
 // STEP export has the cube's faces; with --quantize as well, and its mesh
 // export follows the creases.
+// The tetrahedron's edges are alone on their great circles: kept by the
+// second try, four knots along each edge from each corner; the summary says
+// the surface is creased, and its STEP solid is every face split in three
+// quads, bordered by the 6 edges (each two crease edges of the B-rep, split
+// at its midpoint).
+TEST(FitCliTest, TheTetrahedronKeepsItsEdges) {
+  const std::string dir = FreshTestDir();
+  RunResult r =
+      RunSdcb({"fit", MeshPath("tetrahedron.off"), "-o", dir + "/t.sdcb",
+               "--rmse", "0.1", "--json", dir + "/t.json"},
+              dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("4 corners (kept: the surface is creased along them)"),
+            std::string::npos)
+      << r.out;
+  const auto report = nlohmann::json::parse(ReadBytes(dir + "/t.json"));
+  EXPECT_EQ(report["features"]["used"], true);
+  EXPECT_EQ(report["reached_target"], true);
+  EXPECT_EQ(report["final"]["knots"], 52);
+  r = RunSdcb({"export", dir + "/t.sdcb", "-o", dir + "/t.step", "--json",
+               dir + "/step.json", "--quiet"},
+              dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto step = nlohmann::json::parse(ReadBytes(dir + "/step.json"));
+  EXPECT_EQ(step["layout"], "feature faces");
+  EXPECT_EQ(step["faces"], 12);
+  EXPECT_EQ(step["crease_edges"], 12);
+  EXPECT_EQ(step["valid"], true);
+}
+
 TEST(FitCliTest, TheCubeKeepsItsEdgesWithItsCornerClusters) {
   const std::string dir = FreshTestDir();
   RunResult r = RunSdcb({"fit", MeshPath("cube.off"), "-o", dir + "/c.sdcb",

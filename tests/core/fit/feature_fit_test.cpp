@@ -6,12 +6,16 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "testing/feature_normals.h"
 #include "testing/make_mesh.h"
+#include "testing/random_sphere_points.h"
 
 namespace sdcb {
 namespace {
@@ -92,15 +96,73 @@ TEST(FeatureFitTest, TheCubeKeepsItsEdgesWithAFewHundredControlPoints) {
             5.0);
 }
 
+// The tetrahedron of CGAL's data/meshes/tetrahedron.off.
+TriangleMesh Tetrahedron() {
+  return testing::MakeMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
+                           {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}});
+}
+
+TEST(FeatureFitTest, TheTetrahedronKeepsItsEdgesWithFourKnotsAlongEach) {
+  // Each edge's great circle holds that edge alone: one knot along it from
+  // each corner gives the circle four knots, one fewer than a crease needs
+  // at degree 4 (that round misses), four give it ten.
+  const TriangleMesh tetrahedron = Tetrahedron();
+  auto fit = FitSphericalSpline(tetrahedron, Options(30));
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  EXPECT_TRUE(fit->shortfall.empty()) << fit->shortfall;
+  EXPECT_TRUE(fit->features_kept);
+  const RoundStatistics& f = fit->model.statistics.final_result;
+  EXPECT_EQ(f.knots, 52);  // 4 corners x (1 + 3 edges x 4)
+  EXPECT_LE(f.control_points, 400);
+  EXPECT_EQ(f.folded_area_percent, 0.0);
+  auto spline = SurfaceFromModel(fit->model);
+  ASSERT_TRUE(spline.ok());
+  // The closed form: every surface point on one of the four face planes,
+  // none outside the solid (in the normalized frame, against the largest
+  // side 1), and the normal beside every edge the face's.
+  const Eigen::MatrixX3d vertices =
+      fit->model.transform.ToNormalized(tetrahedron.vertices);
+  std::vector<Eigen::Vector4d> planes;
+  for (Eigen::Index t = 0; t < tetrahedron.faces.rows(); ++t) {
+    const Eigen::Vector3d a = vertices.row(tetrahedron.faces(t, 0));
+    const Eigen::Vector3d b = vertices.row(tetrahedron.faces(t, 1));
+    const Eigen::Vector3d c = vertices.row(tetrahedron.faces(t, 2));
+    Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+    // Outward (the file's faces turn inward): the centroid below the plane.
+    if (n.dot(vertices.colwise().mean().transpose() - a) > 0) n = -n;
+    planes.push_back({n.x(), n.y(), n.z(), -n.dot(a)});
+  }
+  const Eigen::MatrixX3d lattice = testing::FibonacciPoints(20000, 0, 0.0);
+  double off_faces = 0.0, outside = 0.0;
+  for (Eigen::Index i = 0; i < lattice.rows(); ++i) {
+    const Eigen::Vector4d x = spline->Evaluate(lattice.row(i)).homogeneous();
+    double nearest = 1e300, out = -1e300;
+    for (const Eigen::Vector4d& plane : planes) {
+      nearest = std::min(nearest, std::abs(plane.dot(x)));
+      out = std::max(out, plane.dot(x));
+    }
+    off_faces = std::max(off_faces, nearest);
+    outside = std::max(outside, out);
+  }
+  EXPECT_LT(off_faces, 1e-4);
+  EXPECT_LT(outside, 1e-4);
+  const testing::FeatureNormals normals = testing::MeasureFeatureNormals(
+      *spline, vertices, tetrahedron.faces, fit->features, 0.01, 150000);
+  EXPECT_EQ(normals.angles_degrees.size(), 36u);
+  EXPECT_LT(normals.max_degrees, 2.0);
+  std::printf(
+      "tetrahedron: %d control points, %.2g off the faces, normals %.4f "
+      "deg\n",
+      f.control_points, off_faces, normals.max_degrees);
+}
+
 TEST(FeatureFitTest, AFitTheClustersCannotFinishIsTheOneWithoutThem) {
-  // The tetrahedron of CGAL's data/meshes/tetrahedron.off: its six edges
-  // run between its four corners, so the clusters are tried, but its
-  // corners are too sharp for them (the round folds) and the fit is the
-  // one it would be without features.
-  const TriangleMesh tetrahedron =
-      testing::MakeMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
-                        {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}});
+  // The tetrahedron at degree 3: both cluster rounds (one and three knots
+  // along each edge) fold a little, so the fit is the one it would be
+  // without features.
+  const TriangleMesh tetrahedron = Tetrahedron();
   FitOptions with_options = Options(30), without_options = Options(180);
+  with_options.degree = without_options.degree = 3;
   with_options.max_rounds = without_options.max_rounds = 2;
   auto with = FitSphericalSpline(tetrahedron, with_options);
   auto without = FitSphericalSpline(tetrahedron, without_options);

@@ -76,18 +76,89 @@ TEST(CornerKnotClusters, NoCornersNoKnots) {
   EXPECT_EQ(CornerKnotClusters(features, sphere).rows(), 0);
 }
 
-TEST(ClustersKeepEveryFeature, OnlySingleEdgesBetweenCorners) {
+TEST(ClustersKeepEveryFeature, CurvesAlongOneArcBetweenCorners) {
+  // Vertices 0, 1, 2 on the equator (1 between 0 and 2), 3 off it.
+  Eigen::MatrixX3d sphere(4, 3);
+  sphere << 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1;
+  sphere.rowwise().normalize();
   MeshFeatures features;
   features.edges = {{0, 1}, {1, 2}};
   features.curves = {{{0, 1}, false}, {{1, 2}, false}};
-  EXPECT_FALSE(ClustersKeepEveryFeature(features));  // no corners
+  EXPECT_FALSE(FeatureCurvesJoinCorners(features));  // no corners
+  EXPECT_FALSE(ClustersKeepEveryFeature(features, sphere));
   features.corners = {0, 1, 2};
-  EXPECT_TRUE(ClustersKeepEveryFeature(features));
+  EXPECT_TRUE(ClustersKeepEveryFeature(features, sphere));
   features.corners = {0, 1};  // the second curve ends at a non-corner
-  EXPECT_FALSE(ClustersKeepEveryFeature(features));
-  features.corners = {0, 2};  // one curve through vertex 1
+  EXPECT_FALSE(FeatureCurvesJoinCorners(features));
+  EXPECT_FALSE(ClustersKeepEveryFeature(features, sphere));
+  // One curve through vertex 1, on the great circle of its ends: an arc.
+  features.corners = {0, 2};
   features.curves = {{{0, 1, 2}, false}};
-  EXPECT_FALSE(ClustersKeepEveryFeature(features));
+  EXPECT_TRUE(ClustersKeepEveryFeature(features, sphere));
+  // Vertex 1 a hair (1e-6 rad) off that circle, or beyond an end: not one.
+  sphere.row(1) << 1, 1, 1.4142e-6;
+  sphere.row(1).normalize();
+  EXPECT_TRUE(FeatureCurvesJoinCorners(features));
+  EXPECT_FALSE(ClustersKeepEveryFeature(features, sphere));
+  sphere.row(1) << -1, 1, 0;
+  sphere.row(1).normalize();
+  EXPECT_FALSE(ClustersKeepEveryFeature(features, sphere));
+}
+
+// Several knots along each feature edge: gap, 2 gap, 4 gap from the corner
+// on the great circle toward the far end of the edge's curve (a chain of two
+// edges here, whose middle vertex the knots do not aim at).
+TEST(CornerKnotClusters, SeveralKnotsAlongTheCurve) {
+  Eigen::MatrixX3d sphere(3, 3);
+  sphere << 1, 0, 0, 0.6, 0.8, 0.001, 0, 1, 0;
+  MeshFeatures features;
+  features.edges = {{0, 1}, {1, 2}};
+  features.curves = {{{0, 1, 2}, false}};
+  features.corners = {0, 2};
+  const double gap = 1e-3;
+  const Eigen::MatrixX3d knots = CornerKnotClusters(features, sphere, gap, 3);
+  ASSERT_EQ(knots.rows(), 8);  // 2 corners x (1 + 3)
+  for (int c = 0; c < 2; ++c) {
+    const Eigen::Vector3d corner = knots.row(4 * c);
+    EXPECT_EQ(corner, sphere.row(2 * c).transpose());
+    for (int k = 1; k <= 3; ++k) {
+      const Eigen::Vector3d knot = knots.row(4 * c + k);
+      EXPECT_NEAR(std::atan2(knot.cross(corner).norm(), knot.dot(corner)),
+                  gap * std::pow(2.0, k - 1), 1e-15);
+      EXPECT_NEAR(knot.z(), 0.0, 1e-15);  // on the equator, not toward 1
+      EXPECT_GT(knot.dot(sphere.row(2 - 2 * c)),
+                corner.dot(sphere.row(2 - 2 * c)));
+    }
+  }
+}
+
+// A regular tetrahedron's clusters with four knots along each edge (what
+// the fit tries at degree 4): its 4 corners and 6 edges come back, the
+// further knots along an edge being no corner between its two ends.
+TEST(FeatureArcsOfKnots, TheTetrahedronsEdgesFromClustersOfSeveralKnots) {
+  Eigen::MatrixX3d sphere(4, 3);
+  sphere << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;
+  sphere.rowwise().normalize();
+  MeshFeatures features;
+  features.corners = {0, 1, 2, 3};
+  for (int a = 0; a < 4; ++a) {
+    for (int b = a + 1; b < 4; ++b) {
+      features.edges.push_back({a, b});
+      features.curves.push_back({{a, b}, false});
+    }
+  }
+  const Eigen::MatrixX3d knots =
+      CornerKnotClusters(features, sphere, kCornerClusterGap, 4);
+  ASSERT_EQ(knots.rows(), 52);  // 4 x (1 + 3 x 4)
+  const KnotFeatureArcs arcs = FeatureArcsOfKnots(knots);
+  ASSERT_EQ(arcs.corners.size(), 4u);
+  EXPECT_EQ(arcs.arcs.size(), 6u);
+  for (size_t c = 0; c < arcs.corners.size(); ++c) {
+    EXPECT_NEAR((arcs.corner_directions.row(c) -
+                 sphere.row(static_cast<Eigen::Index>(c)))
+                    .norm(),
+                0.0, 1e-15);
+  }
 }
 
 }  // namespace
