@@ -37,7 +37,7 @@ commands:
       [--repair]
                              Fit one smooth spherical DCB-spline (defaults:
                              degree 4, rmse 0.05 %, max error 10 x rmse,
-                             100 knots per round or
+                             70 knots per round or
                              a quarter of the knots so far if more, 30
                              rounds); --plot draws the error per round;
                              --store-parameters keeps each vertex's sphere

@@ -64,7 +64,7 @@ struct FitOptions {
   // most this. 0 = ten times rmse_percent; negative = no limit. A fit that
   // meets the rms but not this goes on adding rounds (docs/FITTING.md).
   double max_error_percent = 0.0;
-  int knots_per_round = 100;  // K: new knots per round (paper: 100)
+  int knots_per_round = 70;  // K: new knots per round (the paper: 100)
   // New knots per round are max(K, knots_growth x the knots so far): past
   // 4 K knots the rounds grow geometrically, so a fit that needs thousands
   // of knots takes tens of rounds, not hundreds of knots at a time over

@@ -161,8 +161,9 @@ void CheckReread(const SphericalSpline& spline, const CadNetwork& network,
   EXPECT_NEAR(r.area / c.spline_area, 1.0, 1e-3)
       << r.area << " vs " << c.spline_area;
   // The report's volume and area (from the faces' Bezier spans) are
-  // OpenCASCADE's.
-  EXPECT_NEAR(report.volume / r.volume, 1.0, 1e-9);
+  // OpenCASCADE's, up to the poles' decimal digits in the file (1.4e-9 on
+  // the bunny's model).
+  EXPECT_NEAR(report.volume / r.volume, 1.0, 1e-8);
   EXPECT_NEAR(report.area / r.area, 1.0, 1e-7);
   // The normal jump across every re-read edge, at 24 points each.
   const testing::NormalJumps jumps = testing::MeasureNormalJumps(r, 24);

@@ -120,7 +120,7 @@ TEST(FitCliTest, ReportCountsTheCubesSharpFeatures) {
   EXPECT_EQ(features["edges"], 0);
   EXPECT_EQ(features["corners"], 0);
   EXPECT_EQ(features["used"], false);
-  EXPECT_GE(smooth["final"]["knots"], 100);
+  EXPECT_GE(smooth["final"]["knots"], 70);  // at least the default round 0
   r = fit("0");
   EXPECT_EQ(r.exit_code, 2);
 }
@@ -343,13 +343,17 @@ TEST(FitCliTest, CompareAgreesWithTheFitReport) {
   EXPECT_EQ(c["folded_area_percent"].get<double>(), 0.0);
   EXPECT_GE(c["surface_samples"].get<int>(), 100000);
   // About 100,000 mesh samples, and the points its bound added: the bound
-  // within 1 % of the maximum.
+  // within 1 % of the maximum unless they reached their budget (a fifth of
+  // the samples asked).
   EXPECT_GT(c["mesh_samples"].get<int>(), 90000);
   EXPECT_LT(c["mesh_samples"].get<int>(), 150000);
   const double m2s = c["mesh_to_surface_max_percent"].get<double>();
   const double bound = c["mesh_to_surface_max_bound_percent"].get<double>();
   EXPECT_GE(bound, m2s);
-  EXPECT_LE(bound, 1.01 * m2s);
+  EXPECT_LE(c["mesh_bound_samples"].get<int>(), 20000);
+  if (c["mesh_bound_samples"].get<int>() < 20000) {
+    EXPECT_LE(bound, 1.01 * m2s);
+  }
   // Two-sided: the larger of the one-sided maxima, rms between them.
   const double s2m = c["surface_to_mesh_max_percent"].get<double>();
   EXPECT_EQ(c["hausdorff_percent"].get<double>(), std::max(s2m, m2s));
@@ -428,7 +432,7 @@ TEST(FitCliTest, InfoReadsTheModel) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["degree"], 4);
-  EXPECT_EQ(j["knots"], 100);
+  EXPECT_EQ(j["knots"], 70);  // one round of the default 70 knots
   EXPECT_EQ(j["source"]["vertices"], 2027);
   EXPECT_EQ(j["format_version"], 2);
   EXPECT_EQ(j["file_bytes"], fs::file_size(model));
