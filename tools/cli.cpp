@@ -197,12 +197,14 @@ long long WarnAboutSelfIntersections(const std::string& path,
 }
 
 StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,
-                                        const std::string& path) {
+                                        const std::string& path,
+                                        long long* intersecting_pairs) {
   SDCB_ASSIGN_OR_RETURN(TriangleMesh mesh,
                         ReadMesh(path, nullptr, MeshReadLimitsFromArgs(args)));
   SDCB_RETURN_IF_ERROR(RepairIfAsked(args, path, &mesh));
   SDCB_RETURN_IF_ERROR(RequireClosedGenusZero(mesh).WithPrefix(path));
-  WarnAboutSelfIntersections(path, mesh);
+  const long long pairs = WarnAboutSelfIntersections(path, mesh);
+  if (intersecting_pairs != nullptr) *intersecting_pairs = pairs;
   return mesh;
 }
 

@@ -86,9 +86,11 @@ long long WarnAboutSelfIntersections(const std::string& path,
 
 // What `fit` and `param` read: the MESH with the limits of the options,
 // repaired if asked, checked to be closed genus 0 (one sentence naming
-// `path` otherwise), with a warning if it intersects itself.
-StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,
-                                        const std::string& path);
+// `path` otherwise), with a warning if it intersects itself (the count of
+// intersecting pairs in `intersecting_pairs`, -1 if not checked).
+StatusOr<TriangleMesh> ReadFittableMesh(
+    const Args& args, const std::string& path,
+    long long* intersecting_pairs = nullptr);
 
 }  // namespace sdcb::cli
 

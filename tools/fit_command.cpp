@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "sdcb/converters/convergence_plot.h"
 #include "sdcb/core/fit/spline_fitter.h"
@@ -92,8 +93,9 @@ int RunFit(const std::vector<std::string>& argv) {
   // The checks run on --threads threads too.
   tbb::task_arena arena(options.threads > 0 ? options.threads
                                             : int{tbb::task_arena::automatic});
-  StatusOr<TriangleMesh> mesh =
-      arena.execute([&] { return ReadFittableMesh(args, path); });
+  long long intersecting_pairs = -1;
+  StatusOr<TriangleMesh> mesh = arena.execute(
+      [&] { return ReadFittableMesh(args, path, &intersecting_pairs); });
   if (!mesh.ok()) return ReportError(mesh.status());
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
@@ -172,12 +174,21 @@ int RunFit(const std::vector<std::string>& argv) {
     }
   }
   if (!fit->reached_target()) {
+    // Where the input passes through itself, so does any surface that
+    // follows it: its folds may be the mesh's.
+    const std::string mesh_reason =
+        intersecting_pairs > 0
+            ? "; the input intersects itself (" +
+                  std::to_string(intersecting_pairs) +
+                  (intersecting_pairs == 1 ? " pair" : " pairs") +
+                  " of triangles), which a surface that follows it does too"
+            : "";
     std::fprintf(
         stderr,
         "sdcb: %s: warning: the targets (rmse %.4f%%, max %.4f%%) were not "
-        "reached: %s\n",
+        "reached: %s%s\n",
         path.c_str(), options.rmse_percent, MaxErrorTarget(options),
-        fit->shortfall.c_str());
+        fit->shortfall.c_str(), mesh_reason.c_str());
   }
   return kExitOk;
 }

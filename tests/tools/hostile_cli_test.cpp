@@ -258,6 +258,20 @@ TEST(HostileCliTest, SelfIntersectionsAreReportedAndWarned) {
               dir);
   EXPECT_NE(r.err.find("crumpled.off: warning:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("pairs of triangles intersect"), std::string::npos);
+  // A target it misses names the intersections among the reasons; a mesh
+  // without them does not.
+  r = RunSdcb({"fit", dir + "/crumpled.off", "-o", dir + "/c.sdcb", "--rmse",
+               "0.001", "--max-rounds", "1", "--quiet"},
+              dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("were not reached: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("; the input intersects itself ("), std::string::npos)
+      << r.err;
+  r = RunSdcb({"fit", dir + "/sphere.off", "-o", dir + "/s.sdcb", "--rmse",
+               "0.001", "--max-rounds", "1", "--quiet"},
+              dir);
+  EXPECT_NE(r.err.find("were not reached: "), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("intersects itself"), std::string::npos) << r.err;
 }
 
 // sphere966 as a triangle soup (every triangle with its own vertices, as in
