@@ -105,6 +105,16 @@ int RunFit(const std::vector<std::string>& argv) {
   StatusOr<FitResult> fit = FitSphericalSpline(*mesh, options);
   progress.Finish();
   if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));
+  if (!fit->reached_target() && intersecting_pairs > 0) {
+    // Where the input passes through itself, so does any surface that
+    // follows it: its folds may be the mesh's (in the report's shortfall
+    // and the warning alike).
+    fit->shortfall += "; the input intersects itself (" +
+                      std::to_string(intersecting_pairs) +
+                      (intersecting_pairs == 1 ? " pair" : " pairs") +
+                      " of triangles), which a surface that follows it does "
+                      "too";
+  }
   fit->model.source.file_name = std::filesystem::path(path).filename().string();
 
   SdcbFileInfo file_info;
@@ -174,21 +184,12 @@ int RunFit(const std::vector<std::string>& argv) {
     }
   }
   if (!fit->reached_target()) {
-    // Where the input passes through itself, so does any surface that
-    // follows it: its folds may be the mesh's.
-    const std::string mesh_reason =
-        intersecting_pairs > 0
-            ? "; the input intersects itself (" +
-                  std::to_string(intersecting_pairs) +
-                  (intersecting_pairs == 1 ? " pair" : " pairs") +
-                  " of triangles), which a surface that follows it does too"
-            : "";
     std::fprintf(
         stderr,
         "sdcb: %s: warning: the targets (rmse %.4f%%, max %.4f%%) were not "
-        "reached: %s%s\n",
+        "reached: %s\n",
         path.c_str(), options.rmse_percent, MaxErrorTarget(options),
-        fit->shortfall.c_str(), mesh_reason.c_str());
+        fit->shortfall.c_str());
   }
   return kExitOk;
 }

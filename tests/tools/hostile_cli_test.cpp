@@ -260,13 +260,19 @@ TEST(HostileCliTest, SelfIntersectionsAreReportedAndWarned) {
   EXPECT_NE(r.err.find("pairs of triangles intersect"), std::string::npos);
   // A target it misses names the intersections among the reasons; a mesh
   // without them does not.
-  r = RunSdcb({"fit", dir + "/crumpled.off", "-o", dir + "/c.sdcb", "--rmse",
-               "0.001", "--max-rounds", "1", "--quiet"},
-              dir);
+  r = RunSdcb(
+      {"fit", dir + "/crumpled.off", "-o", dir + "/c.sdcb", "--rmse", "0.001",
+       "--max-rounds", "1", "--json", dir + "/c.json", "--quiet"},
+      dir);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("were not reached: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("; the input intersects itself ("), std::string::npos)
       << r.err;
+  const std::string shortfall =
+      nlohmann::json::parse(ReadBytes(dir + "/c.json"))["shortfall"];
+  EXPECT_NE(shortfall.find("; the input intersects itself ("),
+            std::string::npos)
+      << shortfall;
   r = RunSdcb({"fit", dir + "/sphere.off", "-o", dir + "/s.sdcb", "--rmse",
                "0.001", "--max-rounds", "1", "--quiet"},
               dir);
