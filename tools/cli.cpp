@@ -176,6 +176,11 @@ Status RepairIfAsked(const Args& args, const std::string& path,
   return Status::Ok();
 }
 
+std::string IntersectingPairsText(long long pairs) {
+  return std::to_string(pairs) + (pairs == 1 ? " pair" : " pairs") +
+         " of triangles";
+}
+
 long long WarnAboutSelfIntersections(const std::string& path,
                                      const TriangleMesh& mesh,
                                      std::string* skipped_because) {
@@ -188,10 +193,10 @@ long long WarnAboutSelfIntersections(const std::string& path,
     return -1;
   }
   if (report->intersecting_pairs > 0) {
-    std::cerr << "sdcb: " << path << ": warning: " << report->intersecting_pairs
-              << (report->intersecting_pairs == 1 ? " pair" : " pairs")
-              << " of triangles intersect (the surface passes through "
-                 "itself; a fitted surface would too)\n";
+    std::cerr << "sdcb: " << path << ": warning: "
+              << IntersectingPairsText(report->intersecting_pairs)
+              << " intersect (the surface passes through itself; a fitted "
+                 "surface would too)\n";
   }
   return report->intersecting_pairs;
 }

@@ -77,6 +77,10 @@ MeshReadLimits MeshReadLimitsFromArgs(const Args& args);
 Status RepairIfAsked(const Args& args, const std::string& path,
                      TriangleMesh* mesh);
 
+// "1 pair of triangles", "N pairs of triangles": how the commands name a
+// count of intersecting pairs.
+std::string IntersectingPairsText(long long pairs);
+
 // Counts self-intersections (core/mesh/self_intersections.h) and prints a
 // warning line on stderr when there are any. Returns the count, or -1 if
 // the test was skipped (the reason goes to `skipped_because`).

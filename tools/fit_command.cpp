@@ -110,10 +110,8 @@ int RunFit(const std::vector<std::string>& argv) {
     // follows it: its folds may be the mesh's (in the report's shortfall
     // and the warning alike).
     fit->shortfall += "; the input intersects itself (" +
-                      std::to_string(intersecting_pairs) +
-                      (intersecting_pairs == 1 ? " pair" : " pairs") +
-                      " of triangles), which a surface that follows it does "
-                      "too";
+                      IntersectingPairsText(intersecting_pairs) +
+                      "), which a surface that follows it does too";
   }
   fit->model.source.file_name = std::filesystem::path(path).filename().string();
 
