@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "sdcb/core/fit/fit_samples.h"
+#include "sdcb/core/fit/fold_progress.h"
 #include "sdcb/core/fit/least_squares.h"
 #include "sdcb/core/fit/surface_deviation.h"
 #include "sdcb/core/knots/feature_knots.h"
@@ -109,13 +110,6 @@ constexpr double kLastRoundShare = 0.7;
 // 0.2 % on the cow and camel, they had shrunk by 10 % at most).
 constexpr int kFoldRoundsToShrink = 2;
 constexpr double kFoldShrink = 0.5;
-// A fit stops when its folds do not shrink as its knots grow: a round with at
-// least this many times the knots of the round that folded least (of those
-// that fold) still folds as much (on CGAL's 58 meshes at 70 knots per round:
-// diplodocus, 1.32 % of its area folded at 210 knots, 2.60 % at 852, and
-// went on to the 50,000 control-point cap; cactus and man; no fit that
-// reaches its target).
-constexpr double kFoldKnotGrowth = 4.0;
 // The default Hausdorff target, in multiples of the rms target: on CGAL's
 // meshes a fit that reaches its rms has a Hausdorff distance 2 to 9 times it
 // and more at sharp feature lines (fandisk 15x, fandisk_large 16x;
@@ -372,9 +366,8 @@ struct SplineFitter::State {
   int fold_rounds = 0;
   int fold_rounds_in_a_row = 0;
   double folds_when_fold_rounds_began = 0.0;
-  // The least folded area of the rounds that fold, and that round's knots.
-  double least_folds = 0.0;
-  int knots_at_least_folds = 0;
+  // Whether the folds shrink as knots are added.
+  FoldProgress fold_progress;
 
   template <typename F>
   auto InArena(F&& f) {
@@ -1268,19 +1261,14 @@ Status SplineFitter::State::RunRound() {
   if (only_folds && fold_rounds >= o.max_fold_rounds) {
     return Finish(false, folds_left);
   }
-  if (rs.folded_area_percent > 0) {
-    if (knots_at_least_folds == 0 || rs.folded_area_percent < least_folds) {
-      least_folds = rs.folded_area_percent;
-      knots_at_least_folds = rs.knots;
-    } else if (rs.knots >= kFoldKnotGrowth * knots_at_least_folds) {
-      return Finish(false, folds_left + "; its folds do not shrink as knots " +
-                               "are added (" + ShortPercent(least_folds) +
-                               " % of its area at " +
-                               std::to_string(knots_at_least_folds) +
-                               " knots, " +
-                               ShortPercent(rs.folded_area_percent) + " % at " +
-                               std::to_string(rs.knots) + ")");
-    }
+  if (fold_progress.Stalls(rs.knots, rs.folded_area_percent)) {
+    return Finish(
+        false, folds_left + "; its folds do not shrink as knots are added (" +
+                   ShortPercent(fold_progress.least_folded_percent()) +
+                   " % of its area at " +
+                   std::to_string(fold_progress.knots_at_least()) + " knots, " +
+                   ShortPercent(rs.folded_area_percent) + " % at " +
+                   std::to_string(rs.knots) + ")");
   }
   // Fold rounds that have not shrunk the folds give way to an ordinary
   // round (knots where the error is, and where it folds).

@@ -91,7 +91,8 @@ TEST(AdaptiveFitTest, TheCoarseCowFollowsItsMeshEverywhere) {
 
 // CGAL's cactus folds in every round (its thin arms), and its folds do not
 // shrink as knots are added: the fit stops at the first round with four
-// times the knots of the round that folded least yet folding as much (not
+// times the knots of the round that folded least yet folding as much, and
+// at least 0.5 % of its area (not
 // at the 50,000 control-point cap, where it went without the rule: 12,944
 // control points), and says why.
 TEST(AdaptiveFitTest, FoldsThatDoNotShrinkStopTheFit) {
@@ -112,7 +113,8 @@ TEST(AdaptiveFitTest, FoldsThatDoNotShrinkStopTheFit) {
     const RoundStatistics& x = rounds[i];
     if (x.folded_area_percent <= 0) continue;
     const bool stops = least_knots > 0 && x.folded_area_percent >= least &&
-                       x.knots >= 4 * least_knots;
+                       x.knots >= 4 * least_knots &&
+                       x.folded_area_percent >= 0.5;
     EXPECT_EQ(stops, i + 1 == rounds.size()) << "round " << i;
     if (least_knots == 0 || x.folded_area_percent < least) {
       least = x.folded_area_percent;
