@@ -46,7 +46,9 @@
 //
 // The spline is evaluated through its polynomials (PiecewiseSurface, which
 // agrees with SphericalSpline to ~1e-13 relative and is several times faster
-// per point once its regions are built).
+// per point once a region is built) when there are many points to evaluate
+// per control point (the closest-point searches of a dense measurement),
+// else through its basis (a round's lattice alone).
 //
 // Distances are in percent of DeviationOptions::length_unit (the largest
 // side of the mesh's bounding box, in the frame of both objects).
