@@ -821,7 +821,9 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
       const double to = rising ? options.lambda : coarse_lambda;
       if (next > 0) {
         const bool small =
-            alive <= options.small_level_fraction * mesh.num_vertices();
+            alive <=
+            std::min(options.small_level_fraction * mesh.num_vertices(),
+                     static_cast<double>(options.small_level_vertices));
         optimize_rising(
             from, to, options.level_sweeps,
             small ? options.level_tolerance : options.finest_tolerance);
