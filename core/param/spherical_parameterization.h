@@ -57,10 +57,10 @@ struct SphericalParameterizationOptions {
   // `small_level_fraction` of the input's vertices, and at most
   // `small_level_vertices`) are cheap and decide where area goes, so they
   // use the tighter `level_tolerance`; larger ones use `finest_tolerance`.
-  // The cap leaves inputs of up to 40,000 vertices as the fraction alone
-  // does; above, levels of 4,000 to 166,000 vertices no longer all run to
-  // the tight tolerance (CGAL's armadillo refined to 1.66M vertices: its
-  // 51K-vertex level took 8 s at 100 sweeps).
+  // Up to 40,000 input vertices the fraction is the smaller bound; the cap
+  // keeps large levels of large inputs off the tight tolerance (CGAL's
+  // armadillo refined to 1.66M vertices: a 51K-vertex level takes 8 s at
+  // 100 sweeps).
   int base_sweeps = 300;
   int level_sweeps = 100;
   int finest_sweeps = 20;
