@@ -1,6 +1,6 @@
 // The true distance between a spherical spline surface and a triangle mesh,
-// measured where nothing was fitted, both ways (docs/FITTING.md, "Honest
-// errors"):
+// measured where nothing was fitted, both ways (docs/FITTING.md, "The error
+// is the distance between the two surfaces"):
 //
 // - surface -> mesh: at the vertices of a lattice of level L inside every
 //   Delaunay triangle of the spline's knots (so every basis support is
