@@ -1,8 +1,8 @@
 // The quads of the sphere that the CAD network's faces cut (docs/CAD.md,
-// "Layout"): the cube-sphere's six, or, for a spline whose knots hold
-// feature arcs (a fit that kept its sharp edges, core/knots/feature_knots.h), quads
-// whose sides run along the arcs, so that the B-rep's face borders lie on
-// the surface's creases.
+// "How the network is made"): the cube-sphere's six, or, for a spline whose
+// knots hold feature arcs (a fit that kept its sharp edges,
+// core/knots/feature_knots.h), quads whose sides run along the arcs, so that
+// the B-rep's face borders lie on the surface's creases.
 //
 // Each quad q is a map of [-1, 1]^2 onto the sphere. Its sides are numbered
 // as a CadNetwork face's: 0 at v = -1, 1 at u = 1, 2 at v = 1, 3 at u = -1.

@@ -1,6 +1,6 @@
 // The coding of quantized control points in the `.sdcb` PCTL chunk
-// (docs/FORMAT.md, "Predicted control points"): each control point's grid
-// codes predicted from the control points of neighbouring basis functions
+// (docs/FORMAT.md, "Chunks of versions 2 and 3", PCTL): each control point's
+// grid codes predicted from the control points of neighbouring basis functions
 // already decoded, the residuals range-coded (io/range_coder.h).
 //
 // Neighbours: two basis functions whose configuration sets share all but

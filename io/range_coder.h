@@ -1,8 +1,8 @@
 // An adaptive binary range coder (the carry-propagating coder of LZMA, with
 // 11-bit probabilities adapted by 1/32 of the error per bit) and the integer
 // code built on it that the `.sdcb` PCTL and QKNT chunks use
-// (docs/FORMAT.md, "Range-coded integers"). Written here; the byte stream is
-// specified in docs/FORMAT.md so that other readers can be written.
+// (docs/FORMAT.md, "Chunks of versions 2 and 3"). Written here; the byte stream
+// is specified in docs/FORMAT.md so that other readers can be written.
 //
 // The decoder never reads past its input and never allocates: a stream that
 // ends early decodes as if zero bytes followed and sets overran(), which

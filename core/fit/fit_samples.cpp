@@ -93,6 +93,9 @@ bool SplitTriangles(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, mesh.faces.rows(), 256),
       [&](const tbb::blocked_range<Eigen::Index>& range) {
+        // Consecutive triangles and pieces are mostly close: each query
+        // starts from the last one's knot (the same answers).
+        int hint = -1;
         for (Eigen::Index f = range.begin(); f < range.end(); ++f) {
           (*leaves)[f].clear();
           if (over.load(std::memory_order_relaxed)) continue;
@@ -105,7 +108,8 @@ bool SplitTriangles(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
           // The sample spacing at a point: the spacing of the knot nearest
           // to it over per_spacing.
           const auto length = [&](const Eigen::Vector3d& p) {
-            const PointKdTree::Neighbor near = knot_tree.Nearest(p);
+            const PointKdTree::Neighbor near = knot_tree.NearestNear(p, hint);
+            hint = near.index;
             return near.index >= 0 ? spacing[near.index] / per_spacing
                                    : std::numeric_limits<double>::infinity();
           };
@@ -170,12 +174,15 @@ int64_t NormalBin(const Eigen::Vector3d& n) {
 // The cell of sphere point p: its nearest knot, the square of side
 // spacing / per_spacing holding p in a tangent grid of that knot (a frame
 // fixed by the knot alone), and `normal_bin`.
+// `hint`: a knot likely nearest to p, or -1 (PointKdTree::NearestNear); set
+// to the knot found.
 std::array<int64_t, 4> CellKey(const Eigen::Vector3d& p,
                                const Eigen::MatrixX3d& knots,
                                const Eigen::VectorXd& spacing,
                                const PointKdTree& knot_tree, double per_spacing,
-                               int64_t normal_bin) {
-  const int k = std::max(knot_tree.Nearest(p).index, 0);
+                               int64_t normal_bin, int* hint) {
+  *hint = knot_tree.NearestNear(p, *hint).index;
+  const int k = std::max(*hint, 0);
   const Eigen::Vector3d t = knots.row(k).transpose();
   const Eigen::Vector3d helper = std::abs(t.x()) < 0.6
                                      ? Eigen::Vector3d::UnitX()
@@ -215,10 +222,11 @@ void MergedSamples(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
   int64_t normal_bin = 0;  // of the triangle being deposited
   const double per_spacing = options.samples_per_spacing;
   Eigen::VectorXd vertex_weight = Eigen::VectorXd::Zero(nv);
+  int hint = -1;  // the last deposit's knot
   auto deposit = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& x,
                      double w, int f) {
     const std::array<int64_t, 4> key =
-        CellKey(p, knots, spacing, knot_tree, per_spacing, normal_bin);
+        CellKey(p, knots, spacing, knot_tree, per_spacing, normal_bin, &hint);
     Cell& c = cells[key];
     c.point += w * p;
     c.target += w * x;
@@ -241,7 +249,8 @@ void MergedSamples(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
     const double area = 0.5 * normal.norm();
     normal_bin = NormalBin(normal);
     const auto length = [&](const Eigen::Vector3d& p) {
-      const PointKdTree::Neighbor near = knot_tree.Nearest(p);
+      const PointKdTree::Neighbor near = knot_tree.NearestNear(p, hint);
+      hint = near.index;
       return near.index >= 0 ? spacing[near.index] / per_spacing
                              : std::numeric_limits<double>::infinity();
     };
@@ -333,20 +342,36 @@ void MergedSamples(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
 // Thins `out` (FitSampleOptions::thin_above_vertices) in place; false, leaving
 // it as it was, when thinning would keep more than thin_keep_at_most of its
 // rows.
-bool Thin(const TriangleMesh& mesh, const Eigen::MatrixX3d& knots,
-          const Eigen::VectorXd& spacing, const PointKdTree& knot_tree,
-          const FitSampleOptions& options, FitSamples* out) {
+bool Thin(const TriangleMesh& mesh, const Eigen::MatrixX3d* vertex_normals,
+          const Eigen::MatrixX3d& knots, const Eigen::VectorXd& spacing,
+          const PointKdTree& knot_tree, const FitSampleOptions& options,
+          FitSamples* out) {
   const Eigen::Index nv = out->num_vertices, rows = out->points.rows();
   // Mesh normals: of the triangle for a point inside it, area-weighted over
   // the incident triangles for a vertex.
-  const Eigen::MatrixX3d vertex_normal = VertexNormals(mesh);
+  Eigen::MatrixX3d computed;
+  if (vertex_normals == nullptr) computed = VertexNormals(mesh);
+  const Eigen::MatrixX3d& vertex_normal =
+      vertex_normals != nullptr ? *vertex_normals : computed;
   Eigen::MatrixX3d normal(rows, 3);
-  // Each row's cell: (knot, grid row, grid column, normal bin).
-  std::vector<std::array<int64_t, 4>> key(rows);
+  // Each row's cell: (knot, grid row, grid column, normal bin), sorted by
+  // cell and then by row (a total order: the same for any sort).
+  struct CellRow {
+    std::array<int64_t, 4> key;
+    Eigen::Index row;
+    bool operator<(const CellRow& o) const {
+      for (int i = 0; i < 4; ++i) {
+        if (key[i] != o.key[i]) return key[i] < o.key[i];
+      }
+      return row < o.row;
+    }
+  };
+  std::vector<CellRow> cell_rows(rows);
   const double per_spacing = options.thinned_cells_per_spacing;
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, rows, 1024),
       [&](const tbb::blocked_range<Eigen::Index>& range) {
+        int hint = -1;  // the last row's knot (rows in mesh order are close)
         for (Eigen::Index r = range.begin(); r < range.end(); ++r) {
           Eigen::Vector3d n = Eigen::Vector3d::Zero();
           if (r < nv) {
@@ -361,22 +386,21 @@ bool Thin(const TriangleMesh& mesh, const Eigen::MatrixX3d& knots,
             if (length > 0) n = cross / length;
           }
           normal.row(r) = n.transpose();
-          key[r] = CellKey(out->points.row(r).transpose(), knots, spacing,
-                           knot_tree, per_spacing, NormalBin(n));
+          cell_rows[r] = {
+              CellKey(out->points.row(r).transpose(), knots, spacing, knot_tree,
+                      per_spacing, NormalBin(n), &hint),
+              r};
         }
       });
+  tbb::parallel_sort(cell_rows.begin(), cell_rows.end());
   std::vector<Eigen::Index> order(rows);
-  for (Eigen::Index r = 0; r < rows; ++r) order[r] = r;
-  tbb::parallel_sort(order.begin(), order.end(),
-                     [&](Eigen::Index a, Eigen::Index b) {
-                       return key[a] != key[b] ? key[a] < key[b] : a < b;
-                     });
+  for (Eigen::Index i = 0; i < rows; ++i) order[i] = cell_rows[i].row;
   // Per cell (a run of `order`): the kept row and the cell's weight.
   std::vector<std::pair<Eigen::Index, double>> kept;
   std::vector<Eigen::Index> cell_of(rows);
   for (Eigen::Index begin = 0; begin < rows;) {
     Eigen::Index end = begin + 1;
-    while (end < rows && key[order[end]] == key[order[begin]]) ++end;
+    while (end < rows && cell_rows[end].key == cell_rows[begin].key) ++end;
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     double weight = 0.0;
     for (Eigen::Index i = begin; i < end; ++i) {
@@ -455,7 +479,8 @@ bool Thin(const TriangleMesh& mesh, const Eigen::MatrixX3d& knots,
 FitSamples BuildFitSamples(const TriangleMesh& mesh,
                            const Eigen::MatrixX3d& sphere,
                            const Eigen::MatrixX3d& knots,
-                           const FitSampleOptions& options) {
+                           const FitSampleOptions& options,
+                           const Eigen::MatrixX3d* vertex_normals) {
   const Eigen::Index nv = mesh.vertices.rows(), nf = mesh.faces.rows();
   const Eigen::VectorXd spacing = KnotSpacing(knots);
   const PointKdTree knot_tree(knots);
@@ -474,7 +499,7 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
     MergedSamples(mesh, sphere, knots, spacing, knot_tree, options, &out);
     out.unthinned_rows = out.points.rows();
     if (options.thin_above_vertices > 0 && nv > options.thin_above_vertices) {
-      Thin(mesh, knots, spacing, knot_tree, options, &out);
+      Thin(mesh, vertex_normals, knots, spacing, knot_tree, options, &out);
     }
     return out;
   }
@@ -530,7 +555,7 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
   out.triangle.resize(next - nv);
   out.unthinned_rows = out.points.rows();
   if (options.thin_above_vertices > 0 && nv > options.thin_above_vertices) {
-    Thin(mesh, knots, spacing, knot_tree, options, &out);
+    Thin(mesh, vertex_normals, knots, spacing, knot_tree, options, &out);
   }
   return out;
 }

@@ -89,11 +89,13 @@ struct FitSamples {
 
 // `mesh`: the mesh (any frame); `sphere`: #V by 3 sphere points of its
 // vertices (a bijective parameterization); `knots`: #K by 3 unit vectors,
-// the knots the samples must resolve. Deterministic.
+// the knots the samples must resolve; `vertex_normals`: VertexNormals(mesh)
+// if the caller has them (thinning needs them), else null. Deterministic.
 FitSamples BuildFitSamples(const TriangleMesh& mesh,
                            const Eigen::MatrixX3d& sphere,
                            const Eigen::MatrixX3d& knots,
-                           const FitSampleOptions& options = {});
+                           const FitSampleOptions& options = {},
+                           const Eigen::MatrixX3d* vertex_normals = nullptr);
 
 // Appends rows beside every edge of `edges` (mesh vertex pairs), inside
 // each triangle along it: at `along` points evenly along the edge and, for

@@ -341,6 +341,8 @@ struct SplineFitter::State {
   // rounds' estimate of the dense measurement).
   Eigen::MatrixX3d vertex_normal;
   std::unique_ptr<PointKdTree> parameter_tree;
+  // VertexAreaRatio(mesh, u) once a round has needed it (reset with u).
+  std::optional<StatusOr<Eigen::VectorXd>> area_ratio;
   // The mesh's AABB tree, built once for every round's measurement.
   std::optional<MeshDistance> mesh_distance;
   SphericalDensity density;  // of the next round's knots
@@ -426,6 +428,13 @@ struct SplineFitter::State {
   // this one had one (an arc alone on its great circle needs k + 1 knots
   // there for a crease: the tetrahedron), and is otherwise an ordinary
   // round 0.
+  // Makes `parameters` the vertices' sphere parameters u.
+  void UseParameters(Eigen::MatrixX3d parameters) {
+    u = std::move(parameters);
+    parameter_tree = std::make_unique<PointKdTree>(u);
+    area_ratio.reset();
+  }
+
   void DropFeatureRound() {
     if (feature_knots_per_edge < options.degree) {
       feature_knots_per_edge = options.degree;
@@ -434,9 +443,8 @@ struct SplineFitter::State {
     } else {
       feature_knots.resize(0, 3);
       if (default_u.rows() > 0) {
-        u = std::move(default_u);
+        UseParameters(std::move(default_u));
         default_u.resize(0, 3);
-        parameter_tree = std::make_unique<PointKdTree>(u);
       }
     }
     SplineModel& model = result.model;
@@ -733,8 +741,7 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
     side.wait();
     return p;
   }));
-  s.u = param.sphere;
-  s.parameter_tree = std::make_unique<PointKdTree>(s.u);
+  s.UseParameters(param.sphere);
   SDCB_ASSIGN_OR_RETURN(s.mesh_distance, std::move(*distance));
   s.result.timings.parameterization = stage.Seconds();
 
@@ -755,8 +762,7 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
     if (ClustersKeepEveryFeature(s.result.features, central ? *central : s.u)) {
       if (central) {
         s.default_u = std::move(s.u);
-        s.u = std::move(*central);
-        s.parameter_tree = std::make_unique<PointKdTree>(s.u);
+        s.UseParameters(std::move(*central));
       }
       s.feature_knots_per_edge = 1;
       s.feature_knots = CornerKnotClusters(s.result.features, s.u);
@@ -857,8 +863,9 @@ StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
     // would be that dense over each one's whole Voronoi cell (28 million
     // rows on a cube of 866 vertices). Spaced by the corners alone; the
     // rows beside the edges below pin the thin triangles.
-    samples_or.emplace(BuildFitSamples(
-        mesh, u, feature_round ? FeatureCorners() : knots, sample_options));
+    samples_or.emplace(BuildFitSamples(mesh, u,
+                                       feature_round ? FeatureCorners() : knots,
+                                       sample_options, &vertex_normal));
   });
   StatusOr<DcbBasis> basis_or = DcbBasis::Create(knots, configurations);
   side.wait();
@@ -1002,8 +1009,10 @@ void SplineFitter::State::NextDensity(const Problem& p,
   // Knots where the error is per unit of the mesh's area, not the
   // sphere's: the map compresses thin parts and features (docs/KNOTS.md).
   StatusOr<Eigen::VectorXd> values = DensityFromValues(error, options.alpha);
-  StatusOr<Eigen::VectorXd> ratio = VertexAreaRatio(mesh, u);
-  if (values.ok() && ratio.ok()) values = PullBackDensity(*values, *ratio);
+  if (!area_ratio) area_ratio = VertexAreaRatio(mesh, u);
+  if (values.ok() && area_ratio->ok()) {
+    values = PullBackDensity(*values, **area_ratio);
+  }
   if (values.ok()) density.values = std::move(values).value();
 }
 

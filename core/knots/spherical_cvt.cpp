@@ -340,16 +340,9 @@ Assignment Assign(const Quadrature& q, const std::vector<double>& fixed_d2,
           const double d_fixed = std::sqrt(d2_fixed);
           const double reach = d_fixed + capture->window;
           // The previous point's nearest free knot (points are in Morton
-          // order) tightens the bound; the bound admits that knot, so the
-          // answer is unchanged whenever it is the tighter one.
-          double bound = reach * reach;
-          if (previous >= 0) {
-            const double d2_previous =
-                (free_knots.row(previous).transpose() - q.points[s])
-                    .squaredNorm();
-            bound = std::min(bound, d2_previous * (1 + 1e-12) + 1e-300);
-          }
-          const PointKdTree::Neighbor n = tree.Nearest(q.points[s], bound);
+          // order) tightens the bound without changing the answer.
+          const PointKdTree::Neighbor n =
+              tree.NearestNear(q.points[s], previous, reach * reach);
           if (n.index >= 0) previous = n.index;
           capture->travel_at[s] = capture->travel;
           if (n.index >= 0 && n.squared_distance < d2_fixed) {
@@ -678,18 +671,11 @@ StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
   if (num_fixed > 0) {
     tbb::parallel_for(tbb::blocked_range<int>(0, q.size()), [&](const auto& r) {
       // Consecutive points are close (Morton order): the previous point's
-      // nearest knot bounds the search. The bound admits that knot, so the
-      // answer (ties included) is the unbounded one.
+      // nearest knot bounds the search.
       int previous = -1;
       for (int s = r.begin(); s < r.end(); ++s) {
-        double bound = kInf;
-        if (previous >= 0) {
-          const double d2 =
-              (fixed_knots.row(previous).transpose() - q.points[s])
-                  .squaredNorm();
-          bound = d2 * (1 + 1e-12) + 1e-300;
-        }
-        const PointKdTree::Neighbor n = fixed_tree.Nearest(q.points[s], bound);
+        const PointKdTree::Neighbor n =
+            fixed_tree.NearestNear(q.points[s], previous);
         fixed_d2[s] = n.squared_distance;
         previous = n.index;
       }

@@ -86,4 +86,15 @@ PointKdTree::Neighbor PointKdTree::Nearest(const Eigen::Vector3d& query,
   return best;
 }
 
+PointKdTree::Neighbor PointKdTree::NearestNear(const Eigen::Vector3d& query,
+                                               int hint,
+                                               double bound_squared) const {
+  if (hint >= 0) {
+    // The margin covers a different rounding of the same distance below.
+    const double d2 = (points_.row(hint).transpose() - query).squaredNorm();
+    bound_squared = std::min(bound_squared, d2 * (1 + 1e-12) + 1e-300);
+  }
+  return Nearest(query, bound_squared);
+}
+
 }  // namespace sdcb

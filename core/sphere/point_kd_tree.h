@@ -29,6 +29,15 @@ class PointKdTree {
       double bound_squared = std::numeric_limits<double>::infinity(),
       int exclude = -1) const;
 
+  // Nearest(query, bound_squared) for a query near the point of row `hint`
+  // (-1: no hint), e.g. the answer to the previous query of a run of nearby
+  // ones: the hint's distance tightens the bound, so the search visits
+  // fewer nodes. The bound still admits the hint, so the answer is
+  // Nearest(query, bound_squared)'s, ties included.
+  Neighbor NearestNear(
+      const Eigen::Vector3d& query, int hint,
+      double bound_squared = std::numeric_limits<double>::infinity()) const;
+
   int size() const { return static_cast<int>(order_.size()); }
 
  private:

@@ -48,5 +48,33 @@ TEST(PointKdTreeTest, MatchesBruteForceWithBoundsAndExclusion) {
   }
 }
 
+// A hint only tightens the search: with any hint (the answer, a far point,
+// one of two tied points, none) the answer is brute force's.
+TEST(PointKdTreeTest, NearestNearMatchesBruteForceForAnyHint) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal;
+  const int n = 1000;
+  Eigen::MatrixX3d points(n, 3);
+  for (int i = 0; i < n; ++i) {
+    points.row(i) =
+        Eigen::RowVector3d(normal(rng), normal(rng), normal(rng)).normalized();
+  }
+  points.row(640) = points.row(31);  // a tie: 31 must win, even hinted 640
+  const PointKdTree tree(points);
+  for (int t = 0; t < 400; ++t) {
+    Eigen::Vector3d q(normal(rng), normal(rng), normal(rng));
+    q.normalize();
+    if (t % 8 == 0) q = points.row(31).transpose() * 1.001;
+    const double bound = t % 5 == 0 ? 0.05 : 1e300;
+    const auto expected = BruteForce(points, q, bound, -1);
+    const int far = (expected.index + n / 2) % n;
+    for (int hint : {-1, expected.index, far, 640, t % n}) {
+      const auto got = tree.NearestNear(q, hint, bound);
+      ASSERT_EQ(got.index, expected.index) << t << " hint " << hint;
+      ASSERT_EQ(got.squared_distance, expected.squared_distance);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sdcb
