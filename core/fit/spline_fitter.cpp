@@ -422,12 +422,6 @@ struct SplineFitter::State {
     return placement;
   }
 
-  // Forgets a round 0 on the feature clusters that missed the target, as if
-  // it had not run (its seconds stay in the stage timings): the next round
-  // tries the clusters with `degree` knots along each feature edge when
-  // this one had one (an arc alone on its great circle needs k + 1 knots
-  // there for a crease: the tetrahedron), and is otherwise an ordinary
-  // round 0.
   // Makes `parameters` the vertices' sphere parameters u.
   void UseParameters(Eigen::MatrixX3d parameters) {
     u = std::move(parameters);
@@ -435,6 +429,12 @@ struct SplineFitter::State {
     area_ratio.reset();
   }
 
+  // Forgets a round 0 on the feature clusters that missed the target, as if
+  // it had not run (its seconds stay in the stage timings): the next round
+  // tries the clusters with `degree` knots along each feature edge when
+  // this one had one (an arc alone on its great circle needs k + 1 knots
+  // there for a crease: the tetrahedron), and is otherwise an ordinary
+  // round 0.
   void DropFeatureRound() {
     if (feature_knots_per_edge < options.degree) {
       feature_knots_per_edge = options.degree;
