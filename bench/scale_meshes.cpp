@@ -9,13 +9,20 @@
 // quadruples them; both are approximating, so the surfaces are smooth
 // refinements of the scan, not copies with duplicated vertices.
 //   scale_meshes [INPUT.off] OUT_DIR
+// With --split N, the input split N times, every triangle into four at its
+// edges' midpoints, written to OUT.ply: the same surface (its thin parts and
+// sharp edges stay as they are) with 4^N times the faces, e.g. CGAL's
+// armadillo at N = 3 (1,664,002 vertices, docs/SCALE.md):
+//   scale_meshes --split N INPUT OUT.ply
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
 #include <OpenMesh/Tools/Subdivider/Uniform/Sqrt3T.hh>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <unordered_map>
 
 #include "sdcb/io/mesh_reader.h"
 
@@ -61,11 +68,70 @@ bool WriteBinaryPly(const OmMesh& om, const std::string& path) {
   return static_cast<bool>(out);
 }
 
+// Every triangle into four at its edges' midpoints: the input's vertices
+// first, then one per edge in the order the faces first meet it.
+sdcb::TriangleMesh SplitAtMidpoints(const sdcb::TriangleMesh& m) {
+  std::vector<Eigen::RowVector3d> vertices;
+  for (int i = 0; i < m.num_vertices(); ++i) {
+    vertices.push_back(m.vertices.row(i));
+  }
+  std::unordered_map<int64_t, int> midpoint;
+  const auto mid = [&](int a, int b) {
+    const int64_t key =
+        static_cast<int64_t>(std::min(a, b)) * m.num_vertices() +
+        std::max(a, b);
+    const auto [it, inserted] =
+        midpoint.emplace(key, static_cast<int>(vertices.size()));
+    if (inserted) {
+      vertices.push_back(0.5 * (m.vertices.row(a) + m.vertices.row(b)));
+    }
+    return it->second;
+  };
+  sdcb::TriangleMesh out;
+  out.faces.resize(4 * m.num_faces(), 3);
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const int a = m.faces(f, 0), b = m.faces(f, 1), c = m.faces(f, 2);
+    const int ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
+    out.faces.row(4 * f) << a, ab, ca;
+    out.faces.row(4 * f + 1) << ab, b, bc;
+    out.faces.row(4 * f + 2) << ca, bc, c;
+    out.faces.row(4 * f + 3) << ab, bc, ca;
+  }
+  out.vertices.resize(static_cast<Eigen::Index>(vertices.size()), 3);
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    out.vertices.row(static_cast<Eigen::Index>(i)) = vertices[i];
+  }
+  return out;
+}
+
+int SplitMain(int times, const std::string& input, const std::string& output) {
+  auto mesh = sdcb::ReadMesh(input);
+  if (!mesh.ok()) {
+    std::fprintf(stderr, "%s\n", mesh.status().message().c_str());
+    return 1;
+  }
+  sdcb::TriangleMesh m = std::move(mesh).value();
+  for (int i = 0; i < times; ++i) m = SplitAtMidpoints(m);
+  const OmMesh om = ToOpenMesh(m);
+  if (!WriteBinaryPly(om, output)) {
+    std::fprintf(stderr, "%s: cannot write\n", output.c_str());
+    return 1;
+  }
+  std::printf("%s: %zu vertices, %zu faces (%s split x%d)\n", output.c_str(),
+              om.n_vertices(), om.n_faces(), input.c_str(), times);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 5 && std::string(argv[1]) == "--split") {
+    return SplitMain(std::atoi(argv[2]), argv[3], argv[4]);
+  }
   if (argc < 2 || argc > 3) {
-    std::fprintf(stderr, "usage: scale_meshes [INPUT.off] OUT_DIR\n");
+    std::fprintf(stderr,
+                 "usage: scale_meshes [INPUT.off] OUT_DIR\n"
+                 "       scale_meshes --split N INPUT OUT.ply\n");
     return 2;
   }
   const std::string input =
