@@ -2,7 +2,7 @@
 // parameterization (Sec. 4.3) for meshes of CGAL's data set.
 // Usage: spherical_parameterization_bench [MESH.off ...] [--lambda L ...]
 //   [--threads T] [--level-sweeps N] [--finest-sweeps N] [--tolerance R]
-//   [--finest-tolerance R]
+//   [--finest-tolerance R] [--large-level-tolerance R]
 //   [--lambda-growth G] [--coarse-lambda L] [--rising-levels N]
 //   [--level-growth G] [--base-vertices N] [--base-sweeps N]
 //   [--active-fraction F] [--verbose]
@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
       finest_sweeps = defaults.finest_sweeps;
   double tolerance = defaults.level_tolerance,
          finest_tolerance = defaults.finest_tolerance,
+         large_level_tolerance = defaults.large_level_tolerance,
          lambda_growth = defaults.lambda_growth;
   double coarse_lambda = defaults.coarse_lambda;
   int rising_levels = defaults.rising_levels;
@@ -45,6 +46,8 @@ int main(int argc, char** argv) {
       finest_sweeps = std::atoi(argv[++i]);
     } else if (a == "--finest-tolerance" && i + 1 < argc) {
       finest_tolerance = std::atof(argv[++i]);
+    } else if (a == "--large-level-tolerance" && i + 1 < argc) {
+      large_level_tolerance = std::atof(argv[++i]);
     } else if (a == "--tolerance" && i + 1 < argc) {
       tolerance = std::atof(argv[++i]);
     } else if (a == "--global-iterations" && i + 1 < argc) {
@@ -93,6 +96,7 @@ int main(int argc, char** argv) {
       options.finest_sweeps = finest_sweeps;
       options.level_tolerance = tolerance;
       options.finest_tolerance = finest_tolerance;
+      options.large_level_tolerance = large_level_tolerance;
       options.lambda_growth = lambda_growth;
       options.coarse_lambda = coarse_lambda;
       options.rising_levels = rising_levels;

@@ -819,17 +819,18 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
           alive * std::pow(options.level_growth, options.rising_levels - 1);
       const double from = optimizer.lambda();
       const double to = rising ? options.lambda : coarse_lambda;
+      const double tolerance = alive > options.large_level_vertices
+                                   ? options.large_level_tolerance
+                                   : options.finest_tolerance;
       if (next > 0) {
         const bool small =
             alive <=
             std::min(options.small_level_fraction * mesh.num_vertices(),
                      static_cast<double>(options.small_level_vertices));
-        optimize_rising(
-            from, to, options.level_sweeps,
-            small ? options.level_tolerance : options.finest_tolerance);
+        optimize_rising(from, to, options.level_sweeps,
+                        small ? options.level_tolerance : tolerance);
       } else {
-        optimize_rising(from, to, options.finest_sweeps,
-                        options.finest_tolerance);
+        optimize_rising(from, to, options.finest_sweeps, tolerance);
         if (options.global_iterations > 0) {
           Eigen::MatrixX3d matrix = ToMatrix(sphere);
           result.energy = optimizer.OptimizeGlobal(

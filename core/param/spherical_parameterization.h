@@ -68,6 +68,11 @@ struct SphericalParameterizationOptions {
   double finest_tolerance = 1e-4;
   double small_level_fraction = 0.1;
   int small_level_vertices = 4000;
+  // Levels of more than `large_level_vertices` (the finest included) stop at
+  // `large_level_tolerance` instead: their sweeps move vertices far below
+  // any knot spacing the fit can afford, and cost the most.
+  int large_level_vertices = 100000;
+  double large_level_tolerance = 3e-4;
   // A vertex is optimized again in the next sweep only if it or a neighbor
   // lowered E by more than `active_fraction` * tolerance * E / vertices in
   // this sweep (0: if it moved at all). The vertices left out could lower E

@@ -174,6 +174,26 @@ TEST(SphericalParameterization, GlobalStageLowersTheEnergyAndStaysBijective) {
   EXPECT_TRUE(b->sphere == c->sphere);
 }
 
+TEST(SphericalParameterization, LargeLevelsStopAtTheirTolerance) {
+  // Only levels of more than large_level_vertices use large_level_tolerance:
+  // at the cow's vertex count the result is the default's bit for bit; one
+  // below it, the finest levels stop at a loose tolerance and end at a
+  // clearly higher (recomputed) energy, still a bijection.
+  const TriangleMesh mesh = Load("cow.off");
+  SphericalParameterizationOptions below, loose;
+  below.large_level_vertices = mesh.num_vertices();
+  loose.large_level_vertices = 1000;
+  loose.large_level_tolerance = 0.05;
+  auto a = ParameterizeOnSphere(mesh, {});
+  auto b = ParameterizeOnSphere(mesh, below);
+  auto c = ParameterizeOnSphere(mesh, loose);
+  ASSERT_TRUE(a.ok() && b.ok() && c.ok());
+  EXPECT_TRUE(a->sphere == b->sphere);
+  ExpectBijection(mesh, c->sphere);
+  EXPECT_GT(RecomputedEnergy(mesh, c->sphere, 1.0),
+            1.01 * RecomputedEnergy(mesh, a->sphere, 1.0));
+}
+
 TEST(SphericalParameterization, RejectsBadInput) {
   SphericalParameterizationOptions options;
   options.lambda = -1.0;
