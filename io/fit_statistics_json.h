@@ -1,6 +1,6 @@
 // FitStatistics <-> JSON: the model's record of its fit (the .sdcb STAT
 // chunk, `sdcb dump`'s "statistics"), and the `fit --json` report, which adds
-// the wall-clock times the model does not keep (DESIGN.md's keys):
+// the wall-clock times the model does not keep (keys: docs/CLI.md, `sdcb fit`):
 //   {"rounds": [ROUND, ...], "final": ROUND,
 //    "options": {every RecordedFitOptions field by name},
 //    "error_measure": "dense_two_sided" | "vertices",

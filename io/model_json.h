@@ -1,4 +1,5 @@
-// The whole model as JSON, for `sdcb dump` (keys listed in DESIGN.md):
+// The whole model as JSON, for `sdcb dump` (keys: docs/FORMAT.md, "`sdcb dump`
+// JSON"):
 //   format_version       the .sdcb format version this code writes
 //   degree               k
 //   knots                n x 3, unit vectors on S^2

@@ -1,6 +1,6 @@
 // Tests converters/gltf_writer.* and, in the same process, a Draco round
 // trip: libdraco.so exports its own older tinygltf, and mixing the two copies
-// crashes (DESIGN.md). This binary links both, like the sdcb executable.
+// crashes. This binary links both, like the sdcb executable.
 #include "sdcb/converters/gltf_writer.h"
 
 #include <draco/compression/decode.h>

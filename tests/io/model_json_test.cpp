@@ -1,5 +1,5 @@
 // Tests io/model_json.*: the dump parses back with nlohmann, has the keys
-// DESIGN.md promises, and its values are the model's (control points
+// docs/FORMAT.md lists, and its values are the model's (control points
 // transformed to input coordinates, doubles exact).
 #include "sdcb/io/model_json.h"
 

@@ -1,5 +1,5 @@
 // `sdcb check` as users and pipelines run it: exit codes, one-sentence
-// errors naming the file, JSON keys of DESIGN.md.
+// errors naming the file, the JSON keys of docs/CLI.md.
 #include <gtest/gtest.h>
 
 #include <filesystem>
