@@ -393,9 +393,7 @@ bool Thin(const TriangleMesh& mesh, const Eigen::MatrixX3d* vertex_normals,
         }
       });
   tbb::parallel_sort(cell_rows.begin(), cell_rows.end());
-  std::vector<Eigen::Index> order(rows);
-  for (Eigen::Index i = 0; i < rows; ++i) order[i] = cell_rows[i].row;
-  // Per cell (a run of `order`): the kept row and the cell's weight.
+  // Per cell (a run of `cell_rows`): the kept row and the cell's weight.
   std::vector<std::pair<Eigen::Index, double>> kept;
   std::vector<Eigen::Index> cell_of(rows);
   for (Eigen::Index begin = 0; begin < rows;) {
@@ -404,25 +402,25 @@ bool Thin(const TriangleMesh& mesh, const Eigen::MatrixX3d* vertex_normals,
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     double weight = 0.0;
     for (Eigen::Index i = begin; i < end; ++i) {
-      centroid +=
-          out->weights[order[i]] * out->points.row(order[i]).transpose();
-      weight += out->weights[order[i]];
+      centroid += out->weights[cell_rows[i].row] *
+                  out->points.row(cell_rows[i].row).transpose();
+      weight += out->weights[cell_rows[i].row];
     }
-    // The row nearest the centroid (the lowest on ties: `order` is sorted
-    // by row within a cell).
-    Eigen::Index best = order[begin];
+    // The row nearest the centroid (the lowest on ties: `cell_rows` is
+    // sorted by row within a cell).
+    Eigen::Index best = cell_rows[begin].row;
     double best_distance = std::numeric_limits<double>::infinity();
     for (Eigen::Index i = begin; i < end; ++i) {
       const double d =
-          (out->points.row(order[i]).transpose() * weight - centroid)
+          (out->points.row(cell_rows[i].row).transpose() * weight - centroid)
               .squaredNorm();
       if (d < best_distance) {
         best_distance = d;
-        best = order[i];
+        best = cell_rows[i].row;
       }
     }
     for (Eigen::Index i = begin; i < end; ++i) {
-      cell_of[order[i]] = static_cast<Eigen::Index>(kept.size());
+      cell_of[cell_rows[i].row] = static_cast<Eigen::Index>(kept.size());
     }
     kept.emplace_back(best, weight);
     begin = end;

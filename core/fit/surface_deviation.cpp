@@ -480,12 +480,12 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   // The lattice's image: F at every lattice vertex.
   // Through the polynomials when the points to evaluate (a Gauss-Newton
   // search: ~8 per mesh point) are many per control point: each region is
-  // built once for several points. Measured (whole measurements, 2 cores):
-  // bunny00's final one in its fit, ~84 per control point, 1.94 -> 1.18 s;
-  // `sdcb compare` on CGAL's dino (16K control points, every mesh point
-  // searched, ~61) 3.2 -> 2.4 s; but the dino fit's final measurement
-  // (~13) and a round's lattice (~2) are slower through polynomials (the
-  // dino fit's measurements 3.7 -> 10.0 s had they all used them).
+  // built once for several points. Whole measurements on 2 cores, through
+  // the basis / the polynomials: bunny00's final one in its fit (~84 per
+  // control point) 1.94 / 1.18 s; `sdcb compare` on CGAL's dino (16K
+  // control points, every mesh point searched, ~61) 3.2 / 2.4 s; the dino
+  // fit's measurements (its final one ~13, a round's lattice ~2) 3.7 /
+  // 10.0 s.
   const double mesh_points =
       options.mesh_to_surface && options.closest_points
           ? static_cast<double>(
