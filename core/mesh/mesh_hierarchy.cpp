@@ -1,5 +1,9 @@
 #include "sdcb/core/mesh/mesh_hierarchy.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -253,17 +257,41 @@ StatusOr<MeshHierarchy> BuildMeshHierarchy(
   // queue traffic; the one difference: an edge the collapse creates between
   // two vertices of valence above max_removed_valence is queued here (the
   // earlier form queued it only once one of them changed).
-  std::vector<QueueEntry> initial;
-  initial.reserve(3 * static_cast<size_t>(mesh.num_vertices()));
-  std::vector<int> neighbors;
-  for (int a = 0; a < mesh.num_vertices(); ++a) {
-    collapser.Neighbors(a, &neighbors);
-    for (int b : neighbors) {
-      if (a < b) initial.emplace_back(collapser.Length(a, b), a, b);
-    }
+  //
+  // The queue is two sorted streams: every edge, sorted once, and a heap of
+  // the edges queued again; the smaller head is the next entry, so entries
+  // come out in the order of one heap holding both (equal entries are the
+  // same edge), and the millions of initial edges are not sifted through a
+  // heap one by one.
+  const int nv = mesh.num_vertices();
+  constexpr int kBlock = 4096;
+  std::vector<std::vector<QueueEntry>> block_edges((nv + kBlock - 1) / kBlock);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, block_edges.size()),
+      [&](const tbb::blocked_range<size_t>& r) {
+        std::vector<int> link;
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+          const int end = std::min(nv, static_cast<int>(i + 1) * kBlock);
+          for (int a = static_cast<int>(i) * kBlock; a < end; ++a) {
+            collapser.Neighbors(a, &link);
+            for (int b : link) {
+              if (a < b)
+                block_edges[i].emplace_back(collapser.Length(a, b), a, b);
+            }
+          }
+        }
+      });
+  std::vector<QueueEntry> sorted_edges;
+  sorted_edges.reserve(3 * static_cast<size_t>(nv));
+  for (const std::vector<QueueEntry>& edges : block_edges) {
+    sorted_edges.insert(sorted_edges.end(), edges.begin(), edges.end());
   }
+  block_edges.clear();
+  tbb::parallel_sort(sorted_edges.begin(), sorted_edges.end());
+  size_t next_sorted = 0;
   std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>>
-      queue(std::greater<>(), std::move(initial));
+      queue;
+  std::vector<int> neighbors;
   QueueEntry tried(-1.0, -1, -1);
   auto entry = [&](int a, int b) {
     const int lo = std::min(a, b), hi = std::max(a, b);
@@ -281,9 +309,16 @@ StatusOr<MeshHierarchy> BuildMeshHierarchy(
   collapses.reserve(std::max(0, mesh.num_vertices() - options.base_vertices));
   HalfEdgeCollapse record;
   std::vector<int> changed;
-  while (!queue.empty() && collapser.alive_vertices() > options.base_vertices) {
-    const QueueEntry top = queue.top();
-    queue.pop();
+  while ((next_sorted < sorted_edges.size() || !queue.empty()) &&
+         collapser.alive_vertices() > options.base_vertices) {
+    QueueEntry top;
+    if (queue.empty() || (next_sorted < sorted_edges.size() &&
+                          sorted_edges[next_sorted] < queue.top())) {
+      top = sorted_edges[next_sorted++];
+    } else {
+      top = queue.top();
+      queue.pop();
+    }
     const auto [length, a, b] = top;
     if (!collapser.vertex_alive(a) || !collapser.vertex_alive(b)) continue;
     tried = std::max(tried, top);

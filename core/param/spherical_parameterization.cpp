@@ -141,9 +141,11 @@ class LevelOptimizer {
     // Greedy coloring in vertex order: same colors on every run.
     std::vector<int> color(nv, -1);
     color_classes_.clear();
+    alive_.clear();
     std::vector<char> used;
     for (int v = 0; v < nv; ++v) {
       if (!level.vertex_alive[v]) continue;
+      alive_.push_back(v);
       used.assign(offset_[v + 1] - offset_[v] + 1, 0);
       for (int k = offset_[v]; k < offset_[v + 1]; ++k) {
         for (int w : {incidences_[k].a, incidences_[k].b}) {
@@ -178,12 +180,12 @@ class LevelOptimizer {
 
   // Eq. (12) over the level's faces (each face once, summed in order).
   double Energy(const Points& sphere) const {
-    const int nv = static_cast<int>(offset_.size()) - 1;
-    std::vector<double> local(nv, 0.0);
-    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 256),
-                      [&](const tbb::blocked_range<int>& r) {
-                        for (int v = r.begin(); v != r.end(); ++v) {
-                          local[v] = LocalEnergy(v, sphere[v], sphere, nullptr);
+    std::vector<double> local(alive_.size(), 0.0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, alive_.size(), 256),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t i = r.begin(); i != r.end(); ++i) {
+                          const int v = alive_[i];
+                          local[i] = LocalEnergy(v, sphere[v], sphere, nullptr);
                         }
                       });
     double e = 0.0;
@@ -204,11 +206,12 @@ class LevelOptimizer {
     // that all such vertices together could lower E by at most
     // active_fraction times the threshold per sweep (on the bunny, 99 % of
     // a fine level's decrease comes from 3-20 % of its vertices).
+    // Per-sweep bookkeeping runs over the level's vertices only (a coarse
+    // level of a large input has a few hundred of its millions); the other
+    // entries of `decrease_` stay 0 and do not change the sums.
     std::vector<char> active(decrease_.size(), 1);
-    size_t vertices = 0;
-    for (const std::vector<int>& cls : color_classes_) vertices += cls.size();
     for (int sweep = 0; sweep < max_sweeps; ++sweep) {
-      std::fill(decrease_.begin(), decrease_.end(), 0.0);
+      for (int v : alive_) decrease_[v] = 0.0;
       for (const std::vector<int>& cls : color_classes_) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, cls.size(), 64),
                           [&](const tbb::blocked_range<size_t>& r) {
@@ -218,14 +221,15 @@ class LevelOptimizer {
                           });
       }
       double decrease = 0.0;
-      for (double d : decrease_) decrease += d;  // fixed order
+      for (int v : alive_) decrease += decrease_[v];  // fixed order
       energy -= decrease;
       if (decrease < tolerance * energy || sweep + 1 == max_sweeps) break;
-      const double threshold =
-          active_fraction * tolerance * energy / static_cast<double>(vertices);
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, active.size(), 1024),
+      const double threshold = active_fraction * tolerance * energy /
+                               static_cast<double>(alive_.size());
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, alive_.size(), 1024),
                         [&](const tbb::blocked_range<size_t>& r) {
-                          for (size_t v = r.begin(); v != r.end(); ++v) {
+                          for (size_t i = r.begin(); i != r.end(); ++i) {
+                            const int v = alive_[i];
                             bool moved = decrease_[v] > threshold;
                             for (int k = offset_[v];
                                  k < offset_[v + 1] && !moved; ++k) {
@@ -452,6 +456,7 @@ class LevelOptimizer {
   std::vector<int> offset_;
   std::vector<Incidence> incidences_;
   std::vector<std::vector<int>> color_classes_;
+  std::vector<int> alive_;  // the level's vertices, ascending
   std::vector<double> step_;
   std::vector<double> decrease_;
 };
@@ -754,11 +759,14 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
     if (options.progress) options.progress(stage, fraction);
   };
 
+  tbb::task_arena arena(options.threads > 0 ? options.threads
+                                            : tbb::task_arena::automatic);
   MeshHierarchyOptions hierarchy_options;
   hierarchy_options.base_vertices = std::max(4, options.base_vertices);
   report("hierarchy", 0.0);
-  SDCB_ASSIGN_OR_RETURN(MeshHierarchy hierarchy,
-                        BuildMeshHierarchy(mesh, hierarchy_options));
+  SDCB_ASSIGN_OR_RETURN(MeshHierarchy hierarchy, arena.execute([&] {
+    return BuildMeshHierarchy(mesh, hierarchy_options);
+  }));
   LevelState level{std::move(hierarchy.faces), std::move(hierarchy.face_alive),
                    std::move(hierarchy.vertex_alive)};
   SDCB_ASSIGN_OR_RETURN(const double area_scale, AreaScaleToUnitSphere(mesh));
@@ -766,8 +774,6 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
   result.base_vertices =
       mesh.num_vertices() - static_cast<int>(hierarchy.collapses.size());
 
-  tbb::task_arena arena(options.threads > 0 ? options.threads
-                                            : tbb::task_arena::automatic);
   Status status = Status::Ok();
   arena.execute([&] {
     Points sphere;
