@@ -24,7 +24,8 @@ int main(int argc, char** argv) {
   bool verbose = false;
   const sdcb::SphericalParameterizationOptions defaults;
   int level_sweeps = defaults.level_sweeps,
-      finest_sweeps = defaults.finest_sweeps;
+      finest_sweeps = defaults.finest_sweeps,
+      large_level_sweeps = defaults.large_level_sweeps;
   double tolerance = defaults.level_tolerance,
          finest_tolerance = defaults.finest_tolerance,
          large_level_tolerance = defaults.large_level_tolerance,
@@ -48,6 +49,8 @@ int main(int argc, char** argv) {
       finest_tolerance = std::atof(argv[++i]);
     } else if (a == "--large-level-tolerance" && i + 1 < argc) {
       large_level_tolerance = std::atof(argv[++i]);
+    } else if (a == "--large-level-sweeps" && i + 1 < argc) {
+      large_level_sweeps = std::atoi(argv[++i]);
     } else if (a == "--tolerance" && i + 1 < argc) {
       tolerance = std::atof(argv[++i]);
     } else if (a == "--global-iterations" && i + 1 < argc) {
@@ -97,6 +100,7 @@ int main(int argc, char** argv) {
       options.level_tolerance = tolerance;
       options.finest_tolerance = finest_tolerance;
       options.large_level_tolerance = large_level_tolerance;
+      options.large_level_sweeps = large_level_sweeps;
       options.lambda_growth = lambda_growth;
       options.coarse_lambda = coarse_lambda;
       options.rising_levels = rising_levels;

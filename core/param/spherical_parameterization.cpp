@@ -805,8 +805,14 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
     size_t next = hierarchy.collapses.size();
     while (next > 0) {
       report("optimize", static_cast<double>(alive) / mesh.num_vertices());
-      const int target =
+      int target =
           std::max(alive + 1, static_cast<int>(alive * options.level_growth));
+      // A large level within sqrt(level_growth) of the input is the input:
+      // a level of nearly the input's size costs as much as the finest.
+      if (target > options.large_level_vertices &&
+          target * std::sqrt(options.level_growth) > mesh.num_vertices()) {
+        target = mesh.num_vertices();
+      }
       const size_t last = next;
       while (next > 0 && alive < target) {
         UndoCollapse(hierarchy.collapses[--next], &level.faces,
@@ -833,10 +839,16 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
             alive <=
             std::min(options.small_level_fraction * mesh.num_vertices(),
                      static_cast<double>(options.small_level_vertices));
-        optimize_rising(from, to, options.level_sweeps,
+        const int sweeps = alive > options.large_level_vertices
+                               ? options.large_level_sweeps
+                               : options.level_sweeps;
+        optimize_rising(from, to, sweeps,
                         small ? options.level_tolerance : tolerance);
       } else {
-        optimize_rising(from, to, options.finest_sweeps, tolerance);
+        const int sweeps = alive > options.large_level_vertices
+                               ? options.large_level_sweeps
+                               : options.finest_sweeps;
+        optimize_rising(from, to, sweeps, tolerance);
         if (options.global_iterations > 0) {
           Eigen::MatrixX3d matrix = ToMatrix(sphere);
           result.energy = optimizer.OptimizeGlobal(

@@ -69,10 +69,15 @@ struct SphericalParameterizationOptions {
   double small_level_fraction = 0.1;
   int small_level_vertices = 4000;
   // Levels of more than `large_level_vertices` (the finest included) stop at
-  // `large_level_tolerance` instead: their sweeps move vertices far below
-  // any knot spacing the fit can afford, and cost the most.
+  // `large_level_tolerance` and after `large_level_sweeps` sweeps instead:
+  // their sweeps move vertices far below any knot spacing the fit can
+  // afford, and cost the most. A large level within sqrt(level_growth) of
+  // the input's vertex count is not made: the level after the one before it
+  // is the input (a level of nearly the input's size costs what the input's
+  // does).
   int large_level_vertices = 100000;
   double large_level_tolerance = 3e-4;
+  int large_level_sweeps = 10;
   // A vertex is optimized again in the next sweep only if it or a neighbor
   // lowered E by more than `active_fraction` * tolerance * E / vertices in
   // this sweep (0: if it moved at all). The vertices left out could lower E

@@ -194,6 +194,40 @@ TEST(SphericalParameterization, LargeLevelsStopAtTheirTolerance) {
             1.01 * RecomputedEnergy(mesh, a->sphere, 1.0));
 }
 
+TEST(SphericalParameterization, LargeLevelsRunFewSweepsAndSkipOneNearTheInput) {
+  // The cow (2,904 vertices) from a 150-vertex base: levels of 300, 600,
+  // 1,200 and 2,400 vertices, then the input. With levels above 1,000
+  // vertices large, the 2,400 one is within sqrt(2) of the input and is not
+  // made (one level fewer); one sweep per large level ends at a clearly
+  // higher energy than 100, both bijections. With the threshold at the
+  // vertex count nothing is large: the default's result bit for bit.
+  const TriangleMesh mesh = Load("cow.off");
+  SphericalParameterizationOptions plain;
+  plain.base_vertices = 150;
+  SphericalParameterizationOptions at_count = plain;
+  at_count.large_level_vertices = mesh.num_vertices();
+  SphericalParameterizationOptions large = plain;
+  large.large_level_vertices = 1000;
+  large.large_level_tolerance = plain.finest_tolerance;
+  large.large_level_sweeps = 100;
+  SphericalParameterizationOptions one_sweep = large;
+  one_sweep.large_level_sweeps = 1;
+  auto a = ParameterizeOnSphere(mesh, plain);
+  auto b = ParameterizeOnSphere(mesh, at_count);
+  auto c = ParameterizeOnSphere(mesh, large);
+  auto d = ParameterizeOnSphere(mesh, one_sweep);
+  ASSERT_TRUE(a.ok() && b.ok() && c.ok() && d.ok());
+  ASSERT_EQ(a->base_vertices, 150);
+  EXPECT_EQ(a->levels, 6);
+  EXPECT_TRUE(a->sphere == b->sphere);
+  EXPECT_EQ(c->levels, 5);
+  EXPECT_EQ(d->levels, 5);
+  ExpectBijection(mesh, c->sphere);
+  ExpectBijection(mesh, d->sphere);
+  EXPECT_GT(RecomputedEnergy(mesh, d->sphere, 1.0),
+            1.01 * RecomputedEnergy(mesh, c->sphere, 1.0));
+}
+
 TEST(SphericalParameterization, RejectsBadInput) {
   SphericalParameterizationOptions options;
   options.lambda = -1.0;
