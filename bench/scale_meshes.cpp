@@ -43,6 +43,7 @@ OmMesh ToOpenMesh(const sdcb::TriangleMesh& m) {
   return om;
 }
 
+// Writes `om` to `path`; on failure removes what was written.
 bool WriteBinaryPly(const OmMesh& om, const std::string& path) {
   std::ofstream out(path, std::ios::binary);
   out << "ply\nformat binary_little_endian 1.0\nelement vertex "
@@ -65,7 +66,13 @@ bool WriteBinaryPly(const OmMesh& om, const std::string& path) {
       out.write(reinterpret_cast<const char*>(&index), sizeof(index));
     }
   }
-  return static_cast<bool>(out);
+  out.close();
+  if (out) return true;
+  std::error_code error;  // no partial file (a device stays)
+  if (std::filesystem::is_regular_file(path, error)) {
+    std::filesystem::remove(path, error);
+  }
+  return false;
 }
 
 // Every triangle into four at its edges' midpoints: the input's vertices
