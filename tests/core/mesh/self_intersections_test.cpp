@@ -172,5 +172,43 @@ TEST(SelfIntersections, HugeFansAreSkippedWithinTheBudget) {
   EXPECT_EQ(checked->intersecting_pairs, 0);
 }
 
+TEST(SelfIntersections, TheBudgetHoldsOnEitherSideOfTheSplit) {
+  // A fan pair of 2n triangles beside 2n small disjoint triangles: the box
+  // search's split falls between them, so one side's search (the one run
+  // beside the other, or the one waiting for it) spends the budget alone.
+  const int n = 1000;
+  const TriangleMesh cone = testing::DoubleCone(n);
+  for (const double side : {1.0, -1.0}) {
+    TriangleMesh m;
+    const int nc = cone.num_vertices();
+    const int small = 2 * n;
+    m.vertices.resize(nc + 3 * small, 3);
+    m.faces.resize(cone.num_faces() + small, 3);
+    m.vertices.topRows(nc) = cone.vertices;
+    m.vertices.col(0).head(nc).array() += side * 100.0;
+    m.faces.topRows(cone.num_faces()) = cone.faces;
+    for (int i = 0; i < small; ++i) {
+      const double x = -side * (100.0 + 3.0 * i);
+      m.vertices.row(nc + 3 * i) << x, 0, 0;
+      m.vertices.row(nc + 3 * i + 1) << x + 1, 0, 0;
+      m.vertices.row(nc + 3 * i + 2) << x, 1, 0;
+      m.faces.row(cone.num_faces() + i) << nc + 3 * i, nc + 3 * i + 1,
+          nc + 3 * i + 2;
+    }
+    SelfIntersectionOptions tight;
+    tight.max_pairs_per_face = 10;
+    tight.max_extra_pairs = 0;
+    auto skipped = FindSelfIntersections(m, tight);
+    ASSERT_TRUE(skipped.ok());
+    EXPECT_FALSE(skipped->checked) << side;
+    SelfIntersectionOptions roomy;
+    roomy.max_extra_pairs = int64_t{4} * n * n;
+    auto checked = FindSelfIntersections(m, roomy);
+    ASSERT_TRUE(checked.ok());
+    EXPECT_TRUE(checked->checked) << side;
+    EXPECT_EQ(checked->intersecting_pairs, 0) << side;
+  }
+}
+
 }  // namespace
 }  // namespace sdcb
