@@ -181,7 +181,7 @@ StatusOr<SelfIntersectionReport> FindSelfIntersections(
       options.max_pairs_per_face * mesh.num_faces() + options.max_extra_pairs;
   std::atomic<int64_t> box_pairs{0};
   constexpr std::ptrdiff_t kCutoff = 2000;
-  PairCounter left_pairs(points, mesh, &box_pairs, budget);
+  PairCounter pairs(points, mesh, &box_pairs, budget);
   PairCounter right_pairs(points, mesh, &box_pairs, budget);
   try {
     auto search_self = [&](std::vector<const Box*>* set, PairCounter* pairs) {
@@ -191,15 +191,15 @@ StatusOr<SelfIntersectionReport> FindSelfIntersections(
     };
     tbb::task_group side;
     side.run([&] { search_self(&right, &right_pairs); });
-    search_self(&left, &left_pairs);
+    search_self(&left, &pairs);
     side.wait();
-    search_self(&across, &left_pairs);
+    search_self(&across, &pairs);
     for (std::vector<const Box*>* other : {&left, &right}) {
       CGAL::box_intersection_d(
           across.begin(), across.end(), other->begin(), other->end(),
-          [&](const Box* a, const Box* b) { left_pairs.Add(a, b); }, kCutoff);
+          [&](const Box* a, const Box* b) { pairs.Add(a, b); }, kCutoff);
     }
-    report.intersecting_pairs = left_pairs.Finish() + right_pairs.Finish();
+    report.intersecting_pairs = pairs.Finish() + right_pairs.Finish();
   } catch (const TooManyPairs&) {
     report.intersecting_pairs = 0;
     report.skipped_because =

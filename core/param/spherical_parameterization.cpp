@@ -831,30 +831,25 @@ StatusOr<SphericalParameterization> ParameterizeOnSphere(
           alive * std::pow(options.level_growth, options.rising_levels - 1);
       const double from = optimizer.lambda();
       const double to = rising ? options.lambda : coarse_lambda;
-      const double tolerance = alive > options.large_level_vertices
-                                   ? options.large_level_tolerance
-                                   : options.finest_tolerance;
-      if (next > 0) {
-        const bool small =
-            alive <=
-            std::min(options.small_level_fraction * mesh.num_vertices(),
-                     static_cast<double>(options.small_level_vertices));
-        const int sweeps = alive > options.large_level_vertices
-                               ? options.large_level_sweeps
-                               : options.level_sweeps;
-        optimize_rising(from, to, sweeps,
-                        small ? options.level_tolerance : tolerance);
-      } else {
-        const int sweeps = alive > options.large_level_vertices
-                               ? options.large_level_sweeps
-                               : options.finest_sweeps;
-        optimize_rising(from, to, sweeps, tolerance);
-        if (options.global_iterations > 0) {
-          Eigen::MatrixX3d matrix = ToMatrix(sphere);
-          result.energy = optimizer.OptimizeGlobal(
-              &matrix, options.global_iterations, options.global_tolerance);
-          sphere = ToPoints(matrix);
-        }
+      // Small levels converge tightly; large ones stop early (the options).
+      const bool finest = next == 0;
+      const bool large = alive > options.large_level_vertices;
+      const bool small =
+          !finest &&
+          alive <= std::min(options.small_level_fraction * mesh.num_vertices(),
+                            static_cast<double>(options.small_level_vertices));
+      const int sweeps = large    ? options.large_level_sweeps
+                         : finest ? options.finest_sweeps
+                                  : options.level_sweeps;
+      const double tolerance = small   ? options.level_tolerance
+                               : large ? options.large_level_tolerance
+                                       : options.finest_tolerance;
+      optimize_rising(from, to, sweeps, tolerance);
+      if (finest && options.global_iterations > 0) {
+        Eigen::MatrixX3d matrix = ToMatrix(sphere);
+        result.energy = optimizer.OptimizeGlobal(
+            &matrix, options.global_iterations, options.global_tolerance);
+        sphere = ToPoints(matrix);
       }
       ++result.levels;
     }
