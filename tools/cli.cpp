@@ -1,5 +1,9 @@
 #include "tools/cli.h"
 
+#include <sys/resource.h>
+#include <tbb/task_arena.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -184,7 +188,13 @@ std::string IntersectingPairsText(long long pairs) {
 long long WarnAboutSelfIntersections(const std::string& path,
                                      const TriangleMesh& mesh,
                                      std::string* skipped_because) {
-  const StatusOr<SelfIntersectionReport> report = FindSelfIntersections(mesh);
+  return WarnAboutSelfIntersections(path, FindSelfIntersections(mesh),
+                                    skipped_because);
+}
+
+long long WarnAboutSelfIntersections(
+    const std::string& path, const StatusOr<SelfIntersectionReport>& report,
+    std::string* skipped_because) {
   if (!report.ok() || !report->checked) {
     if (skipped_because != nullptr) {
       *skipped_because =
@@ -202,15 +212,31 @@ long long WarnAboutSelfIntersections(const std::string& path,
 }
 
 StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,
-                                        const std::string& path,
-                                        long long* intersecting_pairs) {
+                                        const std::string& path) {
   SDCB_ASSIGN_OR_RETURN(TriangleMesh mesh,
                         ReadMesh(path, nullptr, MeshReadLimitsFromArgs(args)));
   SDCB_RETURN_IF_ERROR(RepairIfAsked(args, path, &mesh));
   SDCB_RETURN_IF_ERROR(RequireClosedGenusZero(mesh).WithPrefix(path));
-  const long long pairs = WarnAboutSelfIntersections(path, mesh);
-  if (intersecting_pairs != nullptr) *intersecting_pairs = pairs;
   return mesh;
+}
+
+SelfIntersectionsBeside::SelfIntersectionsBeside(const TriangleMesh& mesh)
+    : thread_([this, &mesh] {
+        // This thread's own nice value (Linux: per thread); lowering it
+        // needs no privilege. Failing, the search runs at the usual one.
+        setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
+        // One slot and no workers: the search runs on this thread only.
+        tbb::task_arena alone(1, 1);
+        alone.execute([&] { report_.emplace(FindSelfIntersections(mesh)); });
+      }) {}
+
+SelfIntersectionsBeside::~SelfIntersectionsBeside() {
+  if (thread_.joinable()) thread_.join();
+}
+
+long long SelfIntersectionsBeside::Warn(const std::string& path) {
+  if (thread_.joinable()) thread_.join();
+  return WarnAboutSelfIntersections(path, *report_);
 }
 
 }  // namespace sdcb::cli

@@ -4,10 +4,13 @@
 #define SDCB_TOOLS_CLI_H_
 
 #include <map>
+#include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/io/mesh_reader.h"
 
@@ -88,13 +91,37 @@ long long WarnAboutSelfIntersections(const std::string& path,
                                      const TriangleMesh& mesh,
                                      std::string* skipped_because = nullptr);
 
+// WarnAboutSelfIntersections for a report found already.
+long long WarnAboutSelfIntersections(
+    const std::string& path, const StatusOr<SelfIntersectionReport>& report,
+    std::string* skipped_because = nullptr);
+
 // What `fit` and `param` read: the MESH with the limits of the options,
 // repaired if asked, checked to be closed genus 0 (one sentence naming
-// `path` otherwise), with a warning if it intersects itself (the count of
-// intersecting pairs in `intersecting_pairs`, -1 if not checked).
-StatusOr<TriangleMesh> ReadFittableMesh(
-    const Args& args, const std::string& path,
-    long long* intersecting_pairs = nullptr);
+// `path` otherwise). Not checked for self-intersections.
+StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,
+                                        const std::string& path);
+
+// The self-intersection search of a mesh (which must outlive this) run on a
+// thread of its own at the lowest CPU priority (nice 19) and on that thread
+// alone: beside the work that needs the mesh, it takes the cycles that work
+// leaves idle, and it adds none when the work keeps every core busy. The
+// report is the same as FindSelfIntersections'.
+class SelfIntersectionsBeside {
+ public:
+  explicit SelfIntersectionsBeside(const TriangleMesh& mesh);
+  SelfIntersectionsBeside(const SelfIntersectionsBeside&) = delete;
+  SelfIntersectionsBeside& operator=(const SelfIntersectionsBeside&) = delete;
+  ~SelfIntersectionsBeside();  // waits for the search
+
+  // Waits for the search and returns WarnAboutSelfIntersections(path, ...):
+  // the warning printed, the count of intersecting pairs (-1 if skipped).
+  long long Warn(const std::string& path);
+
+ private:
+  std::optional<StatusOr<SelfIntersectionReport>> report_;
+  std::thread thread_;
+};
 
 }  // namespace sdcb::cli
 

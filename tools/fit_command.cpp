@@ -90,13 +90,14 @@ int RunFit(const std::vector<std::string>& argv) {
   const Status outputs =
       PrepareOutputs({output, args.Get("json"), args.Get("plot")});
   if (!outputs.ok()) return ReportError(outputs);
-  // The checks run on --threads threads too.
+  // The checks run on --threads threads too; the self-intersection search
+  // beside the fit, in its idle cycles.
   tbb::task_arena arena(options.threads > 0 ? options.threads
                                             : int{tbb::task_arena::automatic});
-  long long intersecting_pairs = -1;
-  StatusOr<TriangleMesh> mesh = arena.execute(
-      [&] { return ReadFittableMesh(args, path, &intersecting_pairs); });
+  StatusOr<TriangleMesh> mesh =
+      arena.execute([&] { return ReadFittableMesh(args, path); });
   if (!mesh.ok()) return ReportError(mesh.status());
+  SelfIntersectionsBeside intersections(*mesh);
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
   options.progress = [bar = progress.Callback()](const FitProgress& p) {
@@ -104,6 +105,7 @@ int RunFit(const std::vector<std::string>& argv) {
   };
   StatusOr<FitResult> fit = FitSphericalSpline(*mesh, options);
   progress.Finish();
+  const long long intersecting_pairs = intersections.Warn(path);
   if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));
   if (!fit->reached_target() && intersecting_pairs > 0) {
     // Where the input passes through itself, so does any surface that

@@ -103,6 +103,7 @@ int RunParam(const std::vector<std::string>& argv) {
   if (!outputs.ok()) return ReportError(outputs);
   StatusOr<TriangleMesh> mesh = ReadFittableMesh(args, path);
   if (!mesh.ok()) return ReportError(mesh.status());
+  SelfIntersectionsBeside intersections(*mesh);
 
   const auto start = std::chrono::steady_clock::now();
   StatusOr<SphericalParameterization> param =
@@ -111,6 +112,7 @@ int RunParam(const std::vector<std::string>& argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
   if (show_progress) std::fprintf(stderr, "\n");
+  intersections.Warn(path);
   if (!param.ok()) return ReportError(param.status().WithPrefix(path));
   StatusOr<ParameterizationDistortion> distortion =
       MeasureParameterizationDistortion(*mesh, param->sphere);

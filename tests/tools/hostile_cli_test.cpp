@@ -258,6 +258,12 @@ TEST(HostileCliTest, SelfIntersectionsAreReportedAndWarned) {
               dir);
   EXPECT_NE(r.err.find("crumpled.off: warning:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("pairs of triangles intersect"), std::string::npos);
+  // So does param (the search runs beside the parameterization).
+  r = RunSdcb(
+      {"param", dir + "/crumpled.off", "-o", dir + "/c_param.off", "--quiet"},
+      dir);
+  EXPECT_NE(r.err.find("crumpled.off: warning:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("pairs of triangles intersect"), std::string::npos);
   // A target it misses names the intersections among the reasons; a mesh
   // without them does not.
   r = RunSdcb(
