@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <limits>
 #include <map>
+#include <mutex>
 
 #include "sdcb/core/sphere/point_kd_tree.h"
 
@@ -73,32 +74,44 @@ bool Bisect(const Sub& t, const Eigen::Vector3d s[3], const Length& length,
                 budget, leaves);
 }
 
-// The pieces of every triangle to split at `per_spacing` samples per knot
-// spacing (`spacing`: per knot, `knot_tree`: the knots); false when they
-// would exceed options.max_pieces (then `leaves` is to be discarded). The
-// triangles are split in parallel; the answer is that of a sequential pass
-// (false iff the pieces of all triangles together exceed the budget), for
-// any thread count.
+// A triangle that is split, with its pieces.
+struct SplitFace {
+  Eigen::Index face;
+  std::vector<Sub> leaves;
+};
+
+// The triangles to split at `per_spacing` samples per knot spacing
+// (`spacing`: per knot, `knot_tree`: the knots), in the order of their
+// faces, each with its pieces; false when the pieces would exceed
+// options.max_pieces (then `split_faces` is to be discarded). The triangles
+// are split in parallel; the answer is that of a sequential pass (false iff
+// the pieces of all triangles together exceed the budget), for any thread
+// count.
 bool SplitTriangles(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
                     const Eigen::VectorXd& spacing,
                     const PointKdTree& knot_tree, double per_spacing,
                     const FitSampleOptions& options,
-                    std::vector<std::vector<Sub>>* leaves, int* split) {
+                    std::vector<SplitFace>* split_faces) {
   const int64_t budget = options.max_pieces > 0
                              ? options.max_pieces
                              : std::numeric_limits<int64_t>::max();
   std::atomic<int64_t> pieces{0};
-  std::atomic<int> split_count{0};
   std::atomic<bool> over{false};
+  std::mutex append;
+  split_faces->clear();
+  // No sample spacing is shorter: a triangle whose edges are all within it
+  // is not split, without asking for its nearest knot.
+  const double shortest =
+      spacing.size() > 0 ? spacing.minCoeff() / per_spacing : 0.0;
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, mesh.faces.rows(), 256),
       [&](const tbb::blocked_range<Eigen::Index>& range) {
+        std::vector<SplitFace> found;
         // Consecutive triangles and pieces are mostly close: each query
         // starts from the last one's knot (the same answers).
         int hint = -1;
         for (Eigen::Index f = range.begin(); f < range.end(); ++f) {
-          (*leaves)[f].clear();
-          if (over.load(std::memory_order_relaxed)) continue;
+          if (over.load(std::memory_order_relaxed)) break;
           const Eigen::Vector3d s[3] = {sphere.row(mesh.faces(f, 0)),
                                         sphere.row(mesh.faces(f, 1)),
                                         sphere.row(mesh.faces(f, 2))};
@@ -113,22 +126,32 @@ bool SplitTriangles(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
             return near.index >= 0 ? spacing[near.index] / per_spacing
                                    : std::numeric_limits<double>::infinity();
           };
-          if (longest <= length((s[0] + s[1] + s[2]).normalized())) continue;
+          if (longest <= shortest ||
+              longest <= length((s[0] + s[1] + s[2]).normalized())) {
+            continue;
+          }
           const Sub whole{{Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0),
                            Eigen::Vector2d(0, 1)}};
           // One triangle alone may use the whole budget.
           int64_t own = budget;
+          found.push_back({f, {}});
+          std::vector<Sub>& leaves = found.back().leaves;
           const bool fits =
-              Bisect(whole, s, length, options.max_depth, &own, &(*leaves)[f]);
+              Bisect(whole, s, length, options.max_depth, &own, &leaves);
           const int64_t total =
-              pieces.fetch_add(static_cast<int64_t>((*leaves)[f].size())) +
-              static_cast<int64_t>((*leaves)[f].size());
+              pieces.fetch_add(static_cast<int64_t>(leaves.size())) +
+              static_cast<int64_t>(leaves.size());
           if (!fits || total > budget) over = true;
-          ++split_count;
         }
+        if (found.empty()) return;
+        const std::lock_guard<std::mutex> lock(append);
+        for (SplitFace& face : found) split_faces->push_back(std::move(face));
       });
-  *split = split_count;
-  return !over;
+  if (over) return false;
+  std::sort(
+      split_faces->begin(), split_faces->end(),
+      [](const SplitFace& a, const SplitFace& b) { return a.face < b.face; });
+  return true;
 }
 
 // Triangle f's corner vertices, their sphere points and mesh points.
@@ -489,11 +512,10 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
   // spacing while they exceed max_pieces.
   FitSamples out;
   out.num_vertices = nv;
-  std::vector<std::vector<Sub>> leaves(nf);
+  std::vector<SplitFace> split_faces;
   out.samples_per_spacing = options.samples_per_spacing;
   if (!SplitTriangles(mesh, sphere, spacing, knot_tree,
-                      options.samples_per_spacing, options, &leaves,
-                      &out.split_triangles)) {
+                      options.samples_per_spacing, options, &split_faces)) {
     MergedSamples(mesh, sphere, knots, spacing, knot_tree, options, &out);
     out.unthinned_rows = out.points.rows();
     if (options.thin_above_vertices > 0 && nv > options.thin_above_vertices) {
@@ -501,11 +523,12 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
     }
     return out;
   }
+  out.split_triangles = static_cast<int>(split_faces.size());
 
   // Rows: the vertices, then per split triangle its new lattice points and
   // its leaves' centroids.
   Eigen::Index extra = 0;
-  for (const auto& l : leaves) extra += l.empty() ? 0 : 4 * l.size();  // bound
+  for (const SplitFace& l : split_faces) extra += 4 * l.leaves.size();  // bound
   out.points.resize(nv + extra, 3);
   out.targets.resize(nv + extra, 3);
   out.weights = Eigen::VectorXd::Zero(nv + extra);
@@ -514,15 +537,22 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
   out.targets.topRows(nv) = mesh.vertices;
   Eigen::Index next = nv;
   std::map<std::pair<double, double>, Eigen::Index> point_row;
+  auto split_face = split_faces.begin();
   for (Eigen::Index f = 0; f < nf; ++f) {
+    if (split_face == split_faces.end() || split_face->face != f) {
+      // Not split: a third of its area to each corner.
+      const Eigen::Vector3d x0 = mesh.vertices.row(mesh.faces(f, 0));
+      const Eigen::Vector3d x1 = mesh.vertices.row(mesh.faces(f, 1));
+      const Eigen::Vector3d x2 = mesh.vertices.row(mesh.faces(f, 2));
+      const double area = 0.5 * (x1 - x0).cross(x2 - x0).norm();
+      for (int k = 0; k < 3; ++k) out.weights[mesh.faces(f, k)] += area / 3.0;
+      continue;
+    }
+    const std::vector<Sub>& leaves = (split_face++)->leaves;
     int corner[3];
     Eigen::Vector3d s[3], x[3];
     Corners(mesh, sphere, f, corner, s, x);
     const double area = 0.5 * (x[1] - x[0]).cross(x[2] - x[0]).norm();
-    if (leaves[f].empty()) {
-      for (int k = 0; k < 3; ++k) out.weights[corner[k]] += area / 3.0;
-      continue;
-    }
     auto add_point = [&](const Eigen::Vector2d& b) {
       out.points.row(next) = OnSphere(b, s).transpose();
       out.targets.row(next) = Target(b, x).transpose();
@@ -538,7 +568,7 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
       if (inserted) it->second = add_point(b);
       return it->second;
     };
-    for (const Sub& t : leaves[f]) {
+    for (const Sub& t : leaves) {
       const double leaf_area = LeafArea(t, area);
       for (int k = 0; k < 3; ++k) {
         out.weights[row_of(t.v[k])] += leaf_area / 12.0;
