@@ -266,6 +266,7 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
                        {"cvt_initial_energy", d.cvt_initial_energy},
                        {"cvt_final_energy", d.cvt_final_energy},
                        {"cvt_iterations", d.cvt_iterations},
+                       {"hole_retries", d.hole_retries},
                        {"min_knot_separation_radians", d.min_knot_separation},
                        {"data_samples", d.data_samples},
                        {"unthinned_samples", d.unthinned_samples},

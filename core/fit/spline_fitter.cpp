@@ -97,6 +97,9 @@ void SnapNewKnots(int bits, KnotPlacement* placement) {
 // The fewest knots a round adds: rounds that only remove folds, and rounds
 // halved because the knots had no room for more.
 constexpr int kMinFoldKnots = 10;
+// The floors of the density (fractions of its maximum) with which a round is
+// placed again when the basis on its knots has a hole (RunRound).
+constexpr double kHoleRetryFloors[] = {0.01, 1.0};
 // The share of the knots a power law through the last two rounds puts at the
 // rms target that a round adds when that is less than a whole round: the
 // rms falls faster than that law says (bunny00, --rmse 0.067: the law
@@ -1093,62 +1096,92 @@ Status SplineFitter::State::RunRound() {
                         : fold_round
                             ? std::max(kMinFoldKnots, o.knots_per_round / 4)
                             : KnotsToTarget(std::max(o.knots_per_round, grown));
-  // Too many to keep apart: as many as fit, halving down to kMinFoldKnots.
-  int placing = new_knots;
   const bool feature_round = round == 0 && feature_knots.rows() > 0;
-  StatusOr<KnotPlacement> placed =
-      feature_round ? FeatureKnotPlacement(feature_knots)
-                    : PlaceKnots(density, model.knots, placing, CvtOptions());
-  auto no_room = [&] {
-    return !placed.ok() && round > 0 &&
-           placed.status().code() == StatusCode::kUnsupported;
-  };
-  while (no_room() && placing > kMinFoldKnots) {
-    placing = std::max(kMinFoldKnots, placing / 2);
-    placed = PlaceKnots(density, model.knots, placing, CvtOptions());
-  }
-  if (no_room()) {
-    return Finish(false,
-                  "no room for more knots (" + placed.status().message() + ")");
-  }
-  SDCB_RETURN_IF_ERROR(placed.status());
-  KnotPlacement placement = std::move(placed).value();
-  // The corners' clusters stay exact: a grid cell (7.6e-5 rad at 16 bits)
-  // would break the co-circularity that makes the creases (the file then
-  // stores the knots as they are).
-  if (o.knot_grid_bits > 0 && !feature_round) {
-    SnapNewKnots(o.knot_grid_bits, &placement);
+  // Steps 1-3 again, with the density floored, when the basis on the placed
+  // knots has a hole (no support reaches part of the sphere; kInvalidInput
+  // from the basis): a density too peaked for that many knots put them all
+  // in a few places (a split mesh's curvedness is 0 inside each of its flat
+  // triangles, so its round 0 puts every knot on the old edges).
+  SphericalDensity floored;
+  const SphericalDensity* placing_density = &density;
+  KnotPlacement placement;
+  DelaunayConfigurations configurations, knot_triangles;
+  std::optional<Problem> built;
+  for (int attempt = 0;; ++attempt) {
+    // Too many to keep apart: as many as fit, halving down to kMinFoldKnots.
+    int placing = new_knots;
+    StatusOr<KnotPlacement> placed =
+        feature_round
+            ? FeatureKnotPlacement(feature_knots)
+            : PlaceKnots(*placing_density, model.knots, placing, CvtOptions());
+    auto no_room = [&] {
+      return !placed.ok() && round > 0 &&
+             placed.status().code() == StatusCode::kUnsupported;
+    };
+    while (no_room() && placing > kMinFoldKnots) {
+      placing = std::max(kMinFoldKnots, placing / 2);
+      placed = PlaceKnots(*placing_density, model.knots, placing, CvtOptions());
+    }
+    if (no_room()) {
+      return Finish(
+          false, "no room for more knots (" + placed.status().message() + ")");
+    }
+    SDCB_RETURN_IF_ERROR(placed.status());
+    placement = std::move(placed).value();
+    // The corners' clusters stay exact: a grid cell (7.6e-5 rad at 16 bits)
+    // would break the co-circularity that makes the creases (the file then
+    // stores the knots as they are).
+    if (o.knot_grid_bits > 0 && !feature_round) {
+      SnapNewKnots(o.knot_grid_bits, &placement);
+    }
+    details.timings.knot_placement += stage.Seconds();
+    details.cvt_initial_energy = placement.initial_energy;
+    details.cvt_final_energy = placement.final_energy;
+    details.cvt_iterations = placement.iterations;
+    details.min_knot_separation = placement.min_separation;
+
+    // 2. Configurations; a round that would exceed the control-point cap is
+    // not added.
+    Report(FitStage::kConfigurations, round, kRoundStageStart[1]);
+    stage = Stopwatch();
+    SDCB_ASSIGN_OR_RETURN(configurations, ComputeDelaunayConfigurations(
+                                              placement.knots, o.degree));
+    SDCB_ASSIGN_OR_RETURN(knot_triangles,
+                          ComputeDelaunayConfigurations(placement.knots, 0));
+    details.timings.configurations += stage.Seconds();
+    if (round > 0 &&
+        static_cast<int>(configurations.sets.size()) > o.max_control_points) {
+      return Finish(false, "the next round would exceed " +
+                               std::to_string(o.max_control_points) +
+                               " control points");
+    }
+
+    // 3. Basis, samples, design matrix; 4. least squares.
+    Report(FitStage::kBasis, round, kRoundStageStart[2]);
+    stage = Stopwatch();
+    StatusOr<Problem> problem =
+        BuildProblem(feature_round, placement.knots, configurations,
+                     knot_triangles, &details);
+    if (problem.ok()) {
+      built.emplace(std::move(problem).value());
+      break;
+    }
+    if (feature_round ||
+        attempt == static_cast<int>(std::size(kHoleRetryFloors)) ||
+        problem.status().code() != StatusCode::kInvalidInput) {
+      return problem.status();
+    }
+    details.timings.basis += stage.Seconds();
+    stage = Stopwatch();
+    floored = density;
+    floored.values = density.values.cwiseMax(kHoleRetryFloors[attempt] *
+                                             density.values.maxCoeff());
+    placing_density = &floored;
+    ++details.hole_retries;
   }
   const Eigen::MatrixX3d& knots = placement.knots;
-  details.timings.knot_placement = stage.Seconds();
-  details.cvt_initial_energy = placement.initial_energy;
-  details.cvt_final_energy = placement.final_energy;
-  details.cvt_iterations = placement.iterations;
-  details.min_knot_separation = placement.min_separation;
-
-  // 2. Configurations; a round that would exceed the control-point cap is
-  // not added.
-  Report(FitStage::kConfigurations, round, kRoundStageStart[1]);
-  stage = Stopwatch();
-  SDCB_ASSIGN_OR_RETURN(DelaunayConfigurations configurations,
-                        ComputeDelaunayConfigurations(knots, o.degree));
-  SDCB_ASSIGN_OR_RETURN(const DelaunayConfigurations knot_triangles,
-                        ComputeDelaunayConfigurations(knots, 0));
-  details.timings.configurations = stage.Seconds();
-  if (round > 0 &&
-      static_cast<int>(configurations.sets.size()) > o.max_control_points) {
-    return Finish(false, "the next round would exceed " +
-                             std::to_string(o.max_control_points) +
-                             " control points");
-  }
-
-  // 3. Basis, samples, design matrix; 4. least squares.
-  Report(FitStage::kBasis, round, kRoundStageStart[2]);
-  stage = Stopwatch();
-  SDCB_ASSIGN_OR_RETURN(Problem problem,
-                        BuildProblem(feature_round, knots, configurations,
-                                     knot_triangles, &details));
-  details.timings.basis = stage.Seconds();
+  Problem& problem = *built;
+  details.timings.basis += stage.Seconds();
   Report(FitStage::kSolve, round, kRoundStageStart[3]);
   stage = Stopwatch();
   SDCB_ASSIGN_OR_RETURN(const Eigen::MatrixX3d control_points, Solve(problem));

@@ -170,6 +170,9 @@ struct RoundDetails {
   double cvt_initial_energy = 0;  // CVT energy of the round's knot placement
   double cvt_final_energy = 0;
   int cvt_iterations = 0;
+  // Times the round's knots were placed again with the density floored,
+  // the basis on the knots placed before having a hole (0, 1 or 2).
+  int hole_retries = 0;
   double min_knot_separation = 0;  // radians
   int data_samples = 0;            // rows of the data term
   int unthinned_samples = 0;       // rows before thinning (data_samples if not)

@@ -499,6 +499,16 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   TriangleMesh image;
   image.vertices = evaluator.EvaluateMany(lattice.points);
   image.faces = lattice.triangles;
+  // Where I = sum B_i is 0 (outside every basis support: a hole the basis's
+  // sampled coverage check missed) the surface is 0 / 0.
+  for (Eigen::Index i = 0; i < ns; ++i) {
+    if (image.vertices.row(i).allFinite()) continue;
+    const Eigen::RowVector3d p = lattice.points.row(i);
+    return InvalidInputError(
+        "the surface is undefined near (" + std::to_string(p.x()) + ", " +
+        std::to_string(p.y()) + ", " + std::to_string(p.z()) +
+        "): I = sum B_i = 0 there, a hole between the basis supports");
+  }
 
   // Area and normal of the image around each lattice vertex: a third of the
   // area of each of its lattice triangles, the area-weighted normals summed.

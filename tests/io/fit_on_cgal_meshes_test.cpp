@@ -124,6 +124,34 @@ TEST(AdaptiveFitTest, FoldsThatDoNotShrinkStopTheFit) {
   EXPECT_LT(fit->model.statistics.final_result.control_points, 10000);
 }
 
+// A density too peaked for the round's knots (hand.off's curvedness to the
+// 16th power instead of the 4th) puts them all in a few places and the basis
+// on them has a hole: the round is placed again with the density floored.
+// At the 12th power the hole lies between the basis's coverage samples and
+// the round's measurement meets it: an error naming it, not a crash (the
+// surface there is 0 / 0, which CGAL's exact predicates trap on).
+TEST(AdaptiveFitTest, ABasisWithAHoleIsPlacedAgainOrNamed) {
+  const TriangleMesh mesh = ReadCgalMesh("hand.off");
+  FitOptions options;
+  options.rmse_percent = 0.1;
+  options.max_rounds = 1;
+  auto fit = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  EXPECT_EQ(fit->round_details[0].hole_retries, 0);
+  options.alpha = 16;
+  fit = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  EXPECT_EQ(fit->round_details[0].hole_retries, 1);
+  EXPECT_TRUE(fit->model.control_points.allFinite());
+  options.alpha = 12;
+  fit = FitSphericalSpline(mesh, options);
+  ASSERT_FALSE(fit.ok());
+  EXPECT_EQ(fit.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(fit.status().message().find("the surface is undefined near"),
+            std::string::npos)
+      << fit.status().message();
+}
+
 // CGAL's cube-meshed.off: 866 vertices, each of the cube's edges a straight
 // chain of 16 mesh edges. Parameterized by the central projection from its
 // centroid, every chain maps to one great-circle arc, so the corners'
