@@ -128,8 +128,9 @@ TEST(AdaptiveFitTest, FoldsThatDoNotShrinkStopTheFit) {
 // 16th power instead of the 4th) puts them all in a few places and the basis
 // on them has a hole: the round is placed again with the density floored.
 // At the 12th power the hole lies between the basis's coverage samples and
-// the round's measurement meets it: an error naming it, not a crash (the
-// surface there is 0 / 0, which CGAL's exact predicates trap on).
+// the round's lattice, and the dense measurement of the returned round
+// meets it: an error naming it, not a crash (the surface there is 0 / 0,
+// which CGAL's exact predicates trap on).
 TEST(AdaptiveFitTest, ABasisWithAHoleIsPlacedAgainOrNamed) {
   const TriangleMesh mesh = ReadCgalMesh("hand.off");
   FitOptions options;
