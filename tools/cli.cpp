@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <iostream>
 
@@ -227,7 +228,13 @@ SelfIntersectionsBeside::SelfIntersectionsBeside(const TriangleMesh& mesh)
         setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
         // One slot and no workers: the search runs on this thread only.
         tbb::task_arena alone(1, 1);
-        alone.execute([&] { report_.emplace(FindSelfIntersections(mesh)); });
+        try {
+          alone.execute([&] { report_.emplace(FindSelfIntersections(mesh)); });
+        } catch (const std::exception& e) {
+          // Out of memory here is not the work's end: the search is skipped.
+          report_.emplace(
+              InternalError(std::string("not searched: ") + e.what()));
+        }
       }) {}
 
 SelfIntersectionsBeside::~SelfIntersectionsBeside() {
