@@ -504,7 +504,7 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
                            const Eigen::MatrixX3d* vertex_normals) {
   const Eigen::Index nv = mesh.vertices.rows(), nf = mesh.faces.rows();
   const Eigen::VectorXd spacing = KnotSpacing(knots);
-  const PointKdTree knot_tree(knots);
+  const PointKdTree knot_tree(knots, /*direction_index=*/true);
 
   // The sub-triangles of every triangle whose spherical image has an edge
   // longer than the sample spacing h / samples_per_spacing (h: the spacing

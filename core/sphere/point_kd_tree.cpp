@@ -1,17 +1,126 @@
 #include "sdcb/core/sphere/point_kd_tree.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
+
+#include "sdcb/core/sphere/sphere_geometry.h"
 
 namespace sdcb {
 namespace {
 constexpr int kLeafSize = 8;
+// Queries shorter than this use the tree: the direction of a short query
+// says little about which unit point is nearest in R^3.
+constexpr double kMinDirectionQuery = 0.5;
+// Angle added to each cell's candidate radius: covers the points' lengths
+// (1 within kUnitVectorTolerance: the nearest point in R^3 to a query of
+// length >= 0.5 is then within ~1e-4 rad of the nearest by angle) and the
+// rounding of the distances.
+constexpr double kCandidateMargin = 1e-3;
+constexpr double kPi = 3.14159265358979323846;
+
+// The angle between unit vectors a and b.
+double Angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return 2 * std::asin(std::min(1.0, (a - b).norm() / 2));
+}
 }  // namespace
 
-PointKdTree::PointKdTree(const Eigen::MatrixX3d& points) : points_(points) {
+PointKdTree::PointKdTree(const Eigen::MatrixX3d& points, bool direction_index)
+    : points_(points) {
   order_.resize(points_.rows());
   std::iota(order_.begin(), order_.end(), 0);
   if (!order_.empty()) Build(0, static_cast<int>(order_.size()));
+  if (direction_index && points_.rows() > 0 && AllUnitRows(points_)) {
+    BuildDirectionIndex();
+  }
+}
+
+void PointKdTree::Within(int node, const Eigen::Vector3d& center, double radius,
+                         std::vector<int>* rows) const {
+  const Node& n = nodes_[node];
+  if (n.left < 0) {
+    for (int i = n.begin; i < n.end; ++i) {
+      const int row = order_[i];
+      if ((points_.row(row).transpose() - center).norm() <= radius) {
+        rows->push_back(row);
+      }
+    }
+    return;
+  }
+  const double delta = center[n.axis] - n.split;
+  if (delta - radius <= 0) Within(n.left, center, radius, rows);
+  if (delta + radius >= 0) Within(n.right, center, radius, rows);
+}
+
+// A point of cube face f (axis f / 2, sign by f % 2) at face coordinates
+// (a, b) in [-1, 1]^2, and back.
+namespace {
+Eigen::Vector3d FacePoint(int f, double a, double b) {
+  const int axis = f / 2;
+  Eigen::Vector3d p;
+  p[axis] = f % 2 == 0 ? 1.0 : -1.0;
+  p[(axis + 1) % 3] = a;
+  p[(axis + 2) % 3] = b;
+  return p;
+}
+}  // namespace
+
+int PointKdTree::CellOf(const Eigen::Vector3d& d) const {
+  int axis = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (std::abs(d[k]) > std::abs(d[axis])) axis = k;
+  }
+  const int face = 2 * axis + (d[axis] < 0 ? 1 : 0);
+  const double scale = 1.0 / std::abs(d[axis]);
+  const int n = cells_per_side_;
+  auto cell = [n](double t) {
+    return std::clamp(static_cast<int>(std::floor((t + 1) / 2 * n)), 0, n - 1);
+  };
+  return (face * n + cell(d[(axis + 1) % 3] * scale)) * n +
+         cell(d[(axis + 2) % 3] * scale);
+}
+
+void PointKdTree::BuildDirectionIndex() {
+  // About two cells per point.
+  const double per_face = 2.0 * static_cast<double>(points_.rows()) / 6.0;
+  cells_per_side_ =
+      std::clamp(static_cast<int>(std::ceil(std::sqrt(per_face))), 1, 256);
+  const int n = cells_per_side_;
+  cell_start_.assign(6 * n * n + 1, 0);
+  cell_rows_.clear();
+  std::vector<int> rows;
+  for (int f = 0; f < 6; ++f) {
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) {
+        auto at = [&](double u, double v) {
+          return FacePoint(f, -1 + 2 * u / n, -1 + 2 * v / n).normalized();
+        };
+        // The cell is the central projection of a square: a convex
+        // spherical quadrilateral, farthest from its centre at a corner.
+        const Eigen::Vector3d centre = at(i + 0.5, j + 0.5);
+        double reach = 0;
+        for (const auto& [u, v] : {std::pair{0, 0}, {0, 1}, {1, 0}, {1, 1}}) {
+          reach = std::max(reach, Angle(centre, at(i + u, j + v)));
+        }
+        // A query in the cell is within `reach` of the centre, so its
+        // nearest point is within reach + (the centre's nearest) of it, and
+        // within twice the reach plus that of the centre.
+        const Neighbor nearest = Nearest(centre);
+        const double angle = std::min(
+            2 * reach +
+                Angle(centre,
+                      points_.row(nearest.index).transpose().normalized()) +
+                kCandidateMargin,
+            kPi);
+        rows.clear();
+        Within(0, centre, 2 * std::sin(angle / 2) + kCandidateMargin, &rows);
+        std::sort(rows.begin(), rows.end());
+        cell_rows_.insert(cell_rows_.end(), rows.begin(), rows.end());
+        cell_start_[(f * n + i) * n + j + 1] =
+            static_cast<int>(cell_rows_.size());
+      }
+    }
+  }
 }
 
 int PointKdTree::Build(int begin, int end) {
@@ -89,6 +198,22 @@ PointKdTree::Neighbor PointKdTree::Nearest(const Eigen::Vector3d& query,
 PointKdTree::Neighbor PointKdTree::NearestNear(const Eigen::Vector3d& query,
                                                int hint,
                                                double bound_squared) const {
+  if (cells_per_side_ > 0 && query.allFinite() &&
+      query.squaredNorm() >= kMinDirectionQuery * kMinDirectionQuery) {
+    // The cell's candidates, with the tree's distances and tie rule.
+    const int cell = CellOf(query);
+    Neighbor best;
+    for (int k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+      const int row = cell_rows_[k];
+      const double d = (points_.row(row).transpose() - query).squaredNorm();
+      if (d < best.squared_distance ||
+          (d == best.squared_distance && row < best.index)) {
+        best.index = row;
+        best.squared_distance = d;
+      }
+    }
+    return best.squared_distance < bound_squared ? best : Neighbor();
+  }
   if (hint >= 0) {
     // The margin covers a different rounding of the same distance below.
     const double d2 = (points_.row(hint).transpose() - query).squaredNorm();

@@ -17,8 +17,15 @@ class PointKdTree {
     double squared_distance = std::numeric_limits<double>::infinity();
   };
 
-  // `points`: #P by 3, copied. Any #P >= 0.
-  explicit PointKdTree(const Eigen::MatrixX3d& points);
+  // `points`: #P by 3, copied. Any #P >= 0. With `direction_index`, and
+  // when every point is a unit vector (within kUnitVectorTolerance), also a
+  // cube-map grid of directions that lists, per cell, every point that can
+  // be nearest to a query whose direction falls in the cell (about eight):
+  // NearestNear scans that list instead of descending the tree, for queries
+  // of length >= 0.5. The same answers; for many queries against few points
+  // (the fit's samples against its knots).
+  explicit PointKdTree(const Eigen::MatrixX3d& points,
+                       bool direction_index = false);
 
   // The point nearest to `query` among those with squared distance strictly
   // below `bound_squared`, ignoring row `exclude` (-1: none). Ties between
@@ -48,10 +55,22 @@ class PointKdTree {
     double split = 0;
   };
   int Build(int begin, int end);
+  // Rows of the points within `radius` of `center` (|p - c| <= radius).
+  void Within(int node, const Eigen::Vector3d& center, double radius,
+              std::vector<int>* rows) const;
+  void BuildDirectionIndex();
+  // The direction grid's cell of a nonzero `direction`.
+  int CellOf(const Eigen::Vector3d& direction) const;
 
   Eigen::MatrixX3d points_;
   std::vector<int> order_;  // point rows, grouped by leaf
   std::vector<Node> nodes_;
+  // The direction index: cells_per_side_ x cells_per_side_ cells on each of
+  // the cube's six faces (0: none); cell c's candidates are
+  // cell_rows_[cell_start_[c] .. cell_start_[c + 1]).
+  int cells_per_side_ = 0;
+  std::vector<int> cell_start_;
+  std::vector<int> cell_rows_;
 };
 
 }  // namespace sdcb
