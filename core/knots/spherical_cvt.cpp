@@ -26,13 +26,6 @@ constexpr double kPi = 3.14159265358979323846;
 // any number of threads.
 constexpr int kBlockSize = 4096;
 
-double ChordFromAngle(double angle) {
-  return 2 * std::sin(std::min(angle, kPi) / 2);
-}
-double AngleFromChord(double chord) {
-  return 2 * std::asin(std::min(1.0, chord / 2));
-}
-
 // Area of the spherical triangle with unit-vector corners a, b, c:
 // tan(A/2) = |det(a,b,c)| / (1 + a.b + b.c + c.a) (Van Oosterom & Strackee).
 double SphericalTriangleArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b,

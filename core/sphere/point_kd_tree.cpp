@@ -17,11 +17,21 @@ constexpr double kMinDirectionQuery = 0.5;
 // length >= 0.5 is then within ~1e-4 rad of the nearest by angle) and the
 // rounding of the distances.
 constexpr double kCandidateMargin = 1e-3;
-constexpr double kPi = 3.14159265358979323846;
 
 // The angle between unit vectors a and b.
 double Angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return 2 * std::asin(std::min(1.0, (a - b).norm() / 2));
+  return AngleFromChord((a - b).norm());
+}
+
+// The point of cube face f (axis f / 2, positive for even f) at face
+// coordinates (a, b) in [-1, 1]^2.
+Eigen::Vector3d FacePoint(int f, double a, double b) {
+  const int axis = f / 2;
+  Eigen::Vector3d p;
+  p[axis] = f % 2 == 0 ? 1.0 : -1.0;
+  p[(axis + 1) % 3] = a;
+  p[(axis + 2) % 3] = b;
+  return p;
 }
 }  // namespace
 
@@ -51,19 +61,6 @@ void PointKdTree::Within(int node, const Eigen::Vector3d& center, double radius,
   if (delta - radius <= 0) Within(n.left, center, radius, rows);
   if (delta + radius >= 0) Within(n.right, center, radius, rows);
 }
-
-// A point of cube face f (axis f / 2, sign by f % 2) at face coordinates
-// (a, b) in [-1, 1]^2, and back.
-namespace {
-Eigen::Vector3d FacePoint(int f, double a, double b) {
-  const int axis = f / 2;
-  Eigen::Vector3d p;
-  p[axis] = f % 2 == 0 ? 1.0 : -1.0;
-  p[(axis + 1) % 3] = a;
-  p[(axis + 2) % 3] = b;
-  return p;
-}
-}  // namespace
 
 int PointKdTree::CellOf(const Eigen::Vector3d& d) const {
   int axis = 0;
@@ -106,14 +103,12 @@ void PointKdTree::BuildDirectionIndex() {
         // nearest point is within reach + (the centre's nearest) of it, and
         // within twice the reach plus that of the centre.
         const Neighbor nearest = Nearest(centre);
-        const double angle = std::min(
+        const double angle =
             2 * reach +
-                Angle(centre,
-                      points_.row(nearest.index).transpose().normalized()) +
-                kCandidateMargin,
-            kPi);
+            Angle(centre, points_.row(nearest.index).transpose().normalized()) +
+            kCandidateMargin;
         rows.clear();
-        Within(0, centre, 2 * std::sin(angle / 2) + kCandidateMargin, &rows);
+        Within(0, centre, ChordFromAngle(angle) + kCandidateMargin, &rows);
         std::sort(rows.begin(), rows.end());
         cell_rows_.insert(cell_rows_.end(), rows.begin(), rows.end());
         cell_start_[(f * n + i) * n + j + 1] =

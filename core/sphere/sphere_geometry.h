@@ -6,6 +6,8 @@
 #define SDCB_CORE_SPHERE_SPHERE_GEOMETRY_H_
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 
 namespace sdcb {
 
@@ -20,6 +22,15 @@ bool AllUnitRows(const Eigen::MatrixX3d& points);
 // The first row that is not finite or not unit within kUnitVectorTolerance,
 // or -1.
 Eigen::Index FirstNonUnitRow(const Eigen::MatrixX3d& points);
+
+// The chord |a - b| of unit vectors at `angle` radians apart (angles past
+// pi count as pi), and back.
+inline double ChordFromAngle(double angle) {
+  return 2 * std::sin(std::min(angle, 3.14159265358979323846) / 2);
+}
+inline double AngleFromChord(double chord) {
+  return 2 * std::asin(std::min(1.0, chord / 2));
+}
 
 // det[a b c] = a . (b x c), in floating point (a value, not a decision).
 inline double Det3(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
