@@ -197,6 +197,27 @@ Eigen::MatrixX3d NearestSamplePrior(const DcbBasis& basis,
 
 // Stacks row-major sparse matrices, each row of part j scaled by
 // scales[j][row].
+// Every basis support is half-open, so a knot can lie outside all of them:
+// I = 0 exactly there and > 0 all around it (hand.off's round 0 with the
+// density exponent 12), and the surface there is 0 / 0. The measurements'
+// lattices hold the knots, so such a basis is refused as one with a hole
+// (kInvalidInput), and the round places its knots again.
+Status CheckKnotsCovered(const DcbBasis& basis) {
+  const Eigen::MatrixX3d& knots = basis.knots();
+  std::vector<char> covered(knots.rows(), 0);
+  basis.ParallelForEachPoint(knots, [&](Eigen::Index r) {
+    covered[r] = basis.Normalization(knots.row(r).transpose()) > 0.0;
+  });
+  for (Eigen::Index r = 0; r < knots.rows(); ++r) {
+    if (covered[r]) continue;
+    return InvalidInputError("the degree-" + std::to_string(basis.degree()) +
+                             " basis of these " + std::to_string(knots.rows()) +
+                             " knots leaves knot " + std::to_string(r) +
+                             " outside every support: I = sum B_i = 0 there");
+  }
+  return Status();
+}
+
 DesignMatrix StackScaledRows(
     const std::vector<std::pair<const DesignMatrix*, const Eigen::VectorXd*>>&
         parts) {
@@ -871,8 +892,11 @@ StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
                                        sample_options, &vertex_normal));
   });
   StatusOr<DcbBasis> basis_or = DcbBasis::Create(knots, configurations);
+  const Status knots_covered =
+      basis_or.ok() ? CheckKnotsCovered(*basis_or) : Status();
   side.wait();
   SDCB_ASSIGN_OR_RETURN(DcbBasis basis, std::move(basis_or));
+  SDCB_RETURN_IF_ERROR(knots_covered);
   FitSamples samples = std::move(*samples_or);
   if (feature_round) {
     // The thin triangles between a corner's cluster and the next corner

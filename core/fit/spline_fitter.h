@@ -171,7 +171,8 @@ struct RoundDetails {
   double cvt_final_energy = 0;
   int cvt_iterations = 0;
   // Times the round's knots were placed again with the density floored,
-  // the basis on the knots placed before having a hole (0, 1 or 2).
+  // the basis on the knots placed before having a hole (I = 0 somewhere,
+  // or at a knot outside every support; 0, 1 or 2).
   int hole_retries = 0;
   double min_knot_separation = 0;  // radians
   int data_samples = 0;            // rows of the data term

@@ -16,8 +16,11 @@
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
+#include "sdcb/core/spline/dcb_basis.h"
+#include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "testing/fan_mesh.h"
+#include "testing/special_knots.h"
 
 namespace sdcb {
 namespace {
@@ -181,6 +184,38 @@ class BruteForceSpline {
   Eigen::MatrixX3d cloud_;
   double spacing_;
 };
+
+// Where I = sum B_i = 0 the surface is 0 / 0. The cube's knots at degree 2
+// leave such holes (DcbBasis::Create refuses them unless its coverage check
+// is off): the measurement names a point of one instead of handing NaN to
+// CGAL's exact predicates (which trap on it).
+TEST(SurfaceDeviationHoleTest, ASurfaceWithAHoleIsNamedNotMeasured) {
+  const Eigen::MatrixX3d knots = testing::CubeKnots();
+  auto configurations = ComputeDelaunayConfigurations(knots, 2);
+  ASSERT_TRUE(configurations.ok());
+  DcbBasisOptions unchecked;
+  unchecked.coverage_samples = 0;
+  auto basis = DcbBasis::Create(knots, *configurations, unchecked);
+  ASSERT_TRUE(basis.ok()) << basis.status().message();
+  // Each control point the mean of its set's knots: a closed blob.
+  Eigen::MatrixX3d control_points(basis->size(), 3);
+  for (int i = 0; i < basis->size(); ++i) {
+    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+    for (const int k : configurations->sets[i].knots) sum += knots.row(k);
+    control_points.row(i) =
+        sum / static_cast<double>(configurations->sets[i].knots.size());
+  }
+  auto surface = SphericalSpline::Create(*basis, control_points);
+  ASSERT_TRUE(surface.ok()) << surface.status().message();
+  DeviationOptions options;
+  options.min_surface_samples = 5000;
+  auto deviation = MeasureSurfaceDeviation(*surface, MakeIcosphere(2), options);
+  ASSERT_FALSE(deviation.ok());
+  EXPECT_EQ(deviation.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(deviation.status().message().find("the surface is undefined near"),
+            std::string::npos)
+      << deviation.status().message();
+}
 
 class SurfaceDeviationTest : public ::testing::Test {
  protected:
