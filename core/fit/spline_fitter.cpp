@@ -195,8 +195,6 @@ Eigen::MatrixX3d NearestSamplePrior(const DcbBasis& basis,
   return prior;
 }
 
-// Stacks row-major sparse matrices, each row of part j scaled by
-// scales[j][row].
 // Every basis support is half-open, so a knot can lie outside all of them:
 // I = 0 exactly there and > 0 all around it (hand.off's round 0 with the
 // density exponent 12), and the surface there is 0 / 0. The measurements'
@@ -218,6 +216,8 @@ Status CheckKnotsCovered(const DcbBasis& basis) {
   return Status();
 }
 
+// Stacks row-major sparse matrices, each row of part j scaled by
+// scales[j][row].
 DesignMatrix StackScaledRows(
     const std::vector<std::pair<const DesignMatrix*, const Eigen::VectorXd*>>&
         parts) {
