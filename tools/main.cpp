@@ -66,12 +66,15 @@ commands:
                              A zero direction, or a model whose values are
                              not finite there, is an error: nothing written.
   compare MODEL.sdcb MESH [--json FILE] [--samples N] [--mesh-samples N]
+          [--picture OUT.ply]
                              Two-sided distance between the surface and a
                              mesh (dense samples of both: N surface samples,
                              default 100000, and the mesh split to about N
                              mesh samples, default 100000, 0: its vertices;
                              an upper bound of the mesh's side's maximum),
-                             folded area.
+                             folded area. --picture: the measured surface,
+                             white (0) to red (its largest distance), folded
+                             samples blue.
 
   export MODEL.sdcb -o OUT.{obj,ply,stl,gltf,glb} [--tolerance PCT]
       [--angle DEG] [--uniform N] [--draco [--qp BITS] [--cl LEVEL]]

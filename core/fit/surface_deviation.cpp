@@ -540,6 +540,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   out.surface_samples = ns;
   out.surface_sample_points = lattice.points;
   out.surface_sample_positions = image.vertices;
+  out.surface_sample_triangles = lattice.triangles;
   out.surface_sample_knot_triangle = lattice.knot_triangle;
   out.surface_sample_distance_percent.resize(ns);
   out.surface_sample_mesh_face.resize(ns);

@@ -146,6 +146,9 @@ struct SurfaceDeviation {
   // F at every surface sample (the points measured), and the closest point
   // of the mesh to it with the triangle holding that point.
   Eigen::MatrixX3d surface_sample_positions;
+  // The lattice's triangles over the surface samples (rows above): with
+  // surface_sample_positions, the measured surface as a triangle mesh.
+  Eigen::MatrixX3i surface_sample_triangles;
   Eigen::MatrixX3d surface_sample_mesh_point;
   std::vector<int> surface_sample_mesh_face;
   Eigen::VectorXd surface_sample_distance_percent;

@@ -1,6 +1,7 @@
 // `sdcb fit / info / dump / eval` as pipelines use them.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +12,7 @@
 
 #include "sdcb/io/mesh_reader.h"
 #include "testing/brute_force_configurations.h"
+#include "testing/honest_fit_errors.h"
 #include "testing/run_sdcb.h"
 
 namespace sdcb {
@@ -390,6 +392,113 @@ TEST(FitCliTest, CompareAgreesWithTheFitReport) {
   EXPECT_NE(missing.err.find("none.sdcb"), std::string::npos) << missing.err;
   EXPECT_FALSE(fs::exists(dir + "/c.json"));
   EXPECT_EQ(RunSdcb({"compare", model}, dir).exit_code, 2);
+}
+
+// An ASCII PLY of `sdcb compare --picture`: vertices with their colors, and
+// the face count.
+struct Picture {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::array<int, 3>> colors;
+  int faces = 0;
+};
+Picture ReadPicture(const std::string& path) {
+  std::istringstream in(ReadBytes(path));
+  Picture p;
+  std::string line;
+  int vertices = 0;
+  while (std::getline(in, line) && line != "end_header") {
+    std::istringstream words(line);
+    std::string a, b;
+    int n = 0;
+    if (words >> a >> b >> n && a == "element") {
+      (b == "vertex" ? vertices : p.faces) = n;
+    }
+  }
+  for (int v = 0; v < vertices; ++v) {
+    Eigen::Vector3d x;
+    std::array<int, 3> c;
+    in >> x.x() >> x.y() >> x.z() >> c[0] >> c[1] >> c[2];
+    p.points.push_back(x);
+    p.colors.push_back(c);
+  }
+  return p;
+}
+
+// `sdcb compare --picture` writes the measured surface: a vertex per surface
+// sample at F in the input's coordinates, white (0) to red (the largest
+// distance), folded samples blue. Against the mesh the vertices' colors
+// follow their distances to it (brute force over its triangles), none is
+// blue; against the mesh with its faces reversed every sample is folded.
+TEST(FitCliTest, ComparePictureShowsTheDistancesAndTheFolds) {
+  const std::string dir = FreshTestDir();
+  const std::string model = FitBlobby(dir, "2");
+  const RunResult r = RunSdcb(
+      {"compare", model, MeshPath("blobby.off"), "--samples", "5000",
+       "--mesh-samples", "0", "--picture", dir + "/p.ply", "--json", "-"},
+      dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto c = nlohmann::json::parse(r.out);
+  EXPECT_EQ(c["picture"], dir + "/p.ply");
+  EXPECT_EQ(c["folded_area_percent"].get<double>(), 0.0);
+  const Picture p = ReadPicture(dir + "/p.ply");
+  ASSERT_EQ(static_cast<int64_t>(p.points.size()),
+            c["surface_samples"].get<int64_t>());
+  EXPECT_GT(p.faces, static_cast<int>(p.points.size()));
+  auto mesh = ReadMesh(MeshPath("blobby.off"));
+  ASSERT_TRUE(mesh.ok());
+  const double side = (mesh->vertices.colwise().maxCoeff() -
+                       mesh->vertices.colwise().minCoeff())
+                          .maxCoeff();
+  const double max = c["surface_to_mesh_max_percent"].get<double>();
+  int reddest = 0;
+  for (size_t v = 0; v < p.points.size(); v += 13) {
+    const double d =
+        100 * testing::BruteForceDistance(*mesh, p.points[v]) / side;
+    const int green = static_cast<int>(std::lround(255 * (1 - d / max)));
+    EXPECT_EQ(p.colors[v][0], 255);
+    EXPECT_NEAR(p.colors[v][1], green, 1) << v;
+    EXPECT_EQ(p.colors[v][1], p.colors[v][2]);
+  }
+  for (size_t v = 0; v < p.points.size(); ++v) {
+    if (p.colors[v][1] != 0) continue;
+    ++reddest;
+    EXPECT_NEAR(100 * testing::BruteForceDistance(*mesh, p.points[v]) / side,
+                max, 0.005 * max);
+  }
+  EXPECT_GE(reddest, 1);
+
+  std::ostringstream off;
+  off.precision(17);
+  off << "OFF\n" << mesh->num_vertices() << " " << mesh->num_faces() << " 0\n";
+  for (int v = 0; v < mesh->num_vertices(); ++v) {
+    off << mesh->vertices(v, 0) << " " << mesh->vertices(v, 1) << " "
+        << mesh->vertices(v, 2) << "\n";
+  }
+  for (int f = 0; f < mesh->num_faces(); ++f) {
+    off << "3 " << mesh->faces(f, 0) << " " << mesh->faces(f, 2) << " "
+        << mesh->faces(f, 1) << "\n";
+  }
+  WriteBytes(dir + "/reversed.off", off.str());
+  const RunResult reversed = RunSdcb(
+      {"compare", model, dir + "/reversed.off", "--samples", "5000",
+       "--mesh-samples", "0", "--picture", dir + "/r.ply", "--json", "-"},
+      dir);
+  ASSERT_EQ(reversed.exit_code, 0) << reversed.err;
+  EXPECT_GT(
+      nlohmann::json::parse(reversed.out)["folded_area_percent"].get<double>(),
+      99.9);
+  const Picture folded = ReadPicture(dir + "/r.ply");
+  ASSERT_EQ(folded.points.size(), p.points.size());
+  for (const auto& color : folded.colors) {
+    EXPECT_EQ(color, (std::array<int, 3>{0, 64, 255}));
+  }
+  // Not a PLY: a usage error before any work, nothing written.
+  EXPECT_EQ(RunSdcb({"compare", model, MeshPath("blobby.off"), "--picture",
+                     dir + "/p.obj"},
+                    dir)
+                .exit_code,
+            2);
+  EXPECT_FALSE(fs::exists(dir + "/p.obj"));
 }
 
 TEST(FitCliTest, DumpedConfigurationsAreConfirmedByBruteForce) {
