@@ -184,12 +184,18 @@ int RunFit(const std::vector<std::string>& argv) {
     }
   }
   if (!fit->reached_target()) {
+    // Where a returned surface folds, the measurement's picture shows it.
+    const std::string where =
+        fit->model.statistics.final_result.folded_area_percent > 0
+            ? "; `sdcb compare " + output + " " + path +
+                  " --picture folds.ply` shows where (blue)"
+            : "";
     std::fprintf(
         stderr,
         "sdcb: %s: warning: the targets (rmse %.4f%%, max %.4f%%) were not "
-        "reached: %s\n",
+        "reached: %s%s\n",
         path.c_str(), options.rmse_percent, MaxErrorTarget(options),
-        fit->shortfall.c_str());
+        fit->shortfall.c_str(), where.c_str());
   }
   return kExitOk;
 }

@@ -251,6 +251,21 @@ TEST(FitCliTest, AMissedTargetWarnsWithTheReportsReason) {
   EXPECT_FALSE(reason.empty());
   EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(reason), std::string::npos) << r.err;
+  // No fold in the returned surface: no picture to look at.
+  EXPECT_EQ(j["final"]["folded_area_percent"], 0.0);
+  EXPECT_EQ(r.err.find("--picture"), std::string::npos) << r.err;
+  // A returned surface that folds (cactus's first round): the warning says
+  // how to see where.
+  const RunResult folded =
+      RunSdcb({"fit", MeshPath("cactus.off"), "-o", dir + "/c.sdcb", "--rmse",
+               "0.1", "--max-rounds", "1", "--accept-folds", "--quiet"},
+              dir);
+  ASSERT_EQ(folded.exit_code, 0) << folded.err;
+  EXPECT_NE(folded.err.find("`sdcb compare " + dir + "/c.sdcb " +
+                            MeshPath("cactus.off") +
+                            " --picture folds.ply` shows where (blue)"),
+            std::string::npos)
+      << folded.err;
 }
 
 // --accept-folds changes which round is returned, so the model records it.
