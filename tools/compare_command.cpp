@@ -20,6 +20,8 @@
 
 namespace sdcb::cli {
 
+namespace {
+
 constexpr int kDefaultMeshSamples = 100000;
 
 // The picture's color of a folded surface sample (the distance ramp runs from
@@ -45,6 +47,8 @@ Status WritePicture(const SurfaceDeviation& d,
   }
   return WriteMesh(picture, path, options);
 }
+
+}  // namespace
 
 int RunCompare(const std::vector<std::string>& argv) {
   const Args args(argv, {"json", "samples", "mesh-samples", "picture"},
