@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh_writer.h"
 #include "testing/brute_force_configurations.h"
 #include "testing/honest_fit_errors.h"
 #include "testing/run_sdcb.h"
@@ -380,18 +381,9 @@ TEST(FitCliTest, CompareAgreesWithTheFitReport) {
   const double side = (mesh->vertices.colwise().maxCoeff() -
                        mesh->vertices.colwise().minCoeff())
                           .maxCoeff();
-  std::ostringstream off;
-  off.precision(17);
-  off << "OFF\n" << mesh->num_vertices() << " " << mesh->num_faces() << " 0\n";
-  for (int v = 0; v < mesh->num_vertices(); ++v) {
-    off << mesh->vertices(v, 0) + 0.01 * side << " " << mesh->vertices(v, 1)
-        << " " << mesh->vertices(v, 2) << "\n";
-  }
-  for (int f = 0; f < mesh->num_faces(); ++f) {
-    off << "3 " << mesh->faces(f, 0) << " " << mesh->faces(f, 1) << " "
-        << mesh->faces(f, 2) << "\n";
-  }
-  WriteBytes(dir + "/moved.off", off.str());
+  TriangleMesh moved_mesh = *mesh;
+  moved_mesh.vertices.col(0).array() += 0.01 * side;
+  ASSERT_TRUE(WriteMesh(moved_mesh, dir + "/moved.off").ok());
   const RunResult moved =
       RunSdcb({"compare", model, dir + "/moved.off", "--json", "-"}, dir);
   ASSERT_EQ(moved.exit_code, 0) << moved.err;
@@ -482,18 +474,9 @@ TEST(FitCliTest, ComparePictureShowsTheDistancesAndTheFolds) {
   }
   EXPECT_GE(reddest, 1);
 
-  std::ostringstream off;
-  off.precision(17);
-  off << "OFF\n" << mesh->num_vertices() << " " << mesh->num_faces() << " 0\n";
-  for (int v = 0; v < mesh->num_vertices(); ++v) {
-    off << mesh->vertices(v, 0) << " " << mesh->vertices(v, 1) << " "
-        << mesh->vertices(v, 2) << "\n";
-  }
-  for (int f = 0; f < mesh->num_faces(); ++f) {
-    off << "3 " << mesh->faces(f, 0) << " " << mesh->faces(f, 2) << " "
-        << mesh->faces(f, 1) << "\n";
-  }
-  WriteBytes(dir + "/reversed.off", off.str());
+  TriangleMesh reversed_mesh = *mesh;
+  reversed_mesh.faces.col(1).swap(reversed_mesh.faces.col(2));
+  ASSERT_TRUE(WriteMesh(reversed_mesh, dir + "/reversed.off").ok());
   const RunResult reversed = RunSdcb(
       {"compare", model, dir + "/reversed.off", "--samples", "5000",
        "--mesh-samples", "0", "--picture", dir + "/r.ply", "--json", "-"},
