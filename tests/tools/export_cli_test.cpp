@@ -24,9 +24,14 @@ using testing::RunSdcb;
 
 const std::string kTools = std::string(SDCB_SOURCE_DIR) + "/scripts/gltf_tools";
 
-// Runs a shell command; returns its exit code and stdout.
+// Runs a shell command; returns its exit code and what it printed (stdout
+// and stderr). The capture file is named by the running test: ctest runs this
+// suite's tests in parallel processes, which must not share it.
 int Shell(const std::string& command, std::string* out) {
-  const std::string file = std::string(SDCB_TEST_TMP) + "/ExportCliTest.shell";
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string file = std::string(SDCB_TEST_TMP) + "/" +
+                           info->test_suite_name() + "." + info->name() +
+                           ".shell";
   const int status = std::system((command + " >" + file + " 2>&1").c_str());
   *out = testing::ReadBytes(file);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
