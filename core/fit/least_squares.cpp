@@ -117,6 +117,16 @@ StatusOr<Eigen::MatrixX3d> SolveRegularizedLeastSquares(
   if (!(options.regularization > 0)) {
     return InvalidArgumentError("least squares: regularization must be > 0");
   }
+  double mu = 0;
+  const Eigen::SparseMatrix<double> normal =
+      RegularizedNormalMatrixLower(design, options.regularization, &mu);
+  const Eigen::MatrixX3d rhs = design.transpose() * samples + mu * prior;
+  return SolveNormalEquations(normal, rhs);
+}
+
+Eigen::SparseMatrix<double> RegularizedNormalMatrixLower(
+    const DesignMatrix& design, double regularization, double* mu_out) {
+  const Eigen::Index m = design.cols();
   Eigen::SparseMatrix<double> normal = NormalMatrixLower(design);
   // The first stored entry of every column is its diagonal.
   double trace = 0.0;
@@ -124,13 +134,12 @@ StatusOr<Eigen::MatrixX3d> SolveRegularizedLeastSquares(
     trace += normal.valuePtr()[normal.outerIndexPtr()[i]];
   }
   const double mean_diagonal = trace / std::max<Eigen::Index>(m, 1);
-  const double mu =
-      options.regularization * (mean_diagonal > 0 ? mean_diagonal : 1.0);
+  const double mu = regularization * (mean_diagonal > 0 ? mean_diagonal : 1.0);
   for (Eigen::Index i = 0; i < m; ++i) {
     normal.valuePtr()[normal.outerIndexPtr()[i]] += mu;
   }
-  const Eigen::MatrixX3d rhs = design.transpose() * samples + mu * prior;
-  return SolveNormalEquations(normal, rhs);
+  if (mu_out != nullptr) *mu_out = mu;
+  return normal;
 }
 
 StatusOr<Eigen::MatrixX3d> SolveNormalEquations(

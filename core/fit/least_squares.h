@@ -35,6 +35,11 @@ StatusOr<Eigen::MatrixX3d> SolveRegularizedLeastSquares(
     const DesignMatrix& design, const Eigen::MatrixX3d& samples,
     const Eigen::MatrixX3d& prior, const LeastSquaresOptions& options = {});
 
+// The lower triangle of A^T A + mu I, the matrix the solve above factors
+// (mu as there, returned in `mu` when not null). Requires regularization > 0.
+Eigen::SparseMatrix<double> RegularizedNormalMatrixLower(
+    const DesignMatrix& design, double regularization, double* mu = nullptr);
+
 // Solves N X = rhs for a symmetric positive definite N given by its lower
 // triangle (entries above the diagonal are ignored): CHOLMOD's supernodal
 // LL^T, Eigen's simplicial LDL^T if that fails. kInvalidArgument on size

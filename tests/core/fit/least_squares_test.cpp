@@ -50,6 +50,28 @@ TEST(LeastSquaresTest, MatchesDenseQrOfTheAugmentedSystem) {
   }
 }
 
+// The matrix the solve factors, which the fold repair reuses: the lower
+// triangle of A^T A + mu I against the dense product.
+TEST(LeastSquaresTest, RegularizedNormalMatrixIsTheDenseProductPlusMu) {
+  const int rows = 200, cols = 40;
+  const DesignMatrix a = RandomSparse(rows, cols, 4, 9);
+  double mu = 0;
+  const Eigen::SparseMatrix<double> lower =
+      RegularizedNormalMatrixLower(a, 1e-3, &mu);
+  const Eigen::MatrixXd dense = Eigen::MatrixXd(a);
+  const Eigen::MatrixXd product = dense.transpose() * dense;
+  EXPECT_NEAR(mu, 1e-3 * product.trace() / cols, 1e-15 * product.trace());
+  const Eigen::MatrixXd expected =
+      product + mu * Eigen::MatrixXd::Identity(cols, cols);
+  const Eigen::MatrixXd got = Eigen::MatrixXd(lower);
+  for (int i = 0; i < cols; ++i) {
+    for (int j = 0; j < cols; ++j) {
+      EXPECT_NEAR(got(i, j), i >= j ? expected(i, j) : 0.0, 1e-12)
+          << i << ", " << j;
+    }
+  }
+}
+
 TEST(LeastSquaresTest, ColumnsWithoutSamplesStayAtTheirPrior) {
   // Column 3 has no samples: its control point is exactly the prior.
   DesignMatrix a(4, 4);
