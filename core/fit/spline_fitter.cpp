@@ -16,6 +16,7 @@
 
 #include "sdcb/core/fit/fit_samples.h"
 #include "sdcb/core/fit/fold_progress.h"
+#include "sdcb/core/fit/fold_repair.h"
 #include "sdcb/core/fit/least_squares.h"
 #include "sdcb/core/fit/surface_deviation.h"
 #include "sdcb/core/knots/feature_knots.h"
@@ -618,7 +619,16 @@ struct SplineFitter::State {
                                  const DelaunayConfigurations& configurations,
                                  const DelaunayConfigurations& knot_triangles,
                                  RoundDetails* details) const;
+  // The least squares' rows (the data term's and the bending energy's),
+  // scaled by the square roots of their weights.
+  DesignMatrix StackedDesign(const Problem& problem) const;
   StatusOr<Eigen::MatrixX3d> Solve(const Problem& problem) const;
+  // RepairFolds (core/fit/fold_repair.h) on the round's solution, at the
+  // lattice of the final measurement; `basis` is the round's (moved from
+  // the problem into the round's surface).
+  StatusOr<FoldRepairResult> RepairRoundFolds(
+      const Problem& problem, const DcbBasis& basis,
+      Eigen::MatrixX3d* control_points) const;
   // `final_measurement` false: the surface -> mesh half only (a round bounds
   // the other half at its data rows). `vertex_points`: F(u_i) per vertex,
   // candidates of the final measurement's closest points, or null.
@@ -944,7 +954,7 @@ StatusOr<SplineFitter::State::Problem> SplineFitter::State::BuildProblem(
                  std::move(bending), &hessian);
 }
 
-StatusOr<Eigen::MatrixX3d> SplineFitter::State::Solve(const Problem& p) const {
+DesignMatrix SplineFitter::State::StackedDesign(const Problem& p) const {
   // sqrt(w) rows of the data term, sqrt(fairness * area / 4 pi * weight)
   // rows of the bending energy (uv counted twice) with zero targets.
   const FitOptions& o = options;
@@ -960,7 +970,13 @@ StatusOr<Eigen::MatrixX3d> SplineFitter::State::Solve(const Problem& p) const {
     parts.push_back({&p.hessian.uv, &bend_scale_uv});
     parts.push_back({&p.hessian.vv, &bend_scale});
   }
-  const DesignMatrix design = StackScaledRows(parts);
+  return StackScaledRows(parts);
+}
+
+StatusOr<Eigen::MatrixX3d> SplineFitter::State::Solve(const Problem& p) const {
+  const FitOptions& o = options;
+  const DesignMatrix design = StackedDesign(p);
+  const Eigen::VectorXd data_scale = p.samples.weights.cwiseSqrt();
   Eigen::MatrixX3d targets = Eigen::MatrixX3d::Zero(design.rows(), 3);
   targets.topRows(p.data.rows()) = data_scale.asDiagonal() * p.samples.targets;
   const Eigen::MatrixX3d prior = GrevillePrior(
@@ -969,6 +985,24 @@ StatusOr<Eigen::MatrixX3d> SplineFitter::State::Solve(const Problem& p) const {
   LeastSquaresOptions ls;
   ls.regularization = o.regularization;
   return SolveRegularizedLeastSquares(design, targets, prior, ls);
+}
+
+StatusOr<FoldRepairResult> SplineFitter::State::RepairRoundFolds(
+    const Problem& p, const DcbBasis& basis,
+    Eigen::MatrixX3d* control_points) const {
+  const FitOptions& o = options;
+  // The final measurement's lattice, whose fold test decides the round.
+  DeviationOptions lattice;
+  lattice.min_surface_samples = std::max(
+      o.final_surface_samples,
+      o.round_samples_per_knot * static_cast<int>(basis.knots().rows()));
+  lattice.closest_points = false;
+  lattice.search_all_vertices = false;
+  lattice.mesh_to_surface = false;
+  return RepairFolds(
+      basis, o.basis_form,
+      RegularizedNormalMatrixLower(StackedDesign(p), o.regularization), mesh,
+      *mesh_distance, lattice, FoldRepairOptions(), control_points);
 }
 
 StatusOr<SurfaceDeviation> SplineFitter::State::Measure(
@@ -1208,33 +1242,69 @@ Status SplineFitter::State::RunRound() {
   details.timings.basis += stage.Seconds();
   Report(FitStage::kSolve, round, kRoundStageStart[3]);
   stage = Stopwatch();
-  SDCB_ASSIGN_OR_RETURN(const Eigen::MatrixX3d control_points, Solve(problem));
-  const Eigen::MatrixX3d fitted = problem.data * control_points;
+  SDCB_ASSIGN_OR_RETURN(Eigen::MatrixX3d control_points, Solve(problem));
+  Eigen::MatrixX3d fitted = problem.data * control_points;
   details.timings.solve = stage.Seconds();
 
   // 5. Measure; a round that meets the target is confirmed by the final
   // measurement.
   Report(FitStage::kMeasure, round, kRoundStageStart[4]);
   stage = Stopwatch();
-  SDCB_ASSIGN_OR_RETURN(const SphericalSpline surface,
-                        SphericalSpline::Create(std::move(problem.basis),
-                                                control_points, o.basis_form));
   const Eigen::Index nv = mesh.vertices.rows();
   const FitSamples& samples = problem.samples;
+  // The mesh -> surface half bounded by the parametric residual at the rows
+  // of the data term (the vertices and the points inside split triangles,
+  // or a thinned data term's kept rows), each standing for its area.
+  std::optional<SphericalSpline> surface_or;
+  std::optional<SurfaceDeviation> deviation_or;
+  Eigen::MatrixX3d residuals;
+  auto measure_round = [&](DcbBasis basis) -> Status {
+    SDCB_ASSIGN_OR_RETURN(SphericalSpline spline,
+                          SphericalSpline::Create(
+                              std::move(basis), control_points, o.basis_form));
+    surface_or.emplace(std::move(spline));
+    SDCB_ASSIGN_OR_RETURN(SurfaceDeviation measured,
+                          Measure(*surface_or, nullptr, false));
+    residuals = fitted - samples.targets;
+    SetMeshToSurface(100.0 * residuals.rowwise().norm(), samples.weights,
+                     &measured);
+    details.estimated_rmse_percent =
+        EstimatedRms(measured, residuals, RowNormals(samples), samples.weights);
+    deviation_or.emplace(std::move(measured));
+    return Status::Ok();
+  };
+  SDCB_RETURN_IF_ERROR(measure_round(std::move(problem.basis)));
+  // A round that folds where it otherwise meets the target: its folds
+  // removed by the least change of its fit, and the round measured again.
+  // The repair looks at the final measurement's lattice, whose fold test
+  // decides the round: where that lattice has no fold (left or repaired),
+  // the round goes on to the final measurement though its own coarser
+  // lattice saw one. Folds over more of the area than the repair takes on
+  // at the round's own lattice (which sees fewer) are not tried.
+  bool final_lattice_unfolded = false;
+  if (deviation_or->folded_area_percent > 0 &&
+      deviation_or->folded_area_percent <=
+          FoldRepairOptions().max_folded_percent &&
+      std::min(deviation_or->rms_percent, details.estimated_rmse_percent) <=
+          o.rmse_percent) {
+    SDCB_ASSIGN_OR_RETURN(
+        const FoldRepairResult repair,
+        RepairRoundFolds(problem, surface_or->basis(), &control_points));
+    details.fold_repair_iterations = repair.iterations;
+    details.folded_before_repair_percent = repair.folded_before_percent;
+    details.fold_repaired = repair.changed;
+    final_lattice_unfolded = repair.folded_after_percent == 0;
+    if (repair.changed) {
+      fitted = problem.data * control_points;
+      SDCB_RETURN_IF_ERROR(measure_round(DcbBasis(surface_or->basis())));
+    }
+  }
+  const SphericalSpline& surface = *surface_or;
+  SurfaceDeviation& deviation = *deviation_or;
   // F(u_i) at every vertex: the first rows of unthinned samples; for thinned
   // ones evaluated only for a round measured densely (below).
   Eigen::MatrixX3d vertex_points;
   if (!samples.thinned) vertex_points = fitted.topRows(nv);
-  // The mesh -> surface half bounded by the parametric residual at the rows
-  // of the data term (the vertices and the points inside split triangles,
-  // or a thinned data term's kept rows), each standing for its area.
-  SDCB_ASSIGN_OR_RETURN(SurfaceDeviation deviation,
-                        Measure(surface, nullptr, false));
-  const Eigen::MatrixX3d residuals = fitted - samples.targets;
-  SetMeshToSurface(100.0 * residuals.rowwise().norm(), samples.weights,
-                   &deviation);
-  details.estimated_rmse_percent =
-      EstimatedRms(deviation, residuals, RowNormals(samples), samples.weights);
   // A round's own measurement bounds the mesh -> surface half by the
   // parametric residual, which overstates it where the map shears (up to
   // 1.3 times on CGAL's meshes): the targets are judged on the final
@@ -1244,7 +1314,7 @@ Status SplineFitter::State::RunRound() {
   details.round_rmse_percent = deviation.rms_percent;
   if (std::min(deviation.rms_percent, details.estimated_rmse_percent) <=
           o.rmse_percent &&
-      deviation.folded_area_percent == 0) {
+      (deviation.folded_area_percent == 0 || final_lattice_unfolded)) {
     if (samples.thinned) {
       vertex_points = VertexPoints(surface, samples, fitted);
     }

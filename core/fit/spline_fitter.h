@@ -160,7 +160,7 @@ struct StageTimings {
   double configurations = 0.0;
   double basis = 0.0;    // basis, design matrix and bending rows
   double solve = 0.0;    // least squares (all solves of the round)
-  double measure = 0.0;  // error measurement
+  double measure = 0.0;  // error measurement, and the repair of small folds
   double total = 0.0;
 };
 
@@ -196,6 +196,14 @@ struct RoundDetails {
   // The same with the mesh -> surface half estimated to first order (the
   // residuals' components along the mesh's vertex normals).
   double estimated_rmse_percent = 0;
+  // A round that folded where it otherwise met the target: its folds
+  // repaired (core/fit/fold_repair.h) or not (`fold_repaired`), the folded
+  // area at the final measurement's lattice before, and the steps the repair
+  // took; 0 / 0 / false for a round not tried. The round's figures above
+  // are those after a repair.
+  double folded_before_repair_percent = 0;
+  int fold_repair_iterations = 0;
+  bool fold_repaired = false;
 };
 
 struct FitResult {

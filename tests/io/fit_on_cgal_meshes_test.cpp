@@ -125,6 +125,27 @@ TEST(AdaptiveFitTest, FoldsThatDoNotShrinkStopTheFit) {
   EXPECT_LT(fit->model.statistics.final_result.control_points, 10000);
 }
 
+// hand.off folds between its fingers in the rounds that meet the target
+// (0.001-0.01 % of the area); the repair (core/fit/fold_repair.h) removes
+// those folds, and the fit reaches the target with nothing folded, as the
+// dense measurement and brute force at random points say.
+TEST(AdaptiveFitTest, SmallFoldsAreRepairedAndTheTargetReached) {
+  const TriangleMesh mesh = ReadCgalMesh("hand.off");
+  FitOptions options;
+  options.rmse_percent = 0.1;
+  auto fit = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  EXPECT_TRUE(fit->reached_target()) << fit->shortfall;
+  const RoundStatistics& final_round = fit->model.statistics.final_result;
+  EXPECT_EQ(final_round.folded_area_percent, 0.0);
+  const RoundDetails& last = fit->round_details.at(final_round.round);
+  EXPECT_TRUE(last.fold_repaired);
+  EXPECT_GT(last.folded_before_repair_percent, 0.0);
+  EXPECT_GT(last.fold_repair_iterations, 0);
+  testing::ExpectHonestSurfaceErrors(mesh, *fit, 2000);
+  EXPECT_EQ(testing::BruteForceFoldedPoints(mesh, *fit, 20000), 0);
+}
+
 // A density too peaked for the round's knots (hand.off's curvedness to the
 // 16th power instead of the 4th) puts them all in a few places and the basis
 // on them has a hole: the round is placed again with the density floored.

@@ -1,0 +1,152 @@
+// RepairFolds (core/fit/fold_repair.h) on a sphere: a spline fitted to it by
+// least squares, one control point dragged sideways so that the surface turns
+// over beside it. The oracle for a fold is the sphere's own: the spline's
+// normal against the radial direction of its point (the icosphere's faces
+// are within 3 degrees of it), at random points, not the lattice the repair
+// works on.
+#include "sdcb/core/fit/fold_repair.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "sdcb/core/fit/least_squares.h"
+#include "sdcb/core/mesh/icosphere.h"
+#include "sdcb/core/spline/delaunay_configurations.h"
+#include "sdcb/core/spline/design_matrix.h"
+#include "sdcb/core/spline/spherical_spline.h"
+#include "testing/random_sphere_points.h"
+
+namespace sdcb {
+namespace {
+
+// Points of `points` where the spline's normal points into the sphere.
+int Inverted(const SphericalSpline& spline, const Eigen::MatrixX3d& points) {
+  int inverted = 0;
+  for (const SurfacePoint& s :
+       spline.EvaluateDifferentialMany(points, JetOrder::kGradient)) {
+    if (s.normal.dot(s.position.normalized()) < 0) ++inverted;
+  }
+  return inverted;
+}
+
+// The unit sphere fitted by least squares at `samples` random points on
+// `knots` random knots: the basis, the fit's regularized normal matrix and
+// its control points.
+DcbBasis BasisOnRandomKnots(int knots, int degree) {
+  const Eigen::MatrixX3d k = testing::RandomUnitVectors(knots, 7);
+  auto configurations = ComputeDelaunayConfigurations(k, degree);
+  EXPECT_TRUE(configurations.ok());
+  return std::move(DcbBasis::Create(k, *configurations)).value();
+}
+
+struct SphereFit {
+  SphereFit(int knots, int degree, int samples)
+      : basis(BasisOnRandomKnots(knots, degree)) {
+    const Eigen::MatrixX3d& k = basis.knots();
+    const Eigen::MatrixX3d points = testing::RandomUnitVectors(samples, 11);
+    const DesignMatrix design =
+        BuildFormDesignMatrix(basis, points, BasisForm::kNormalized);
+    Eigen::MatrixX3d fallback(basis.size(), 3);
+    for (int i = 0; i < basis.size(); ++i) {
+      fallback.row(i) = k.row(basis.configuration_set(i).knots[0]);
+    }
+    control_points =
+        std::move(SolveRegularizedLeastSquares(
+                      design, points, GrevillePrior(design, points, fallback)))
+            .value();
+    normal = RegularizedNormalMatrixLower(design,
+                                          LeastSquaresOptions().regularization);
+  }
+  DcbBasis basis;
+  Eigen::SparseMatrix<double> normal;
+  Eigen::MatrixX3d control_points;
+};
+
+// The measurement that finds the folds: surface -> mesh at a lattice.
+DeviationOptions Lattice(int samples) {
+  DeviationOptions lattice;
+  lattice.min_surface_samples = samples;
+  lattice.closest_points = false;
+  lattice.mesh_to_surface = false;
+  return lattice;
+}
+
+TEST(FoldRepairTest, ADraggedControlPointsFoldIsRemovedNearIt) {
+  const TriangleMesh sphere = MakeIcosphere(4);
+  const SphereFit fit(80, 3, 20000);
+  const DcbBasis& basis = fit.basis;
+  const Eigen::SparseMatrix<double>& normal = fit.normal;
+  const int m = basis.size();
+
+  // Control point 0 dragged along the sphere by 0.8 (its support spans
+  // about 0.5 radians).
+  Eigen::MatrixX3d dragged = fit.control_points;
+  const Eigen::Vector3d at = dragged.row(0).transpose().normalized();
+  const Eigen::Vector3d along = at.unitOrthogonal();
+  dragged.row(0) += 0.8 * along.transpose();
+
+  const Eigen::MatrixX3d probes = testing::RandomUnitVectors(200000, 13);
+  auto fitted_spline = SphericalSpline::Create(basis, fit.control_points,
+                                               BasisForm::kNormalized);
+  auto dragged_spline =
+      SphericalSpline::Create(basis, dragged, BasisForm::kNormalized);
+  ASSERT_TRUE(fitted_spline.ok() && dragged_spline.ok());
+  ASSERT_EQ(Inverted(*fitted_spline, probes), 0);
+  ASSERT_GT(Inverted(*dragged_spline, probes), 50) << "the drag folds";
+
+  auto distance = MeshDistance::Create(sphere);
+  ASSERT_TRUE(distance.ok());
+  const DeviationOptions lattice = Lattice(40000);
+  // The default leaves folds above 0.1 % of the area alone.
+  Eigen::MatrixX3d repaired = dragged;
+  auto result = RepairFolds(basis, BasisForm::kNormalized, normal, sphere,
+                            *distance, lattice, FoldRepairOptions(), &repaired);
+  ASSERT_TRUE(result.ok()) << result.status().message();
+  EXPECT_GT(result->folded_before_percent, 0.1);
+  EXPECT_EQ(result->iterations, 0);
+  EXPECT_FALSE(result->changed);
+  EXPECT_TRUE(repaired == dragged);
+
+  FoldRepairOptions options;
+  options.max_folded_percent = 1;
+  result = RepairFolds(basis, BasisForm::kNormalized, normal, sphere, *distance,
+                       lattice, options, &repaired);
+  ASSERT_TRUE(result.ok()) << result.status().message();
+  EXPECT_TRUE(result->changed);
+  EXPECT_EQ(result->folded_after_percent, 0.0);
+  EXPECT_GT(result->iterations, 0);
+
+  auto repaired_spline =
+      SphericalSpline::Create(basis, repaired, BasisForm::kNormalized);
+  ASSERT_TRUE(repaired_spline.ok());
+  EXPECT_EQ(Inverted(*repaired_spline, probes), 0);
+
+  // Only control points near the fold moved; the others are the dragged
+  // ones, bit for bit.
+  int moved = 0;
+  for (int i = 0; i < m; ++i) moved += repaired.row(i) != dragged.row(i);
+  EXPECT_GT(moved, 0);
+  EXPECT_LE(moved, result->moved_control_points);
+  EXPECT_LT(moved, m / 3) << "of " << m;
+}
+
+// A spline that does not fold is returned as it is, with no step taken.
+TEST(FoldRepairTest, ASplineWithoutFoldsIsLeftAlone) {
+  const TriangleMesh sphere = MakeIcosphere(3);
+  const SphereFit fit(40, 2, 5000);
+  auto distance = MeshDistance::Create(sphere);
+  ASSERT_TRUE(distance.ok());
+  Eigen::MatrixX3d control_points = fit.control_points;
+  auto result = RepairFolds(fit.basis, BasisForm::kNormalized, fit.normal,
+                            sphere, *distance, Lattice(10000),
+                            FoldRepairOptions(), &control_points);
+  ASSERT_TRUE(result.ok());
+  EXPECT_EQ(result->folded_before_percent, 0.0);
+  EXPECT_EQ(result->iterations, 0);
+  EXPECT_FALSE(result->changed);
+  EXPECT_TRUE(control_points == fit.control_points);
+}
+
+}  // namespace
+}  // namespace sdcb
