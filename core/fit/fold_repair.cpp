@@ -65,7 +65,8 @@ StatusOr<FoldRepairResult> RepairFolds(
     const FoldRepairOptions& options, Eigen::MatrixX3d* control_points) {
   FoldRepairResult result;
   const Eigen::Index m = normal_lower.cols();
-  Eigen::MatrixX3d best = *control_points;
+  const Eigen::MatrixX3d given = *control_points;
+  Eigen::MatrixX3d best = given;
   double least_folded = -1;
   std::vector<char> constrained;
   std::vector<int> samples;  // constrained, in the order they were added
@@ -199,6 +200,7 @@ StatusOr<FoldRepairResult> RepairFolds(
     *control_points = std::move(best);
     result.folded_after_percent = least_folded;
   } else {
+    *control_points = given;
     result.folded_after_percent = result.folded_before_percent;
     result.moved_control_points = 0;
   }

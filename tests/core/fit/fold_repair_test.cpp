@@ -108,7 +108,20 @@ TEST(FoldRepairTest, ADraggedControlPointsFoldIsRemovedNearIt) {
   EXPECT_FALSE(result->changed);
   EXPECT_TRUE(repaired == dragged);
 
+  // Steps damped so much that they cannot halve the folds: not kept, the
+  // given control points returned bit for bit.
   FoldRepairOptions options;
+  options.max_folded_percent = 1;
+  options.damping = 1e6;
+  options.max_iterations = 3;
+  result = RepairFolds(basis, BasisForm::kNormalized, normal, sphere, *distance,
+                       lattice, options, &repaired);
+  ASSERT_TRUE(result.ok()) << result.status().message();
+  EXPECT_EQ(result->iterations, 3);
+  EXPECT_FALSE(result->changed);
+  EXPECT_TRUE(repaired == dragged);
+
+  options = FoldRepairOptions();
   options.max_folded_percent = 1;
   result = RepairFolds(basis, BasisForm::kNormalized, normal, sphere, *distance,
                        lattice, options, &repaired);
