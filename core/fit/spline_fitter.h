@@ -196,11 +196,13 @@ struct RoundDetails {
   // The same with the mesh -> surface half estimated to first order (the
   // residuals' components along the mesh's vertex normals).
   double estimated_rmse_percent = 0;
-  // A round that folded where it otherwise met the target: its folds
-  // repaired (core/fit/fold_repair.h) or not (`fold_repaired`), the folded
-  // area at the final measurement's lattice before, and the steps the repair
-  // took; 0 / 0 / false for a round not tried. The round's figures above
-  // are those after a repair.
+  // A round that folded where it otherwise met the target, its folds
+  // repaired (core/fit/fold_repair.h): the folded area at the final
+  // measurement's lattice before, the steps the repair took, and whether
+  // its result was kept (`fold_repaired`: the folds at least halved, the
+  // control points moved; FoldRepairResult::changed); 0 / 0 / false for a
+  // round not tried. The round's figures above are those after a kept
+  // repair.
   double folded_before_repair_percent = 0;
   int fold_repair_iterations = 0;
   bool fold_repaired = false;
