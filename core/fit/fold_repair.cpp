@@ -14,8 +14,9 @@ namespace sdcb {
 
 namespace {
 
-// Growth of the folds (over the least seen) at which the repair gives up.
-constexpr double kDivergence = 50.0;
+// The factor a dropped step multiplies the damping by (and a taken one
+// divides it by, down to the option's).
+constexpr double kDampingFactor = 4.0;
 // The share of the folds a repair must leave at most to be kept.
 constexpr double kKeptFraction = 0.5;
 
@@ -66,48 +67,71 @@ StatusOr<FoldRepairResult> RepairFolds(
   FoldRepairResult result;
   const Eigen::Index m = normal_lower.cols();
   const Eigen::MatrixX3d given = *control_points;
-  Eigen::MatrixX3d best = given;
-  double least_folded = -1;
-  std::vector<char> constrained;
+  SDCB_ASSIGN_OR_RETURN(const SphericalSpline spline,
+                        SphericalSpline::Create(basis, given, form));
+  SDCB_ASSIGN_OR_RETURN(
+      SurfaceDeviation d,
+      MeasureSurfaceDeviation(spline, mesh, lattice, nullptr, &mesh_distance));
+  result.folded_before_percent = d.folded_area_percent;
+  if (d.folded_area_percent == 0 ||
+      d.folded_area_percent > options.max_folded_percent) {
+    result.folded_after_percent = result.folded_before_percent;
+    return result;
+  }
+  const double max_distance =
+      std::max(d.surface_to_mesh_max_percent, options.max_distance_percent);
+  const DesignMatrix lattice_values =
+      BuildFormDesignMatrix(basis, d.surface_sample_points, form);
+  const Eigen::Index ns = d.surface_sample_points.rows();
+  std::vector<char> constrained(ns, 0);
   std::vector<int> samples;  // constrained, in the order they were added
-  for (int iteration = 0;; ++iteration) {
-    SDCB_ASSIGN_OR_RETURN(
-        const SphericalSpline surface,
-        SphericalSpline::Create(basis, *control_points, form));
-    SDCB_ASSIGN_OR_RETURN(const SurfaceDeviation d,
-                          MeasureSurfaceDeviation(surface, mesh, lattice,
-                                                  nullptr, &mesh_distance));
-    const double folded = d.folded_area_percent;
-    result.iterations = iteration;
-    if (iteration == 0) result.folded_before_percent = folded;
-    if (least_folded < 0 || folded < least_folded) {
-      least_folded = folded;
-      best = *control_points;
-    }
-    if (folded == 0 || iteration == options.max_iterations ||
-        folded > options.max_folded_percent ||
-        folded > kDivergence * least_folded) {
-      break;
-    }
-    // The constrained samples: every one that folded so far, with its
-    // lattice ring.
-    const Eigen::Index ns = d.surface_sample_points.rows();
-    if (constrained.empty()) constrained.assign(ns, 0);
+  // Constrains the folded samples of `measured` and their lattice ring.
+  const auto constrain_folds = [&](const SurfaceDeviation& measured) {
     std::vector<char> mark(ns, 0);
-    for (Eigen::Index i = 0; i < ns; ++i) mark[i] = d.surface_sample_folded[i];
-    GrowByOneRing(d.surface_sample_triangles, &mark);
+    for (Eigen::Index i = 0; i < ns; ++i) {
+      mark[i] = measured.surface_sample_folded[i];
+    }
+    GrowByOneRing(measured.surface_sample_triangles, &mark);
     for (Eigen::Index i = 0; i < ns; ++i) {
       if (mark[i] && !constrained[i]) {
         constrained[i] = 1;
         samples.push_back(static_cast<int>(i));
       }
     }
+  };
+  constrain_folds(d);
+  double damping = options.damping;
+  while (result.iterations < options.max_iterations) {
     const int r = static_cast<int>(samples.size());
     Eigen::MatrixX3d points(r, 3);
+    std::vector<Eigen::Vector3d> normals(r);
     for (int s = 0; s < r; ++s) {
       points.row(s) = d.surface_sample_points.row(samples[s]);
+      MeshDistance::Closest closest;
+      closest.face = d.surface_sample_mesh_face[samples[s]];
+      closest.point = d.surface_sample_mesh_point.row(samples[s]).transpose();
+      normals[s] = mesh_distance.Normal(closest);
     }
     const ChartGradientRows jet = BuildChartGradientRows(basis, points, form);
+    // min(0, g - floor |F_u| |F_v|) at the constrained samples for the
+    // control points x.
+    const auto shortfall_at = [&](const Eigen::MatrixX3d& x) {
+      const Eigen::MatrixX3d fu = jet.u * x, fv = jet.v * x;
+      Eigen::VectorXd shortfall(r);
+      for (int s = 0; s < r; ++s) {
+        const Eigen::Vector3d a = fu.row(s).transpose(),
+                              b = fv.row(s).transpose();
+        shortfall[s] =
+            std::min(0.0, a.cross(b).dot(normals[s]) -
+                              options.normal_floor * a.norm() * b.norm());
+      }
+      return shortfall;
+    };
+    const Eigen::VectorXd shortfall = shortfall_at(*control_points);
+    // Done when nothing folds and every constrained sample has its margin
+    // (a sample between the lattice's may still turn over before that).
+    if (d.folded_area_percent == 0 && shortfall.isZero(0)) break;
+    ++result.iterations;
     const Eigen::MatrixX3d fu = jet.u * *control_points;
     const Eigen::MatrixX3d fv = jet.v * *control_points;
 
@@ -133,15 +157,10 @@ StatusOr<FoldRepairResult> RepairFolds(
 
     // The linearized constraints J d >= t - g, one row per sample.
     std::vector<Eigen::Triplet<double>> j_entries;
-    Eigen::VectorXd shortfall(r);
     for (int s = 0; s < r; ++s) {
-      const Eigen::Vector3d n =
-          mesh_distance.FaceNormal(d.surface_sample_mesh_face[samples[s]]);
+      const Eigen::Vector3d& n = normals[s];
       const Eigen::Vector3d a = fu.row(s).transpose(),
                             b = fv.row(s).transpose();
-      const double g = a.cross(b).dot(n);
-      shortfall[s] =
-          std::min(0.0, g - options.normal_floor * a.norm() * b.norm());
       const Eigen::Vector3d along_u = b.cross(n), along_v = n.cross(a);
       for (DesignMatrix::InnerIterator e(jet.u, s); e; ++e) {
         for (int c = 0; c < 3; ++c) {
@@ -164,7 +183,7 @@ StatusOr<FoldRepairResult> RepairFolds(
       for (RowMajor::InnerIterator e(jacobian, s); e; ++e) {
         scale += e.value() * e.value() / diagonal[e.col() / 3];
       }
-      weight[s] = scale > 0 ? 1.0 / (options.damping * scale) : 0.0;
+      weight[s] = scale > 0 ? 1.0 / (damping * scale) : 0.0;
     }
     Eigen::SparseMatrix<double> system(3 * ml, 3 * ml);
     system.setFromTriplets(entries.begin(), entries.end());
@@ -185,20 +204,39 @@ StatusOr<FoldRepairResult> RepairFolds(
     if (factor.info() != Eigen::Success || !step.allFinite()) {
       return InternalError("fold repair: the solve failed");
     }
+    Eigen::MatrixX3d trial = *control_points;
     for (int l = 0; l < ml; ++l) {
-      for (int c = 0; c < 3; ++c) {
-        (*control_points)(columns[l], c) += step[3 * l + c];
-      }
+      for (int c = 0; c < 3; ++c) trial(columns[l], c) += step[3 * l + c];
     }
-    result.moved_control_points = std::max(result.moved_control_points, ml);
+    SDCB_ASSIGN_OR_RETURN(const SphericalSpline moved,
+                          SphericalSpline::Create(basis, trial, form));
+    SurfaceDeviation measured = d;
+    SDCB_RETURN_IF_ERROR(RemeasureSurfaceToMesh(
+        moved, mesh_distance, lattice, lattice_values, columns, &measured));
     result.constrained_samples = r;
+    // A step that keeps the surface within the distance and folds less, or
+    // as much with less shortfall, is taken, and the next may be longer;
+    // else it is dropped and the next is shorter. Either way the samples it
+    // folded are constrained from then on.
+    const bool better =
+        measured.folded_area_percent < d.folded_area_percent ||
+        (measured.folded_area_percent == d.folded_area_percent &&
+         shortfall_at(trial).squaredNorm() < shortfall.squaredNorm());
+    constrain_folds(measured);
+    if (better && measured.surface_to_mesh_max_percent <= max_distance) {
+      *control_points = std::move(trial);
+      d = std::move(measured);
+      damping = std::max(options.damping, damping / kDampingFactor);
+      result.moved_control_points = std::max(result.moved_control_points, ml);
+    } else {
+      damping *= kDampingFactor;
+    }
   }
   // Kept when the folds at least halved, else the given control points.
-  result.changed = result.iterations > 0 &&
-                   least_folded <= kKeptFraction * result.folded_before_percent;
+  result.changed =
+      d.folded_area_percent <= kKeptFraction * result.folded_before_percent;
   if (result.changed) {
-    *control_points = std::move(best);
-    result.folded_after_percent = least_folded;
+    result.folded_after_percent = d.folded_area_percent;
   } else {
     *control_points = given;
     result.folded_after_percent = result.folded_before_percent;

@@ -999,10 +999,12 @@ StatusOr<FoldRepairResult> SplineFitter::State::RepairRoundFolds(
   lattice.closest_points = false;
   lattice.search_all_vertices = false;
   lattice.mesh_to_surface = false;
+  FoldRepairOptions repair;
+  repair.max_distance_percent = std::max(0.0, MaxErrorTarget(o));
   return RepairFolds(
       basis, o.basis_form,
       RegularizedNormalMatrixLower(StackedDesign(p), o.regularization), mesh,
-      *mesh_distance, lattice, FoldRepairOptions(), control_points);
+      *mesh_distance, lattice, repair, control_points);
 }
 
 StatusOr<SurfaceDeviation> SplineFitter::State::Measure(

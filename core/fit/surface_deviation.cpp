@@ -15,6 +15,7 @@
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/delaunay_configurations.h"
+#include "sdcb/core/spline/design_matrix.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 
 namespace sdcb {
@@ -171,6 +172,81 @@ class SplineEvaluator {
   const SphericalSpline& spline_;
   std::optional<PiecewiseSurface> polynomials_;
 };
+
+// Fails where F is not finite at the points [begin, end): where I = sum B_i
+// is 0 (outside every basis support: a hole the basis's sampled coverage
+// check missed) the surface is 0 / 0.
+Status CheckDefined(const Eigen::MatrixX3d& points,
+                    const Eigen::MatrixX3d& image, Eigen::Index begin,
+                    Eigen::Index end) {
+  for (Eigen::Index i = begin; i < end; ++i) {
+    if (image.row(i).allFinite()) continue;
+    const Eigen::RowVector3d p = points.row(i);
+    return InvalidInputError(
+        "the surface is undefined near (" + std::to_string(p.x()) + ", " +
+        std::to_string(p.y()) + ", " + std::to_string(p.z()) +
+        "): I = sum B_i = 0 there, a hole between the basis supports");
+  }
+  return Status::Ok();
+}
+
+// Adds a third of the area of each image triangle in [begin, end) (rows of
+// `triangles` over the points `image`) to its vertices' weights, and its
+// area-weighted normal to their normals.
+void AddImageAreasAndNormals(const Eigen::MatrixX3d& image,
+                             const Eigen::MatrixX3i& triangles,
+                             Eigen::Index begin, Eigen::Index end,
+                             Eigen::VectorXd* weight,
+                             Eigen::MatrixX3d* normal) {
+  for (Eigen::Index f = begin; f < end; ++f) {
+    const Eigen::Vector3d a = image.row(triangles(f, 0));
+    const Eigen::Vector3d b = image.row(triangles(f, 1));
+    const Eigen::Vector3d c = image.row(triangles(f, 2));
+    const Eigen::Vector3d n = 0.5 * (b - a).cross(c - a);
+    for (int k = 0; k < 3; ++k) {
+      (*weight)[triangles(f, k)] += n.norm() / 3;
+      normal->row(triangles(f, k)) += n.transpose();
+    }
+  }
+}
+
+// Surface -> mesh at surface sample i of `out` (its sphere point and F
+// there set): its distance to the mesh, closest point and triangle; returns
+// whether it is folded. The lattice's normal (`lattice_normal`) is only a
+// hint where it is coarse: a suspected fold is confirmed with the spline's
+// own normal.
+bool MeasureSurfaceSample(const SplineEvaluator& evaluator,
+                          const MeshDistance& to_mesh, double to_percent,
+                          const Eigen::Vector3d& lattice_normal, Eigen::Index i,
+                          SurfaceDeviation* out) {
+  const MeshDistance::Closest c =
+      to_mesh.Find(out->surface_sample_positions.row(i).transpose());
+  out->surface_sample_distance_percent[i] = to_percent * c.distance;
+  out->surface_sample_mesh_face[i] = c.face;
+  out->surface_sample_mesh_point.row(i) = c.point.transpose();
+  return to_mesh.Opposes(c, lattice_normal) &&
+         to_mesh.Opposes(c, evaluator.Normal(
+                                out->surface_sample_points.row(i).transpose()));
+}
+
+// The surface -> mesh figures of `out` from its samples' distances, weights
+// and folds.
+void SummarizeSurfaceToMesh(SurfaceDeviation* out) {
+  double area = 0, sum_squares = 0, folded_area = 0, max = 0;
+  const Eigen::VectorXd& weight = out->surface_sample_weight;
+  for (Eigen::Index i = 0; i < weight.size(); ++i) {
+    const double d = out->surface_sample_distance_percent[i];
+    area += weight[i];
+    sum_squares += weight[i] * d * d;
+    if (out->surface_sample_folded[i]) folded_area += weight[i];
+    max = std::max(max, d);
+  }
+  out->surface_area = area;
+  out->surface_to_mesh_max_percent = max;
+  out->surface_to_mesh_rms_percent =
+      area > 0 ? std::sqrt(sum_squares / area) : 0;
+  out->folded_area_percent = area > 0 ? 100.0 * folded_area / area : 0;
+}
 
 // The distance from x to the spline, searched from the sphere point p by
 // Gauss-Newton steps in the tangent chart with step halving. Returns the
@@ -499,31 +575,14 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   TriangleMesh image;
   image.vertices = evaluator.EvaluateMany(lattice.points);
   image.faces = lattice.triangles;
-  // Where I = sum B_i is 0 (outside every basis support: a hole the basis's
-  // sampled coverage check missed) the surface is 0 / 0.
-  for (Eigen::Index i = 0; i < ns; ++i) {
-    if (image.vertices.row(i).allFinite()) continue;
-    const Eigen::RowVector3d p = lattice.points.row(i);
-    return InvalidInputError(
-        "the surface is undefined near (" + std::to_string(p.x()) + ", " +
-        std::to_string(p.y()) + ", " + std::to_string(p.z()) +
-        "): I = sum B_i = 0 there, a hole between the basis supports");
-  }
+  SDCB_RETURN_IF_ERROR(CheckDefined(lattice.points, image.vertices, 0, ns));
 
   // Area and normal of the image around each lattice vertex: a third of the
   // area of each of its lattice triangles, the area-weighted normals summed.
   Eigen::VectorXd weight = Eigen::VectorXd::Zero(ns);
   Eigen::MatrixX3d normal = Eigen::MatrixX3d::Zero(ns, 3);
-  for (Eigen::Index f = 0; f < nt; ++f) {
-    const Eigen::Vector3d a = image.vertices.row(lattice.triangles(f, 0));
-    const Eigen::Vector3d b = image.vertices.row(lattice.triangles(f, 1));
-    const Eigen::Vector3d c = image.vertices.row(lattice.triangles(f, 2));
-    const Eigen::Vector3d n = 0.5 * (b - a).cross(c - a);
-    for (int k = 0; k < 3; ++k) {
-      weight[lattice.triangles(f, k)] += n.norm() / 3;
-      normal.row(lattice.triangles(f, k)) += n.transpose();
-    }
-  }
+  AddImageAreasAndNormals(image.vertices, lattice.triangles, 0, nt, &weight,
+                          &normal);
 
   // The image's own AABB tree (for mesh -> surface) is built meanwhile: its
   // construction is sequential.
@@ -545,42 +604,18 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   out.surface_sample_distance_percent.resize(ns);
   out.surface_sample_mesh_face.resize(ns);
   out.surface_sample_mesh_point.resize(ns, 3);
+  out.surface_sample_weight = std::move(weight);
   std::vector<char> folded(ns, 0);
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, ns, 256),
       [&](const tbb::blocked_range<Eigen::Index>& range) {
         for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
-          const MeshDistance::Closest c =
-              to_mesh.Find(image.vertices.row(i).transpose());
-          out.surface_sample_distance_percent[i] = to_percent * c.distance;
-          out.surface_sample_mesh_face[i] = c.face;
-          out.surface_sample_mesh_point.row(i) = c.point.transpose();
-          // The lattice's normal is only a hint where it is coarse: a
-          // suspected fold is confirmed with the spline's own normal.
-          if (to_mesh.Opposes(c, normal.row(i).transpose())) {
-            folded[i] = to_mesh.Opposes(
-                c, evaluator.Normal(lattice.points.row(i).transpose()));
-          }
+          folded[i] = MeasureSurfaceSample(evaluator, to_mesh, to_percent,
+                                           normal.row(i).transpose(), i, &out);
         }
       });
-  double area = 0, sum_squares = 0, folded_area = 0;
-  out.surface_sample_folded.assign(ns, false);
-  for (Eigen::Index i = 0; i < ns; ++i) {
-    const double d = out.surface_sample_distance_percent[i];
-    area += weight[i];
-    sum_squares += weight[i] * d * d;
-    if (folded[i]) {
-      folded_area += weight[i];
-      out.surface_sample_folded[i] = true;
-    }
-    out.surface_to_mesh_max_percent =
-        std::max(out.surface_to_mesh_max_percent, d);
-  }
-  out.surface_area = area;
-  out.surface_sample_weight = weight;
-  out.surface_to_mesh_rms_percent =
-      area > 0 ? std::sqrt(sum_squares / area) : 0;
-  out.folded_area_percent = area > 0 ? 100.0 * folded_area / area : 0;
+  out.surface_sample_folded.assign(folded.begin(), folded.end());
+  SummarizeSurfaceToMesh(&out);
   image_tree.wait();
   if (!options.mesh_to_surface) {
     out.rms_percent = out.surface_to_mesh_rms_percent;
@@ -671,6 +706,100 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   out.mesh_to_surface_max_bound_percent = to_percent * samples.MaxBound();
   CombineHalves(&out);
   return out;
+}
+
+Status RemeasureSurfaceToMesh(const SphericalSpline& surface,
+                              const MeshDistance& mesh_distance,
+                              const DeviationOptions& options,
+                              const DesignMatrix& lattice_values,
+                              const std::vector<int>& changed,
+                              SurfaceDeviation* deviation) {
+  SurfaceDeviation& d = *deviation;
+  const int level = d.lattice_level;
+  const Eigen::Index per_triangle_points = (level + 1) * (level + 2) / 2;
+  const Eigen::Index per_triangle_faces = level * level;
+  const Eigen::Index ns = d.surface_sample_points.rows();
+  if (options.mesh_to_surface || level < 1 || ns == 0 ||
+      ns % per_triangle_points != 0 ||
+      d.surface_sample_triangles.rows() !=
+          ns / per_triangle_points * per_triangle_faces ||
+      d.surface_sample_weight.size() != ns ||
+      static_cast<Eigen::Index>(d.surface_sample_folded.size()) != ns) {
+    return InvalidArgumentError(
+        "surface deviation: a surface -> mesh measurement is needed to "
+        "measure again");
+  }
+  const Eigen::Index m = surface.basis().size();
+  if (lattice_values.rows() != ns || lattice_values.cols() != m) {
+    return InvalidArgumentError(
+        "surface deviation: the basis values are not the lattice's");
+  }
+  std::vector<char> is_changed(m, 0);
+  for (const int j : changed) {
+    if (j < 0 || j >= m) {
+      return InvalidArgumentError(
+          "surface deviation: a changed control point is out of range");
+    }
+    is_changed[j] = 1;
+  }
+  // The knot triangles (blocks of the lattice) with a sample that a changed
+  // basis function reaches.
+  const Eigen::Index triangles = ns / per_triangle_points;
+  std::vector<Eigen::Index> touched;
+  for (Eigen::Index t = 0; t < triangles; ++t) {
+    bool reached = false;
+    for (Eigen::Index i = t * per_triangle_points;
+         i < (t + 1) * per_triangle_points && !reached; ++i) {
+      for (DesignMatrix::InnerIterator e(lattice_values, i); e; ++e) {
+        if (is_changed[e.col()]) {
+          reached = true;
+          break;
+        }
+      }
+    }
+    if (reached) touched.push_back(t);
+  }
+
+  const SplineEvaluator evaluator(surface, false);
+  const double to_percent = 100.0 / options.length_unit;
+  std::vector<char> folded(ns, 0);
+  Eigen::MatrixX3d normal = Eigen::MatrixX3d::Zero(ns, 3);
+  std::vector<Status> failed(touched.size());
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, touched.size(), 4),
+      [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t k = range.begin(); k < range.end(); ++k) {
+          const Eigen::Index begin = touched[k] * per_triangle_points;
+          const Eigen::Index end = begin + per_triangle_points;
+          d.surface_sample_positions.middleRows(begin, per_triangle_points) =
+              lattice_values.middleRows(begin, per_triangle_points) *
+              surface.control_points();
+          failed[k] = CheckDefined(d.surface_sample_points,
+                                   d.surface_sample_positions, begin, end);
+          if (!failed[k].ok()) continue;
+          d.surface_sample_weight.segment(begin, per_triangle_points).setZero();
+          const Eigen::Index face = touched[k] * per_triangle_faces;
+          AddImageAreasAndNormals(
+              d.surface_sample_positions, d.surface_sample_triangles, face,
+              face + per_triangle_faces, &d.surface_sample_weight, &normal);
+          for (Eigen::Index i = begin; i < end; ++i) {
+            folded[i] =
+                MeasureSurfaceSample(evaluator, mesh_distance, to_percent,
+                                     normal.row(i).transpose(), i, &d);
+          }
+        }
+      });
+  for (const Status& status : failed) SDCB_RETURN_IF_ERROR(status);
+  for (const Eigen::Index t : touched) {
+    for (Eigen::Index i = t * per_triangle_points;
+         i < (t + 1) * per_triangle_points; ++i) {
+      d.surface_sample_folded[i] = folded[i] != 0;
+    }
+  }
+  SummarizeSurfaceToMesh(&d);
+  d.rms_percent = d.surface_to_mesh_rms_percent;
+  d.hausdorff_percent = d.surface_to_mesh_max_percent;
+  return Status::Ok();
 }
 
 }  // namespace sdcb

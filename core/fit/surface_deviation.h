@@ -57,10 +57,12 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <vector>
 
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/core/spline/design_matrix.h"
 #include "sdcb/core/spline/spherical_spline.h"
 
 namespace sdcb {
@@ -181,6 +183,28 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     const DeviationOptions& options = {},
     const Eigen::MatrixX3d* vertex_candidates = nullptr,
     const MeshDistance* mesh_distance = nullptr);
+
+// Measures the surface -> mesh half of `deviation` again for `surface`, a
+// spline over the same basis whose control points differ from those
+// measured only at the indices `changed`. `lattice_values`: the basis's
+// values at the surface samples (BuildFormDesignMatrix of
+// core/spline/design_matrix.h at surface_sample_points, the surface's
+// form). The lattice blocks of the knot triangles where a changed basis
+// function is nonzero at a sample are evaluated again (the values times the
+// control points), with their areas, normals, distances and folds, and the
+// figures summed anew; the other samples keep theirs, which the change
+// cannot move. For a repair that moves a few control points at a time
+// (core/fit/fold_repair.h). Needs a measurement with
+// DeviationOptions::mesh_to_surface false and the same options; the
+// two-sided figures are then the surface -> mesh ones. kInvalidArgument for
+// a measurement or values that do not fit; kInvalidInput where the surface
+// is undefined.
+Status RemeasureSurfaceToMesh(const SphericalSpline& surface,
+                              const MeshDistance& mesh_distance,
+                              const DeviationOptions& options,
+                              const DesignMatrix& lattice_values,
+                              const std::vector<int>& changed,
+                              SurfaceDeviation* deviation);
 
 }  // namespace sdcb
 

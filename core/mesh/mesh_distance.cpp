@@ -179,10 +179,8 @@ Eigen::Vector3d MeshDistance::FaceNormal(int face) const {
   return tree_->normals[face];
 }
 
-bool MeshDistance::Opposes(const Closest& c,
-                           const Eigen::Vector3d& direction) const {
+std::vector<int> MeshDistance::FacesHolding(const Closest& c) const {
   const Tree& t = *tree_;
-  if (!(direction.dot(t.normals[c.face]) < 0)) return false;
   // Barycentric coordinates of the closest point in its triangle.
   const int v[3] = {t.corners(c.face, 0), t.corners(c.face, 1),
                     t.corners(c.face, 2)};
@@ -190,7 +188,7 @@ bool MeshDistance::Opposes(const Closest& c,
                         cc = t.vertices.row(v[2]);
   const Eigen::Vector3d n = (b - a).cross(cc - a);
   const double twice_area = n.squaredNorm();
-  if (!(twice_area > 0)) return true;
+  if (!(twice_area > 0)) return {c.face};
   double bary[3];
   bary[0] = n.dot((b - c.point).cross(cc - c.point)) / twice_area;
   bary[1] = n.dot((cc - c.point).cross(a - c.point)) / twice_area;
@@ -202,9 +200,10 @@ bool MeshDistance::Opposes(const Closest& c,
   for (int k = 0; k < 3; ++k) {
     if (bary[k] > kOnBoundary) feature.push_back(v[k]);
   }
-  if (feature.size() == 3) return true;
-  // Every face holding the whole feature (its vertices) must be opposed.
+  if (feature.size() == 3) return {c.face};
+  // Every face holding the whole feature (its vertices), ascending.
   const int pivot = feature.empty() ? v[0] : feature[0];
+  std::vector<int> faces;
   for (int j = t.vertex_face_start[pivot]; j < t.vertex_face_start[pivot + 1];
        ++j) {
     const int f = t.vertex_faces[j];
@@ -213,9 +212,27 @@ bool MeshDistance::Opposes(const Closest& c,
       holds = holds && (t.corners(f, 0) == w || t.corners(f, 1) == w ||
                         t.corners(f, 2) == w);
     }
-    if (holds && !(direction.dot(t.normals[f]) < 0)) return false;
+    if (holds) faces.push_back(f);
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+bool MeshDistance::Opposes(const Closest& c,
+                           const Eigen::Vector3d& direction) const {
+  const Tree& t = *tree_;
+  if (!(direction.dot(t.normals[c.face]) < 0)) return false;
+  for (const int f : FacesHolding(c)) {
+    if (!(direction.dot(t.normals[f]) < 0)) return false;
   }
   return true;
+}
+
+Eigen::Vector3d MeshDistance::Normal(const Closest& c) const {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const int f : FacesHolding(c)) sum += tree_->normals[f];
+  const double norm = sum.norm();
+  return norm > 0 ? Eigen::Vector3d(sum / norm) : tree_->normals[c.face];
 }
 
 }  // namespace sdcb

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <vector>
 
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
@@ -52,7 +53,15 @@ class MeshDistance {
   // that edge or vertex too (at a crease the mesh has no single normal).
   bool Opposes(const Closest& c, const Eigen::Vector3d& direction) const;
 
+  // The mesh's unit normal at the closest point `c`: that of c.face inside
+  // it; on an edge or a vertex (as for Opposes) the normalized sum of the
+  // normals of the triangles sharing it, whichever of them c.face is.
+  Eigen::Vector3d Normal(const Closest& c) const;
+
  private:
+  // c.face, or the triangles sharing the edge or vertex c lies on (as for
+  // Opposes), ascending.
+  std::vector<int> FacesHolding(const Closest& c) const;
   struct Tree;
   explicit MeshDistance(std::unique_ptr<Tree> tree);
   std::unique_ptr<Tree> tree_;

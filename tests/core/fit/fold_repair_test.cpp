@@ -121,8 +121,32 @@ TEST(FoldRepairTest, ADraggedControlPointsFoldIsRemovedNearIt) {
   EXPECT_FALSE(result->changed);
   EXPECT_TRUE(repaired == dragged);
 
+  // Steps that would move the surface farther from the sphere than the drag
+  // did (2.4 % of the unit) are dropped: the repair may then not finish, but
+  // the lattice's distance never grows.
+  options.damping = FoldRepairOptions().damping;
+  options.max_iterations = FoldRepairOptions().max_iterations;
+  result = RepairFolds(basis, BasisForm::kNormalized, normal, sphere, *distance,
+                       lattice, options, &repaired);
+  ASSERT_TRUE(result.ok()) << result.status().message();
+  auto within =
+      SphericalSpline::Create(basis, repaired, BasisForm::kNormalized);
+  ASSERT_TRUE(within.ok());
+  auto before = MeasureSurfaceDeviation(*dragged_spline, sphere, lattice,
+                                        nullptr, &*distance);
+  auto after =
+      MeasureSurfaceDeviation(*within, sphere, lattice, nullptr, &*distance);
+  ASSERT_TRUE(before.ok() && after.ok());
+  EXPECT_LE(after->surface_to_mesh_max_percent,
+            before->surface_to_mesh_max_percent + 1e-9);
+  EXPECT_LT(result->folded_after_percent, result->folded_before_percent);
+  repaired = dragged;
+
+  // The drag moved the surface 2.4 % of the unit off the sphere at most; the
+  // repair may move it up to 5 %.
   options = FoldRepairOptions();
   options.max_folded_percent = 1;
+  options.max_distance_percent = 5;
   result = RepairFolds(basis, BasisForm::kNormalized, normal, sphere, *distance,
                        lattice, options, &repaired);
   ASSERT_TRUE(result.ok()) << result.status().message();
@@ -142,6 +166,84 @@ TEST(FoldRepairTest, ADraggedControlPointsFoldIsRemovedNearIt) {
   EXPECT_GT(moved, 0);
   EXPECT_LE(moved, result->moved_control_points);
   EXPECT_LT(moved, m / 3) << "of " << m;
+}
+
+// The lattice measured again after a change of a few control points
+// (RemeasureSurfaceToMesh, which the repair's steps use) against a whole
+// measurement of the changed spline: the same samples, distances, folds and
+// figures.
+TEST(FoldRepairTest, TheLatticeMeasuredAgainEqualsAWholeMeasurement) {
+  const TriangleMesh sphere = MakeIcosphere(4);
+  const SphereFit fit(80, 3, 20000);
+  auto distance = MeshDistance::Create(sphere);
+  ASSERT_TRUE(distance.ok());
+  const DeviationOptions lattice = Lattice(20000);
+  auto fitted = SphericalSpline::Create(fit.basis, fit.control_points,
+                                        BasisForm::kNormalized);
+  ASSERT_TRUE(fitted.ok());
+  auto measured =
+      MeasureSurfaceDeviation(*fitted, sphere, lattice, nullptr, &*distance);
+  ASSERT_TRUE(measured.ok());
+  EXPECT_EQ(measured->folded_area_percent, 0.0);
+  const DesignMatrix values = BuildFormDesignMatrix(
+      fit.basis, measured->surface_sample_points, BasisForm::kNormalized);
+
+  Eigen::MatrixX3d dragged = fit.control_points;
+  const std::vector<int> changed = {0, 5};
+  for (const int j : changed) {
+    dragged.row(j) +=
+        0.8 * dragged.row(j).transpose().normalized().unitOrthogonal();
+  }
+  auto moved =
+      SphericalSpline::Create(fit.basis, dragged, BasisForm::kNormalized);
+  ASSERT_TRUE(moved.ok());
+  auto whole =
+      MeasureSurfaceDeviation(*moved, sphere, lattice, nullptr, &*distance);
+  ASSERT_TRUE(whole.ok());
+  ASSERT_GT(whole->folded_area_percent, 0.0) << "the drag folds";
+
+  SurfaceDeviation again = *measured;
+  ASSERT_TRUE(RemeasureSurfaceToMesh(*moved, *distance, lattice, values,
+                                     changed, &again)
+                  .ok());
+  const Eigen::Index ns = whole->surface_samples;
+  ASSERT_EQ(again.surface_sample_points.rows(), ns);
+  int kept = 0;
+  for (Eigen::Index i = 0; i < ns; ++i) {
+    EXPECT_LT((again.surface_sample_positions.row(i) -
+               whole->surface_sample_positions.row(i))
+                  .norm(),
+              1e-10);
+    EXPECT_NEAR(again.surface_sample_distance_percent[i],
+                whole->surface_sample_distance_percent[i], 1e-8);
+    EXPECT_NEAR(again.surface_sample_weight[i], whole->surface_sample_weight[i],
+                1e-12);
+    EXPECT_EQ(again.surface_sample_folded[i], whole->surface_sample_folded[i]);
+    kept += again.surface_sample_positions.row(i) ==
+            measured->surface_sample_positions.row(i);
+  }
+  EXPECT_GT(kept, ns / 2) << "the samples the change cannot reach are kept";
+  EXPECT_NEAR(again.folded_area_percent, whole->folded_area_percent, 1e-9);
+  EXPECT_NEAR(again.surface_to_mesh_rms_percent,
+              whole->surface_to_mesh_rms_percent, 1e-9);
+  EXPECT_NEAR(again.surface_to_mesh_max_percent,
+              whole->surface_to_mesh_max_percent, 1e-9);
+  EXPECT_NEAR(again.surface_area, whole->surface_area, 1e-9);
+
+  // Values of another lattice, or a measurement with the mesh's half, are
+  // refused.
+  const DesignMatrix other = BuildFormDesignMatrix(
+      fit.basis, testing::RandomUnitVectors(100, 3), BasisForm::kNormalized);
+  EXPECT_EQ(
+      RemeasureSurfaceToMesh(*moved, *distance, lattice, other, changed, &again)
+          .code(),
+      StatusCode::kInvalidArgument);
+  DeviationOptions two_sided = lattice;
+  two_sided.mesh_to_surface = true;
+  EXPECT_EQ(RemeasureSurfaceToMesh(*moved, *distance, two_sided, values,
+                                   changed, &again)
+                .code(),
+            StatusCode::kInvalidArgument);
 }
 
 // A spline that does not fold is returned as it is, with no step taken.

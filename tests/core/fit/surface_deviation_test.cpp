@@ -20,6 +20,7 @@
 #include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "testing/fan_mesh.h"
+#include "testing/make_mesh.h"
 #include "testing/special_knots.h"
 
 namespace sdcb {
@@ -127,6 +128,40 @@ TEST(MeshDistanceTest, NeedlesCutIntoPiecesKeepTheirDistancesAndFaces) {
     EXPECT_GT(n.dot(c.point), 0.0);
     EXPECT_FALSE(tree->Opposes(c, c.point));
   }
+}
+
+// The mesh's normal at a closest point: the face's inside it, the
+// normalized sum of the normals of the triangles sharing an edge or a vertex
+// on it, whichever triangle Find reports (closed forms on the cube).
+TEST(MeshDistanceTest, TheNormalOnAnEdgeOrAVertexIsTheirTrianglesSum) {
+  const TriangleMesh cube = testing::CubeMesh();
+  auto tree = MeshDistance::Create(cube);
+  ASSERT_TRUE(tree.ok());
+  const auto normal_at = [&](const Eigen::Vector3d& q) {
+    return tree->Normal(tree->Find(q));
+  };
+  // Inside the face z = 1.
+  EXPECT_LT((normal_at({0.3, -0.2, 2}) - Eigen::Vector3d(0, 0, 1)).norm(),
+            1e-12);
+  // On the edge x = y = 1 (triangles 4 and 5 on x = 1, 10 and 11 on y = 1:
+  // one of each holds the edge's middle).
+  EXPECT_LT(
+      (normal_at({2, 2, 0.1}) - Eigen::Vector3d(1, 1, 0).normalized()).norm(),
+      1e-12);
+  // On the diagonal of the face z = 1 (two triangles of the same plane).
+  EXPECT_LT((normal_at({0.1, 0.1, 2}) - Eigen::Vector3d(0, 0, 1)).norm(),
+            1e-12);
+  // At the corner (1, 1, 1), vertex 6: the sum of the normals of the
+  // triangles around it, as many per face as the triangulation has there.
+  const MeshDistance::Closest corner = tree->Find({2, 2, 2});
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int f = 0; f < cube.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      if (cube.faces(f, k) == 6) sum += tree->FaceNormal(f);
+    }
+  }
+  EXPECT_LT((tree->Normal(corner) - sum.normalized()).norm(), 1e-12);
+  EXPECT_GT(sum.normalized().dot(Eigen::Vector3d(1, 1, 1).normalized()), 0.9);
 }
 
 TEST(MeshDistanceTest, RefusesAMeshWithoutTriangles) {
