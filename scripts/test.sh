@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Setup, build, and run every test (in parallel), then a
-# 20-second smoke run of every fuzzer (clang, ASan + UBSan: scripts/fuzz.sh),
+# 15-second smoke run of every fuzzer (clang, ASan + UBSan: scripts/fuzz.sh),
 # and print how long each part took. Long end-to-end checks that are not part
 # of this run live in bench/ (bench/fit_scenarios_check and the scripts).
 # SDCB_SANITIZE=1 also runs the whole suite under AddressSanitizer + UBSan
@@ -29,7 +29,7 @@ timed() {  # timed NAME COMMAND...: runs COMMAND and records its seconds
 timed "setup and build" bash scripts/setup.sh
 timed "tests" ctest --test-dir build -j "$(nproc)" --output-on-failure \
   --timeout 1200
-timed "fuzzing" bash scripts/fuzz.sh 20
+timed "fuzzing" bash scripts/fuzz.sh 15
 if [ "${SDCB_SANITIZE:-0}" = 1 ]; then
   timed "sanitizers" bash scripts/sanitize.sh
 fi

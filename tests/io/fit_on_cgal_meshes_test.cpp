@@ -145,7 +145,7 @@ TEST(AdaptiveFitTest, SmallFoldsAreRepairedAndTheTargetReached) {
   EXPECT_GT(last.folded_before_repair_percent, 0.0);
   EXPECT_GT(last.fold_repair_iterations, 0);
   testing::ExpectHonestSurfaceErrors(mesh, *fit, 2000);
-  EXPECT_EQ(testing::BruteForceFoldedPoints(mesh, *fit, 4000), 0);
+  EXPECT_EQ(testing::BruteForceFoldedPoints(mesh, *fit, 1000), 0);
 }
 
 // A density too peaked for the round's knots (hand.off's curvedness to the
