@@ -197,8 +197,9 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
 // (core/fit/fold_repair.h). Needs a measurement with
 // DeviationOptions::mesh_to_surface false and the same options; the
 // two-sided figures are then the surface -> mesh ones. kInvalidArgument for
-// a measurement or values that do not fit; kInvalidInput where the surface
-// is undefined.
+// a measurement or values that do not fit (`deviation` unchanged);
+// kInvalidInput where the surface is undefined (`deviation` then partly
+// measured again: not to be used).
 Status RemeasureSurfaceToMesh(const SphericalSpline& surface,
                               const MeshDistance& mesh_distance,
                               const DeviationOptions& options,
