@@ -624,8 +624,9 @@ struct SplineFitter::State {
   DesignMatrix StackedDesign(const Problem& problem) const;
   StatusOr<Eigen::MatrixX3d> Solve(const Problem& problem) const;
   // RepairFolds (core/fit/fold_repair.h) on the round's solution, at the
-  // lattice of the final measurement; `basis` is the round's (moved from
-  // the problem into the round's surface).
+  // lattice of the final measurement, its steps allowed the Hausdorff target
+  // as distance; `basis` is the round's (moved from the problem into the
+  // round's surface).
   StatusOr<FoldRepairResult> RepairRoundFolds(
       const Problem& problem, const DcbBasis& basis,
       Eigen::MatrixX3d* control_points) const;

@@ -198,7 +198,7 @@ struct RoundDetails {
   double estimated_rmse_percent = 0;
   // A round that folded where it otherwise met the target, its folds
   // repaired (core/fit/fold_repair.h): the folded area at the final
-  // measurement's lattice before, the steps the repair took, and whether
+  // measurement's lattice before, the steps the repair tried, and whether
   // its result was kept (`fold_repaired`: the folds at least halved, the
   // control points moved; FoldRepairResult::changed); 0 / 0 / false for a
   // round not tried. The round's figures above are those after a kept
