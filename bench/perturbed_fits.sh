@@ -5,7 +5,8 @@
 # exponent, moved by a hair), one Markdown row per fit. Compare two builds
 # by running it with each (docs/FITTING.md, "Small folds repaired").
 #   SDCB=build/sdcb bash bench/perturbed_fits.sh [RMSE] [OUT] [MESH...]
-# Environment: LAMBDAS (default "0.998 0.999 1 1.001 1.002").
+# Environment: LAMBDAS (default "0.998 0.999 1 1.001 1.002"); FIT_ARGS,
+# more options for every fit (e.g. "--map-vertices 0").
 set -uo pipefail
 cd "$(dirname "$0")/.."
 rmse=${1:-0.1}
@@ -22,7 +23,7 @@ for m in $meshes; do
     json="$out/$m.$l.json"
     start=$(date +%s.%N)
     "$sdcb" fit "data/meshes/$m" -o "$out/$m.$l.sdcb" --rmse "$rmse" \
-      --lambda "$l" --json "$json" --quiet > /dev/null 2>&1
+      --lambda "$l" --json "$json" --quiet ${FIT_ARGS:-} > /dev/null 2>&1
     rc=$?
     secs=$(echo "$(date +%s.%N) - $start" | bc)
     if [ $rc -ne 0 ] || [ ! -f "$json" ]; then

@@ -135,7 +135,8 @@ json FitStatisticsToJson(const FitStatistics& s) {
                 {"round_samples_per_knot", o.round_samples_per_knot},
                 {"final_surface_samples", o.final_surface_samples},
                 {"final_mesh_samples", o.final_mesh_samples},
-                {"knot_grid_bits", o.knot_grid_bits}}},
+                {"knot_grid_bits", o.knot_grid_bits},
+                {"map_vertices", o.map_vertices}}},
               {"error_measure", ErrorMeasureName(s.error_measure)},
               {"reached_target", s.reached_target}};
 }
@@ -194,6 +195,8 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
                                    &so.final_mesh_samples, GetInt));
   SDCB_RETURN_IF_ERROR(
       GetOptional(*o, "knot_grid_bits", ow, &so.knot_grid_bits, GetInt));
+  SDCB_RETURN_IF_ERROR(
+      GetOptional(*o, "map_vertices", ow, &so.map_vertices, GetInt));
 
   // Version 1 measured at the vertices and did not store the outcome.
   s.error_measure = ErrorMeasure::kVertices;
@@ -241,6 +244,9 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
   report["final"] = std::move(final_round);
   report["rounds"] = std::move(rounds);
   report["options"] = record["options"];
+  report["map"] = {{"vertices", fit.map_vertices},
+                   {"split_retry_run", fit.split_retry_run},
+                   {"split_retry_returned", fit.split_retry_returned}};
   report["features"] = {{"angle_degrees", fit.features.angle_degrees},
                         {"edges", fit.features.edges.size()},
                         {"curves", fit.features.curves.size()},

@@ -4,7 +4,7 @@
 //          [--lambda L]
 //          [--threads T] [--regularization R] [--store-parameters]
 //          [--quantize BITS|auto] [--knot-grid BITS] [--feature-angle DEG]
-//          [--json FILE] [--plot FILE.svg] [--quiet]
+//          [--map-vertices N|auto] [--json FILE] [--plot FILE.svg] [--quiet]
 //          [--accept-folds] [--repair] [--max-file-mb N] [--max-memory-mb N]
 #include <tbb/task_arena.h>
 
@@ -32,7 +32,7 @@ const CommandOptions& FitOptionNames() {
       Concat({"output", "degree", "rmse", "max-error", "knots-per-round",
               "knots-growth", "max-rounds", "max-control-points", "lambda",
               "threads", "json", "plot", "regularization", "quantize",
-              "knot-grid", "feature-angle"},
+              "knot-grid", "feature-angle", "map-vertices"},
              kMeshValueOptions),
       Concat({"quiet", "store-parameters", "accept-folds"}, kMeshFlagOptions)};
   return names;
@@ -59,6 +59,12 @@ int RunFit(const std::vector<std::string>& argv) {
   options.max_control_points = args.GetInt(
       "max-control-points", options.max_control_points, 10, 10000000);
   options.lambda = args.GetDouble("lambda", options.lambda, 1e-3, 1e3);
+  // --map-vertices N: split (N > 0) or not (0) from the start, no second
+  // fit; auto (default): a second fit split when the first folds.
+  if (args.Has("map-vertices") && args.Get("map-vertices") != "auto") {
+    options.map_vertices = args.GetInt("map-vertices", 0, 0, 10000000);
+    options.retry_map_vertices = 0;
+  }
   options.threads = args.GetInt("threads", 0, 0, 1024);
   options.regularization =
       args.GetDouble("regularization", options.regularization, 1e-12, 1e3);
@@ -175,6 +181,14 @@ int RunFit(const std::vector<std::string>& argv) {
         features.corners.size(),
         fit->features_kept ? "kept: the surface is creased along them"
                            : "detected; the surface is smooth across them");
+    if (fit->map_vertices != mesh->num_vertices()) {
+      std::printf(
+          "  map: %s on the input split to %d vertices (the same surface)\n",
+          fit->split_retry_returned
+              ? "the fit on its triangles folded; fitted again"
+              : "parameterized and fitted",
+          fit->map_vertices);
+    }
     if (!quantization.lossless()) {
       std::printf(
           "  control points quantized to %d bits: the stored surface is "

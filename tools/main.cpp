@@ -33,8 +33,8 @@ commands:
   fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--max-error PCT] [--knots-per-round N]
       [--knots-growth G] [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
       [--regularization R] [--store-parameters] [--quantize BITS|auto] [--knot-grid BITS]
-      [--accept-folds] [--feature-angle DEG] [--json FILE] [--plot FILE.svg] [--quiet]
-      [--repair]
+      [--accept-folds] [--feature-angle DEG] [--map-vertices N|auto] [--json FILE]
+      [--plot FILE.svg] [--quiet] [--repair]
                              Fit one smooth spherical DCB-spline (defaults:
                              degree 4, rmse 0.05 %, max error 10 x rmse,
                              70 knots per round or
@@ -53,6 +53,10 @@ commands:
                              kept sharp where every feature is one edge
                              between corners (knot clusters at the
                              corners); 180 finds none (smooth everywhere);
+                             --map-vertices N: an input of fewer vertices
+                             is fitted split to about N (the same surface);
+                             auto (default): fitted again so, to 20000,
+                             when the fit on its triangles folds; 0: never;
                              --repair as for check.
   info MODEL.sdcb [--json FILE]
                              Summary of a model (format version, size,

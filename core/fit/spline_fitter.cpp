@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <iomanip>
 #include <locale>
 #include <optional>
@@ -23,6 +24,8 @@
 #include "sdcb/core/knots/spherical_cvt.h"
 #include "sdcb/core/mesh/curvature.h"
 #include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/mesh/self_intersections.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/param/central_projection.h"
 #include "sdcb/core/param/parameterization_distortion.h"
 #include "sdcb/core/param/spherical_parameterization.h"
@@ -138,10 +141,11 @@ Status CheckOptions(const FitOptions& o) {
   if (o.knots_per_round < 1 || o.initial_knots < 0 || o.max_rounds < 1 ||
       o.max_control_points < 1 || o.threads < 0 ||
       o.round_samples_per_knot < 1 || o.final_surface_samples < 1 ||
-      o.max_fold_rounds < 0 || o.final_mesh_samples < 0) {
+      o.max_fold_rounds < 0 || o.final_mesh_samples < 0 || o.map_vertices < 0 ||
+      o.retry_map_vertices < 0) {
     return InvalidArgumentError(
         "knots per round, rounds, control points and sample counts must be "
-        "positive (final mesh samples >= 0), threads >= 0");
+        "positive (final mesh samples, map vertices >= 0), threads >= 0");
   }
   if (!std::isfinite(o.max_error_percent)) {
     return InvalidArgumentError("the max-error target must be finite");
@@ -282,6 +286,14 @@ BendingQuadrature MakeBendingQuadrature(const Eigen::MatrixX3d& knots,
   return q;
 }
 
+// A percentage with four significant digits, for messages.
+std::string ShortPercent(double value) {
+  std::ostringstream out;
+  out.imbue(std::locale::classic());
+  out << std::setprecision(4) << value;
+  return out.str();
+}
+
 }  // namespace
 
 const char* FitStageName(FitStage stage) {
@@ -331,6 +343,7 @@ RecordedFitOptions RecordFitOptions(const FitOptions& o) {
   r.final_surface_samples = o.final_surface_samples;
   r.final_mesh_samples = o.final_mesh_samples;
   r.knot_grid_bits = o.knot_grid_bits;
+  r.map_vertices = o.map_vertices;
   return r;
 }
 
@@ -351,7 +364,9 @@ struct SplineFitter::State {
   std::unique_ptr<tbb::task_arena> arena;
   Stopwatch clock;  // since Create
 
-  TriangleMesh mesh;   // in the normalized frame
+  TriangleMesh mesh;  // in the normalized frame
+  // The input's vertices: the first rows of `mesh` (FitOptions::map_vertices).
+  Eigen::Index input_vertices = 0;
   Eigen::MatrixX3d u;  // the vertices' sphere parameters
   // The feature corners' knot clusters (core/knots/feature_knots.h): the
   // knots of the first round 0 while not empty, dropped with that round when
@@ -376,7 +391,7 @@ struct SplineFitter::State {
   // A round kept to be returned if the target is missed.
   struct Candidate {
     SplineModel model;
-    Eigen::VectorXd vertex_errors;
+    Eigen::VectorXd vertex_errors;  // per input vertex
     bool vertex_errors_exact = true;
   };
   // The round with the smallest rms among those without folds in their
@@ -419,14 +434,6 @@ struct SplineFitter::State {
     }
     p.fraction = std::clamp(p.fraction, 0.0, 1.0);
     options.progress(p);
-  }
-
-  // A percentage with four significant digits, for messages.
-  static std::string ShortPercent(double value) {
-    std::ostringstream out;
-    out.imbue(std::locale::classic());
-    out << std::setprecision(4) << value;
-    return out.str();
   }
 
   // The sphere points of the feature corners.
@@ -582,8 +589,10 @@ struct SplineFitter::State {
     Eigen::MatrixX3d vertex_points;
     if (!vertex_errors_exact) {
       vertex_points = surface.EvaluateMany(u);
-      result.vertex_errors_percent =
-          100.0 * (vertex_points - mesh.vertices).rowwise().norm();
+      result.vertex_errors_percent = 100.0 * (vertex_points - mesh.vertices)
+                                                 .topRows(input_vertices)
+                                                 .rowwise()
+                                                 .norm();
       const Eigen::VectorXd& e = result.vertex_errors_percent;
       kept.vertex_rmse_percent =
           std::sqrt(e.squaredNorm() / std::max<Eigen::Index>(e.size(), 1));
@@ -734,13 +743,26 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   model.degree = o.degree;
   model.basis_form = o.basis_form;
   SDCB_ASSIGN_OR_RETURN(model.transform, ComputeNormalizingTransform(mesh));
-  s.mesh.faces = mesh.faces;
-  s.mesh.vertices = model.transform.ToNormalized(mesh.vertices);
   model.source.num_vertices = mesh.num_vertices();
   model.source.num_faces = mesh.num_faces();
   model.source.hash = HashTriangleMesh(mesh);
   SDCB_ASSIGN_OR_RETURN(s.result.features,
                         DetectFeatures(mesh, o.feature_angle_degrees));
+  // The mesh the map and the fit use: the input, or the input split
+  // (FitOptions::map_vertices), its first rows the input's vertices.
+  std::optional<TriangleMesh> split;
+  if (mesh.num_vertices() < o.map_vertices &&
+      !(o.keep_features && FeatureCurvesJoinCorners(s.result.features))) {
+    split = SplitToEdgeLength(
+        mesh, SplitEdgeLengthFor(VertexAreas(mesh).sum(), o.map_vertices),
+        std::max<int64_t>(mesh.num_vertices(), 4 * int64_t{o.map_vertices}));
+    if (split && split->num_vertices() == mesh.num_vertices()) split.reset();
+  }
+  const TriangleMesh& map_mesh = split ? *split : mesh;
+  s.mesh.faces = map_mesh.faces;
+  s.mesh.vertices = model.transform.ToNormalized(map_mesh.vertices);
+  s.input_vertices = mesh.num_vertices();
+  s.result.map_vertices = static_cast<int>(map_mesh.num_vertices());
   model.statistics.options = RecordFitOptions(o);
   model.statistics.error_measure = ErrorMeasure::kDenseTwoSided;
   for (Eigen::Index f = 0; f < s.mesh.faces.rows(); ++f) {
@@ -769,10 +791,10 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
     tbb::task_group side;
     side.run([&] {
       distance = MeshDistance::Create(s.mesh);
-      curvedness_or = Curvedness(mesh);
+      curvedness_or = Curvedness(map_mesh);
     });
     StatusOr<SphericalParameterization> p =
-        ParameterizeOnSphere(mesh, param_options);
+        ParameterizeOnSphere(map_mesh, param_options);
     side.wait();
     return p;
   }));
@@ -784,7 +806,7 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   stage = Stopwatch();
   SDCB_ASSIGN_OR_RETURN(Eigen::VectorXd curvedness, std::move(*curvedness_or));
   if (!(curvedness.maxCoeff() > 0)) curvedness.setOnes();  // flat: uniform
-  s.density = SphericalDensity{s.u, mesh.faces, Eigen::VectorXd()};
+  s.density = SphericalDensity{s.u, s.mesh.faces, Eigen::VectorXd()};
   SDCB_ASSIGN_OR_RETURN(s.density.values,
                         DensityFromValues(curvedness, o.alpha));
   // Round 0 tries the corners' knot clusters alone first (RunRound) when
@@ -1348,14 +1370,17 @@ Status SplineFitter::State::RunRound() {
   rs.control_points = static_cast<int>(control_points.rows());
   rs.rmse_percent = deviation.rms_percent;
   rs.max_error_percent = deviation.hausdorff_percent;
-  rs.vertex_rmse_percent =
-      std::sqrt(vertex_errors.squaredNorm() / std::max<Eigen::Index>(nv, 1));
-  rs.vertex_max_error_percent = nv > 0 ? vertex_errors.maxCoeff() : 0;
+  // The statistics at the input's vertices (a split mesh's first rows).
+  const Eigen::VectorXd input_errors = vertex_errors.head(input_vertices);
+  rs.vertex_rmse_percent = std::sqrt(input_errors.squaredNorm() /
+                                     std::max<Eigen::Index>(input_vertices, 1));
+  rs.vertex_max_error_percent =
+      input_vertices > 0 ? input_errors.maxCoeff() : 0;
   rs.folded_area_percent = deviation.folded_area_percent;
   model.knots = knots;
   model.configurations = std::move(configurations);
   model.control_points = control_points;
-  result.vertex_errors_percent = vertex_errors;
+  result.vertex_errors_percent = input_errors;
   vertex_errors_exact = vertex_points.rows() == nv;
   stats.rounds.push_back(rs);
   stats.final_result = rs;
@@ -1368,12 +1393,12 @@ Status SplineFitter::State::RunRound() {
   t.measure += details.timings.measure;
   result.round_details.push_back(details);
   if (!best || Better(rs, best->model.statistics.final_result)) {
-    best = Candidate{model, vertex_errors, vertex_errors_exact};
+    best = Candidate{model, input_errors, vertex_errors_exact};
   }
   if (!most_accurate ||
       IsBetterFallback(rs, most_accurate->model.statistics.final_result,
                        /*accept_folds=*/true)) {
-    most_accurate = Candidate{model, vertex_errors, vertex_errors_exact};
+    most_accurate = Candidate{model, input_errors, vertex_errors_exact};
   }
 
   // 6. Stop, or go on. Met the target but folded: the next rounds put fewer
@@ -1452,7 +1477,9 @@ Status SplineFitter::State::RunRound() {
 
 FitResult SplineFitter::TakeResult() {
   State& s = *state_;
-  if (s.options.store_parameters) s.result.model.parameters = s.u;
+  if (s.options.store_parameters) {
+    s.result.model.parameters = s.u.topRows(s.input_vertices);
+  }
   s.result.timings.total = s.clock.Seconds();
   s.Report(FitStage::kDone, rounds(), 0);
   FitResult out = std::move(s.result);
@@ -1460,12 +1487,87 @@ FitResult SplineFitter::TakeResult() {
   return out;
 }
 
-StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
-                                       const FitOptions& options) {
+namespace {
+
+StatusOr<FitResult> RunFit(const TriangleMesh& mesh,
+                           const FitOptions& options) {
   SDCB_ASSIGN_OR_RETURN(SplineFitter fitter,
                         SplineFitter::Create(mesh, options));
   while (!fitter.finished()) SDCB_RETURN_IF_ERROR(fitter.AddRound());
   return fitter.TakeResult();
+}
+
+// Whether the mesh passes through itself (FindSelfIntersections), on at
+// most `threads` threads (0: as many as the caller's context allows). A
+// surface that follows such a mesh folds where it does, split or not.
+bool IntersectsItself(const TriangleMesh& mesh, int threads) {
+  const int automatic = tbb::task_arena::automatic;  // copied, as in Create
+  tbb::task_arena arena(threads > 0 ? threads : automatic);
+  return arena.execute([&] {
+    const StatusOr<SelfIntersectionReport> report = FindSelfIntersections(mesh);
+    return report.ok() && report->checked && report->intersecting_pairs > 0;
+  });
+}
+
+bool AnyRoundFolded(const FitStatistics& stats) {
+  for (const RoundStatistics& r : stats.rounds) {
+    if (r.folded_area_percent > 0) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
+                                       const FitOptions& options) {
+  SDCB_ASSIGN_OR_RETURN(FitResult first, RunFit(mesh, options));
+  if (first.reached_target() || options.map_vertices > 0 ||
+      mesh.num_vertices() >= options.retry_map_vertices ||
+      !AnyRoundFolded(first.model.statistics) ||
+      IntersectsItself(mesh, options.threads)) {
+    return first;
+  }
+  FitOptions again = options;
+  again.map_vertices = options.retry_map_vertices;
+  again.max_control_points =
+      std::min(options.max_control_points,
+               first.model.statistics.final_result.control_points);
+  StatusOr<FitResult> second = RunFit(mesh, again);
+  if (!second.ok() || second->map_vertices == first.map_vertices) {
+    return first;  // nothing to split (or the second fit could not run)
+  }
+  // Reached wins; between two folded fits, the one folded less (the folds
+  // are what the second fit is for); else IsBetterFallback's order.
+  const RoundStatistics& a = second->model.statistics.final_result;
+  const RoundStatistics& b = first.model.statistics.final_result;
+  const bool both_folded = !options.fallback_accepts_folds &&
+                           a.folded_area_percent > 0 &&
+                           b.folded_area_percent > 0;
+  const bool take_second =
+      second->reached_target() ||
+      (both_folded ? a.folded_area_percent < b.folded_area_percent
+                   : IsBetterFallback(a, b, options.fallback_accepts_folds));
+  FitResult& kept = take_second ? *second : first;
+  const FitResult& other = take_second ? first : *second;
+  kept.split_retry_run = true;
+  kept.split_retry_returned = take_second;
+  StageTimings& t = kept.timings;
+  t.parameterization += other.timings.parameterization;
+  t.knot_placement += other.timings.knot_placement;
+  t.configurations += other.timings.configurations;
+  t.basis += other.timings.basis;
+  t.solve += other.timings.solve;
+  t.measure += other.timings.measure;
+  t.total += other.timings.total;
+  if (!take_second) {
+    kept.shortfall +=
+        "; a second fit on the input split to " +
+        std::to_string(second->map_vertices) + " vertices did no better (" +
+        std::to_string(a.control_points) + " control points, rms " +
+        ShortPercent(a.rmse_percent) + " %, folded " +
+        ShortPercent(a.folded_area_percent) + " % of its area)";
+  }
+  return std::move(kept);
 }
 
 }  // namespace sdcb

@@ -74,8 +74,27 @@ struct FitOptions {
   int max_rounds = 30;             // rounds at most (round 0 included)
   int max_control_points = 50000;  // stop before exceeding this
   double lambda = 1.0;             // parameterization, eq. (12)
-  double alpha = 4.0;              // density exponent (Sec. 4.4)
-  double regularization = 1e-6;    // core/fit/least_squares.h
+  // An input of fewer vertices than this is parameterized and fitted split
+  // at edge midpoints (SplitToEdgeLength) until no edge is longer than the
+  // spacing of about this many vertices spread evenly over it: the same
+  // surface, but where its triangles are coarser than that, the map can
+  // spread its distortion over several pieces of each instead of jumping
+  // from one triangle to the next, which a smooth spline following the map
+  // rounds and folds over (docs/FITTING.md, "Coarse inputs split"). Not
+  // when round 0 tries the corners' knot clusters (keep_features). The
+  // statistics, FitResult::vertex_errors_percent and the stored parameters
+  // stay per input vertex. 0 = the input's triangles.
+  int map_vertices = 0;
+  // FitSphericalSpline: a fit with map_vertices 0 of an input of fewer
+  // vertices than this that misses its target with a folded round, and
+  // does not pass through itself (core/mesh/self_intersections.h: then the
+  // mesh is why), is run again with map_vertices this and at most as many
+  // control points as the first returned; the better of the two is
+  // returned: one that reaches the target, else of two folded fits the one
+  // folded less, else IsBetterFallback's order. 0 = never.
+  int retry_map_vertices = 20000;
+  double alpha = 4.0;            // density exponent (Sec. 4.4)
+  double regularization = 1e-6;  // core/fit/least_squares.h
   // The basis the control points multiply (docs/FITTING.md compares them).
   BasisForm basis_form = BasisForm::kNormalized;
   // Weight of the bending energy, integral over S^2 of |Hess F|^2 (the
@@ -222,6 +241,13 @@ struct FitResult {
   std::string shortfall;
   // The input's sharp features at FitOptions::feature_angle_degrees.
   MeshFeatures features;
+  // Vertices of the mesh the fit parameterized and fitted: the input's, or
+  // its split's (FitOptions::map_vertices).
+  int map_vertices = 0;
+  // FitOptions::retry_map_vertices: a second fit on the split input was run
+  // (its seconds are in `timings`), and whether it is the one returned.
+  bool split_retry_run = false;
+  bool split_retry_returned = false;
   // Whether the model is the round on the feature corners' knot clusters
   // (core/knots/feature_knots.h), which keeps those features sharp.
   bool features_kept = false;
@@ -270,7 +296,8 @@ class SplineFitter {
   std::unique_ptr<State> state_;
 };
 
-// Fits `mesh`: SplineFitter::Create, AddRound until finished, TakeResult.
+// Fits `mesh`: SplineFitter::Create, AddRound until finished, TakeResult,
+// and once more on the split input when FitOptions::retry_map_vertices asks.
 // The result is the same for any thread count.
 StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
                                        const FitOptions& options = {});

@@ -44,14 +44,6 @@ constexpr int kMaxBoundRounds = 40;
 constexpr int64_t kMinBoundSamples = 10000;
 constexpr int64_t kBoundSampleDivisor = 5;
 
-// The longest edge for which splitting a mesh of `area` (SplitToEdgeLength)
-// gives about `samples` vertices when its triangles are coarser: about
-// 3 area / h^2 (measured at 100,000: 85K to 101K on blobby, bunny00, bear,
-// fandisk, retinal and geosphere, before the points the bound adds).
-double MeshSampleSpacing(double area, int64_t samples) {
-  return std::sqrt(3.0 * area / static_cast<double>(samples));
-}
-
 struct Lattice {
   Eigen::MatrixX3d points;
   Eigen::MatrixX3i triangles;
@@ -632,7 +624,7 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   const TriangleMesh* sample_mesh = &mesh;
   if (options.mesh_samples > 0) {
     const double area = VertexAreas(mesh).sum();
-    double spacing = MeshSampleSpacing(area, options.mesh_samples);
+    double spacing = SplitEdgeLengthFor(area, options.mesh_samples);
     while (!(split = SplitToEdgeLength(
                  mesh, spacing,
                  std::max<int64_t>(mesh.vertices.rows(),

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -226,6 +227,10 @@ std::optional<TriangleMesh> SplitToEdgeLength(const TriangleMesh& mesh,
     stack.insert(stack.end(), pieces.rbegin(), pieces.rend());
   }
   return splitter.Result(faces);
+}
+
+double SplitEdgeLengthFor(double area, int64_t vertices) {
+  return std::sqrt(3.0 * area / static_cast<double>(vertices));
 }
 
 }  // namespace sdcb

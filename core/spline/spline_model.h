@@ -95,6 +95,8 @@ struct RecordedFitOptions {
   int final_mesh_samples = 0;
   // Bits of the octahedral grid the knots were snapped to; 0: not snapped.
   int knot_grid_bits = 0;
+  // FitOptions::map_vertices of the fit (0: the input's own triangles).
+  int map_vertices = 0;
 };
 
 // How the fit went, without wall-clock times (they would make the model's

@@ -12,6 +12,7 @@
 
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/mesh_writer.h"
+#include "sdcb/io/sdcb_file.h"
 #include "testing/brute_force_configurations.h"
 #include "testing/honest_fit_errors.h"
 #include "testing/run_sdcb.h"
@@ -84,6 +85,10 @@ TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
     EXPECT_TRUE(j["timings"].contains(key)) << key;
   }
   EXPECT_EQ(j["final"], j["rounds"].back());
+  // Reached on the input's own triangles: no split, no second fit.
+  EXPECT_EQ(j["map"]["vertices"], j["vertices"]);
+  EXPECT_EQ(j["map"]["split_retry_run"], false);
+  EXPECT_EQ(j["options"]["map_vertices"], 0);
   const std::string svg = ReadBytes(dir + "/plot.svg");
   EXPECT_EQ(svg.rfind("<svg", 0), 0u);
   EXPECT_NE(svg.find("polyline"), std::string::npos);
@@ -125,6 +130,32 @@ TEST(FitCliTest, ReportCountsTheCubesSharpFeatures) {
   EXPECT_EQ(features["used"], false);
   EXPECT_GE(smooth["final"]["knots"], 70);  // at least the default round 0
   r = fit("0");
+  EXPECT_EQ(r.exit_code, 2);
+}
+
+// --map-vertices N fits a coarser input split to about N vertices from the
+// start: the report's map counts them, the model records N and keeps the
+// sphere points of the input's vertices only; a negative N is a usage
+// error.
+TEST(FitCliTest, MapVerticesSplitsACoarseInput) {
+  const std::string dir = FreshTestDir();
+  RunResult r = RunSdcb({"fit", MeshPath("sphere.off"), "-o", dir + "/s.sdcb",
+                         "--rmse", "0.2", "--map-vertices", "3000",
+                         "--store-parameters", "--json", dir + "/s.json"},
+                        dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(ReadBytes(dir + "/s.json"));
+  EXPECT_EQ(j["vertices"], 162);
+  EXPECT_GT(j["map"]["vertices"], 1500);
+  EXPECT_EQ(j["map"]["split_retry_run"], false);
+  EXPECT_EQ(j["options"]["map_vertices"], 3000);
+  auto model = ReadSdcbFile(dir + "/s.sdcb");
+  ASSERT_TRUE(model.ok()) << model.status().message();
+  EXPECT_EQ(model->parameters.rows(), 162);
+  EXPECT_EQ(model->statistics.options.map_vertices, 3000);
+  r = RunSdcb({"fit", MeshPath("sphere.off"), "-o", dir + "/t.sdcb",
+               "--map-vertices", "-1"},
+              dir);
   EXPECT_EQ(r.exit_code, 2);
 }
 

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <random>
 #include <utility>
@@ -172,6 +173,28 @@ TEST(TriangleMeshTest, SplittingNeedlesGrowsLinearlyInTheirLength) {
       EXPECT_LT(s->num_vertices(), 2.5 * previous) << h;
     }
     previous = s->num_vertices();
+  }
+}
+
+// SplitEdgeLengthFor: a coarse mesh split to the length for n vertices has
+// about n (the icosahedron's 12 vertices split for 1,000 to 40,000), and
+// its edges are then about as long as an even mesh of n vertices' (area
+// A = 2 n (sqrt 3 / 4) h^2 for n vertices, 2 n triangles of side h).
+TEST(TriangleMeshTest, TheSplitEdgeLengthForNVerticesGivesAboutN) {
+  const TriangleMesh m = MakeIcosphere(0);
+  ASSERT_EQ(m.num_vertices(), 12);
+  const double area = VertexAreas(m).sum();
+  for (int n : {1000, 5000, 40000}) {
+    SCOPED_TRACE(n);
+    const double h = SplitEdgeLengthFor(area, n);
+    EXPECT_NEAR(h, std::sqrt(3.0 * area / n), 1e-15);
+    auto s = SplitToEdgeLength(m, h, 10 * int64_t{n});
+    ASSERT_TRUE(s.has_value());
+    EXPECT_GT(s->num_vertices(), 0.5 * n);
+    EXPECT_LT(s->num_vertices(), 1.2 * n);
+    const double even = std::sqrt(2.0 * area / (std::sqrt(3.0) * n));
+    EXPECT_GT(LongestEdge(*s), 0.5 * even);
+    EXPECT_LE(LongestEdge(*s), 1.5 * even);
   }
 }
 
