@@ -80,10 +80,10 @@ struct FitOptions {
   // surface, but where its triangles are coarser than that, the map can
   // spread its distortion over several pieces of each instead of jumping
   // from one triangle to the next, which a smooth spline following the map
-  // rounds and folds over (docs/FITTING.md, "Coarse inputs split"). Not
-  // when round 0 tries the corners' knot clusters (keep_features). The
-  // statistics, FitResult::vertex_errors_percent and the stored parameters
-  // stay per input vertex. 0 = the input's triangles.
+  // rounds and folds over (docs/FITTING.md, "Coarse inputs fitted again
+  // split"). Not when round 0 tries the corners' knot clusters
+  // (keep_features). The statistics, FitResult::vertex_errors_percent and
+  // the stored parameters stay per input vertex. 0 = the input's triangles.
   int map_vertices = 0;
   // FitSphericalSpline: a fit with map_vertices 0 of an input of fewer
   // vertices than this that misses its target with a folded round, and
