@@ -90,17 +90,36 @@ double Args::GetDouble(const std::string& name, double fallback, double lo,
   return v;
 }
 
+namespace {
+
+// The value of --name as an integer in [lo, hi], else a UsageError that
+// names what it accepts (`also`: another accepted form, or "").
+int ParseIntOption(const std::string& name, const std::string& value, int lo,
+                   int hi, const std::string& also) {
+  char* end = nullptr;
+  const long v = std::strtol(value.c_str(), &end, 10);
+  if (value.empty() || *end != '\0' || v < lo || v > hi) {
+    throw UsageError{"--" + name + " must be an integer in [" +
+                     std::to_string(lo) + ", " + std::to_string(hi) + "]" +
+                     also + ", got '" + value + "'"};
+  }
+  return static_cast<int>(v);
+}
+
+}  // namespace
+
 int Args::GetInt(const std::string& name, int fallback, int lo, int hi) const {
   auto it = values_.find(name);
   if (it == values_.end()) return fallback;
-  char* end = nullptr;
-  const long v = std::strtol(it->second.c_str(), &end, 10);
-  if (it->second.empty() || *end != '\0' || v < lo || v > hi) {
-    throw UsageError{"--" + name + " must be an integer in [" +
-                     std::to_string(lo) + ", " + std::to_string(hi) +
-                     "], got '" + it->second + "'"};
-  }
-  return static_cast<int>(v);
+  return ParseIntOption(name, it->second, lo, hi, "");
+}
+
+int Args::GetIntOrAuto(const std::string& name, int fallback, int lo, int hi,
+                       int auto_value) const {
+  auto it = values_.find(name);
+  if (it == values_.end()) return fallback;
+  if (it->second == "auto") return auto_value;
+  return ParseIntOption(name, it->second, lo, hi, " or auto");
 }
 
 void Args::RequirePositionals(size_t n, const std::string& what) const {

@@ -41,6 +41,10 @@ class Args {
   double GetDouble(const std::string& name, double fallback, double lo,
                    double hi) const;
   int GetInt(const std::string& name, int fallback, int lo, int hi) const;
+  // GetInt of an option that may also be "auto": `auto_value` then (and
+  // when absent, `fallback`); the message of a bad value names both forms.
+  int GetIntOrAuto(const std::string& name, int fallback, int lo, int hi,
+                   int auto_value) const;
   // Exactly `n` positionals, else a UsageError naming `what`.
   void RequirePositionals(size_t n, const std::string& what) const;
 

@@ -60,9 +60,13 @@ int RunFit(const std::vector<std::string>& argv) {
       "max-control-points", options.max_control_points, 10, 10000000);
   options.lambda = args.GetDouble("lambda", options.lambda, 1e-3, 1e3);
   // --map-vertices N: split (N > 0) or not (0) from the start, no second
-  // fit; auto (default): a second fit split when the first folds.
-  if (args.Has("map-vertices") && args.Get("map-vertices") != "auto") {
-    options.map_vertices = args.GetInt("map-vertices", 0, 0, 10000000);
+  // fit; auto (default): a second fit split when the first folds or rounds
+  // the edges between corners.
+  constexpr int kAutoMap = -1;
+  const int map_vertices =
+      args.GetIntOrAuto("map-vertices", kAutoMap, 0, 10000000, kAutoMap);
+  if (map_vertices != kAutoMap) {
+    options.map_vertices = map_vertices;
     options.retry_map_vertices = 0;
   }
   options.threads = args.GetInt("threads", 0, 0, 1024);
@@ -79,11 +83,8 @@ int RunFit(const std::vector<std::string>& argv) {
   // --quantize auto: the coarsest grid whose bound is within a fraction of the
   // fit's rms. Any --quantize also snaps the knots to a grid, so that the
   // file stores them in a few bytes, exactly as fitted.
-  if (args.Get("quantize") == "auto") {
-    write_options.quantize_bits = kQuantizeBitsAuto;
-  } else {
-    write_options.quantize_bits = args.GetInt("quantize", 0, 8, 30);
-  }
+  write_options.quantize_bits =
+      args.GetIntOrAuto("quantize", 0, 8, 30, kQuantizeBitsAuto);
   if (write_options.quantize_bits != 0) {
     options.knot_grid_bits = kQuantizedFitKnotGridBits;
   }
@@ -107,7 +108,8 @@ int RunFit(const std::vector<std::string>& argv) {
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
   options.progress = [bar = progress.Callback()](const FitProgress& p) {
-    bar(FitStageName(p.stage), p.fraction);
+    bar(std::string(p.second_fit ? "split, " : "") + FitStageName(p.stage),
+        p.fraction);
   };
   StatusOr<FitResult> fit = FitSphericalSpline(*mesh, options);
   progress.Finish();
@@ -185,7 +187,7 @@ int RunFit(const std::vector<std::string>& argv) {
       std::printf(
           "  map: %s on the input split to %d vertices (the same surface)\n",
           fit->split_retry_returned
-              ? "the fit on its triangles folded; fitted again"
+              ? "better than the fit on its own triangles; fitted again"
               : "parameterized and fitted",
           fit->map_vertices);
     }

@@ -18,6 +18,9 @@ class ProgressBar {
 
   bool enabled() const { return enabled_; }
   // Draws stage and fraction (0..1); rate-limited to ~10 redraws a second.
+  // A fraction that falls below half the last (a second pass, as the fit's
+  // second fit on the split input) starts the ETA's clock again; the elapsed
+  // time runs on.
   void Update(const std::string& stage, double fraction);
   // Ends the line (before printing anything else to stderr).
   void Finish();
@@ -28,7 +31,8 @@ class ProgressBar {
   std::string command_;
   bool enabled_ = false;
   bool drawn_ = false;
-  std::chrono::steady_clock::time_point start_, last_draw_;
+  std::chrono::steady_clock::time_point start_, last_draw_, pass_start_;
+  double last_fraction_ = 0.0;
 };
 
 }  // namespace sdcb::cli

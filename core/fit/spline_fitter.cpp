@@ -40,6 +40,16 @@
 namespace sdcb {
 namespace {
 
+// Adds the seconds of the stages a round runs (knot placement to measure)
+// of `from` to `to`; the parameterization and the total are the caller's.
+void AddRoundStages(const StageTimings& from, StageTimings* to) {
+  to->knot_placement += from.knot_placement;
+  to->configurations += from.configurations;
+  to->basis += from.basis;
+  to->solve += from.solve;
+  to->measure += from.measure;
+}
+
 class Stopwatch {
  public:
   Stopwatch() : start_(std::chrono::steady_clock::now()) {}
@@ -1385,12 +1395,7 @@ Status SplineFitter::State::RunRound() {
   stats.rounds.push_back(rs);
   stats.final_result = rs;
   details.timings.total = round_clock.Seconds();
-  StageTimings& t = result.timings;
-  t.knot_placement += details.timings.knot_placement;
-  t.configurations += details.timings.configurations;
-  t.basis += details.timings.basis;
-  t.solve += details.timings.solve;
-  t.measure += details.timings.measure;
+  AddRoundStages(details.timings, &result.timings);
   result.round_details.push_back(details);
   if (!best || Better(rs, best->model.statistics.final_result)) {
     best = Candidate{model, input_errors, vertex_errors_exact};
@@ -1521,14 +1526,30 @@ bool AnyRoundFolded(const FitStatistics& stats) {
 StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
                                        const FitOptions& options) {
   SDCB_ASSIGN_OR_RETURN(FitResult first, RunFit(mesh, options));
-  if (first.reached_target() || options.map_vertices > 0 ||
-      mesh.num_vertices() >= options.retry_map_vertices ||
-      !AnyRoundFolded(first.model.statistics) ||
-      IntersectsItself(mesh, options.threads)) {
+  if (options.map_vertices > 0 ||
+      mesh.num_vertices() >= options.retry_map_vertices) {
     return first;
   }
+  // A solid whose feature curves join corners but were not kept sharp (the
+  // corners' clusters dropped, or not tried) was fitted smooth on its own
+  // few large triangles; a fit that missed with a folded round, on a mesh
+  // that does not pass through itself.
+  const bool edges_rounded = options.keep_features && !first.features_kept &&
+                             FeatureCurvesJoinCorners(first.features);
+  const bool folded = !first.reached_target() &&
+                      AnyRoundFolded(first.model.statistics) &&
+                      !IntersectsItself(mesh, options.threads);
+  if (!edges_rounded && !folded) return first;
   FitOptions again = options;
+  if (options.progress) {
+    again.progress = [&options](const FitProgress& p) {
+      FitProgress second = p;
+      second.second_fit = true;
+      options.progress(second);
+    };
+  }
   again.map_vertices = options.retry_map_vertices;
+  again.keep_features = options.keep_features && !edges_rounded;
   again.max_control_points =
       std::min(options.max_control_points,
                first.model.statistics.final_result.control_points);
@@ -1536,30 +1557,29 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
   if (!second.ok() || second->map_vertices == first.map_vertices) {
     return first;  // nothing to split (or the second fit could not run)
   }
-  // Reached wins; between two folded fits, the one folded less (the folds
-  // are what the second fit is for); else IsBetterFallback's order.
+  // Of two that reach, the one with fewer control points; else reached
+  // wins; between two folded fits, the one folded less (the folds are what
+  // the second fit is for); else IsBetterFallback's order.
   const RoundStatistics& a = second->model.statistics.final_result;
   const RoundStatistics& b = first.model.statistics.final_result;
   const bool both_folded = !options.fallback_accepts_folds &&
                            a.folded_area_percent > 0 &&
                            b.folded_area_percent > 0;
   const bool take_second =
-      second->reached_target() ||
-      (both_folded ? a.folded_area_percent < b.folded_area_percent
-                   : IsBetterFallback(a, b, options.fallback_accepts_folds));
+      first.reached_target()
+          ? second->reached_target() && a.control_points < b.control_points
+          : second->reached_target() ||
+                (both_folded
+                     ? a.folded_area_percent < b.folded_area_percent
+                     : IsBetterFallback(a, b, options.fallback_accepts_folds));
   FitResult& kept = take_second ? *second : first;
   const FitResult& other = take_second ? first : *second;
   kept.split_retry_run = true;
   kept.split_retry_returned = take_second;
-  StageTimings& t = kept.timings;
-  t.parameterization += other.timings.parameterization;
-  t.knot_placement += other.timings.knot_placement;
-  t.configurations += other.timings.configurations;
-  t.basis += other.timings.basis;
-  t.solve += other.timings.solve;
-  t.measure += other.timings.measure;
-  t.total += other.timings.total;
-  if (!take_second) {
+  AddRoundStages(other.timings, &kept.timings);
+  kept.timings.parameterization += other.timings.parameterization;
+  kept.timings.total += other.timings.total;
+  if (!take_second && !first.reached_target()) {
     kept.shortfall +=
         "; a second fit on the input split to " +
         std::to_string(second->map_vertices) + " vertices did no better (" +

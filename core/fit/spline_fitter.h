@@ -52,6 +52,9 @@ struct FitProgress {
   // error's decay so far (docs/FITTING.md); within a round each stage
   // advances by its typical share of a round's time.
   double fraction = 0.0;
+  // The second fit FitSphericalSpline runs on the split input
+  // (FitOptions::retry_map_vertices); its fraction starts again from 0.
+  bool second_fit = false;
 };
 
 struct FitOptions {
@@ -86,11 +89,15 @@ struct FitOptions {
   // the stored parameters stay per input vertex. 0 = the input's triangles.
   int map_vertices = 0;
   // FitSphericalSpline: a fit with map_vertices 0 of an input of fewer
-  // vertices than this that misses its target with a folded round, and
-  // does not pass through itself (core/mesh/self_intersections.h: then the
-  // mesh is why), is run again with map_vertices this and at most as many
-  // control points as the first returned; the better of the two is
-  // returned: one that reaches the target, else of two folded fits the one
+  // vertices than this is run again with map_vertices this and at most as
+  // many control points as the first returned, when it misses its target
+  // with a folded round and the input does not pass through itself
+  // (core/mesh/self_intersections.h: then the mesh is why), or when its
+  // feature curves join corners but were not kept sharp (the corners' knot
+  // clusters dropped or not tried: then the second fit is smooth,
+  // keep_features off, on a solid's few large triangles split). The
+  // better of the two is returned: of two that reach, the one with fewer
+  // control points; else one that reaches, else of two folded fits the one
   // folded less, else IsBetterFallback's order. 0 = never.
   int retry_map_vertices = 20000;
   double alpha = 4.0;            // density exponent (Sec. 4.4)

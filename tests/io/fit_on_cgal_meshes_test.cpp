@@ -187,6 +187,40 @@ TEST(AdaptiveFitTest, ACoarseInputThatFoldsIsFittedAgainSplit) {
   EXPECT_EQ(testing::BruteForceFoldedPoints(mesh, *fit, 1000), 0);
 }
 
+// CGAL's cross (40 vertices, a non-convex solid): its corners' clusters are
+// tried and dropped, and the smooth fit on its own large triangles reaches
+// with thousands of control points; fitted again smooth on its split, it
+// reaches with far fewer, and that fit is returned.
+TEST(AdaptiveFitTest, ASolidWhoseClustersAreDroppedIsFittedAgainSplit) {
+  const TriangleMesh mesh = ReadCgalMesh("cross.off");
+  FitOptions options;
+  options.rmse_percent = 0.1;
+  options.retry_map_vertices = 0;
+  auto first = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(first.ok()) << first.status().message();
+  EXPECT_TRUE(first->reached_target()) << first->shortfall;
+  EXPECT_FALSE(first->features_kept);
+  EXPECT_FALSE(first->split_retry_run);
+
+  options.retry_map_vertices = 20000;
+  auto fit = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  EXPECT_TRUE(fit->reached_target()) << fit->shortfall;
+  EXPECT_TRUE(fit->split_retry_run);
+  EXPECT_TRUE(fit->split_retry_returned);
+  EXPECT_TRUE(fit->shortfall.empty());
+  EXPECT_GT(fit->map_vertices, 10000);
+  EXPECT_FALSE(fit->features_kept);
+  EXPECT_GT(fit->features.edges.size(), 0u);  // still reported
+  const RoundStatistics& r = fit->model.statistics.final_result;
+  EXPECT_EQ(r.folded_area_percent, 0.0);
+  EXPECT_LT(r.control_points,
+            first->model.statistics.final_result.control_points * 2 / 3);
+  ExpectHonestVertexErrors(mesh, *fit);
+  ExpectHonestSurfaceErrors(mesh, *fit, 2000);
+  EXPECT_EQ(testing::BruteForceFoldedPoints(mesh, *fit, 1000), 0);
+}
+
 // FitOptions::map_vertices asked for directly: the sphere (162 vertices)
 // parameterized and fitted split, its statistics still per input vertex.
 TEST(AdaptiveFitTest, AnInputFittedSplitReportsPerInputVertex) {

@@ -136,7 +136,8 @@ TEST(FitCliTest, ReportCountsTheCubesSharpFeatures) {
 // --map-vertices N fits a coarser input split to about N vertices from the
 // start: the report's map counts them, the model records N and keeps the
 // sphere points of the input's vertices only; a negative N is a usage
-// error.
+// error, and so is a word other than auto (the message names both forms, as
+// --quantize's does).
 TEST(FitCliTest, MapVerticesSplitsACoarseInput) {
   const std::string dir = FreshTestDir();
   RunResult r = RunSdcb({"fit", MeshPath("sphere.off"), "-o", dir + "/s.sdcb",
@@ -157,6 +158,14 @@ TEST(FitCliTest, MapVerticesSplitsACoarseInput) {
                "--map-vertices", "-1"},
               dir);
   EXPECT_EQ(r.exit_code, 2);
+  for (const char* option : {"--map-vertices", "--quantize"}) {
+    r = RunSdcb(
+        {"fit", MeshPath("sphere.off"), "-o", dir + "/t.sdcb", option, "abc"},
+        dir);
+    EXPECT_EQ(r.exit_code, 2) << option;
+    EXPECT_NE(r.err.find("] or auto, got 'abc'"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir + "/t.sdcb"));
 }
 
 // By default the cube's corners' knot clusters alone reach the
