@@ -60,8 +60,8 @@ int RunFit(const std::vector<std::string>& argv) {
       "max-control-points", options.max_control_points, 10, 10000000);
   options.lambda = args.GetDouble("lambda", options.lambda, 1e-3, 1e3);
   // --map-vertices N: split (N > 0) or not (0) from the start, no second
-  // fit; auto (default): a second fit split when the first folds or rounds
-  // the edges between corners.
+  // fit; auto (default): a second fit split when the first folds or needs
+  // more control points than the input has vertices.
   constexpr int kAutoMap = -1;
   const int map_vertices =
       args.GetIntOrAuto("map-vertices", kAutoMap, 0, 10000000, kAutoMap);

@@ -56,8 +56,9 @@ commands:
                              --map-vertices N: an input of fewer vertices
                              is fitted split to about N (the same surface);
                              auto (default): fitted again so, to 20000,
-                             when the fit on its triangles folds or rounds
-                             the edges between corners; 0: never;
+                             when the fit on its triangles folds or needs
+                             more control points than it has vertices;
+                             0: never;
                              --repair as for check.
   info MODEL.sdcb [--json FILE]
                              Summary of a model (format version, size,

@@ -1530,16 +1530,18 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
       mesh.num_vertices() >= options.retry_map_vertices) {
     return first;
   }
-  // A solid whose feature curves join corners but were not kept sharp (the
-  // corners' clusters dropped, or not tried) was fitted smooth on its own
-  // few large triangles; a fit that missed with a folded round, on a mesh
-  // that does not pass through itself.
-  const bool edges_rounded = options.keep_features && !first.features_kept &&
-                             FeatureCurvesJoinCorners(first.features);
+  // A fit that reached the target smooth with more control points than the
+  // input has vertices (its knots about as dense as the input's triangles:
+  // the spline follows the map's jumps between them, as on a CAD solid's
+  // few large triangles whose edges it rounds); a fit that missed with a
+  // folded round, on a mesh that does not pass through itself.
+  const RoundStatistics& returned = first.model.statistics.final_result;
+  const bool dense_knots = first.reached_target() && !first.features_kept &&
+                           returned.control_points > mesh.num_vertices();
   const bool folded = !first.reached_target() &&
                       AnyRoundFolded(first.model.statistics) &&
                       !IntersectsItself(mesh, options.threads);
-  if (!edges_rounded && !folded) return first;
+  if (!dense_knots && !folded) return first;
   FitOptions again = options;
   if (options.progress) {
     again.progress = [&options](const FitProgress& p) {
@@ -1549,10 +1551,11 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
     };
   }
   again.map_vertices = options.retry_map_vertices;
-  again.keep_features = options.keep_features && !edges_rounded;
+  // Smooth: corners' clusters, had they been kept, would have ended it above
+  // (and they are tried on the input's own triangles only).
+  again.keep_features = false;
   again.max_control_points =
-      std::min(options.max_control_points,
-               first.model.statistics.final_result.control_points);
+      std::min(options.max_control_points, returned.control_points);
   StatusOr<FitResult> second = RunFit(mesh, again);
   if (!second.ok() || second->map_vertices == first.map_vertices) {
     return first;  // nothing to split (or the second fit could not run)
@@ -1561,7 +1564,7 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
   // wins; between two folded fits, the one folded less (the folds are what
   // the second fit is for); else IsBetterFallback's order.
   const RoundStatistics& a = second->model.statistics.final_result;
-  const RoundStatistics& b = first.model.statistics.final_result;
+  const RoundStatistics& b = returned;
   const bool both_folded = !options.fallback_accepts_folds &&
                            a.folded_area_percent > 0 &&
                            b.folded_area_percent > 0;

@@ -89,16 +89,15 @@ struct FitOptions {
   // the stored parameters stay per input vertex. 0 = the input's triangles.
   int map_vertices = 0;
   // FitSphericalSpline: a fit with map_vertices 0 of an input of fewer
-  // vertices than this is run again with map_vertices this and at most as
-  // many control points as the first returned, when it misses its target
-  // with a folded round and the input does not pass through itself
-  // (core/mesh/self_intersections.h: then the mesh is why), or when its
-  // feature curves join corners but were not kept sharp (the corners' knot
-  // clusters dropped or not tried: then the second fit is smooth,
-  // keep_features off, on a solid's few large triangles split). The
-  // better of the two is returned: of two that reach, the one with fewer
-  // control points; else one that reaches, else of two folded fits the one
-  // folded less, else IsBetterFallback's order. 0 = never.
+  // vertices than this is run again, smooth (keep_features off), with
+  // map_vertices this and at most as many control points as the first
+  // returned, when it misses its target with a folded round and the input
+  // does not pass through itself (core/mesh/self_intersections.h: then the
+  // mesh is why), or when it reaches the target smooth with more control
+  // points than the input has vertices. The better of the two is returned:
+  // of two that reach, the one with fewer control points; else one that
+  // reaches, else of two folded fits the one folded less, else
+  // IsBetterFallback's order. 0 = never.
   int retry_map_vertices = 20000;
   double alpha = 4.0;            // density exponent (Sec. 4.4)
   double regularization = 1e-6;  // core/fit/least_squares.h
