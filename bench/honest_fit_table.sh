@@ -24,7 +24,14 @@ else
 fi
 for f in $files; do
   [ -f "$f" ] || continue
-  check=$("$sdcb" check "$f" --json - 2>/dev/null) || continue
+  check=$("$sdcb" check "$f" --json - 2>/dev/null)
+  rc=$?
+  # 1: not a closed genus-0 mesh (skipped); anything else is a failure of
+  # the check itself (a binary being rebuilt, a crash), shown as a row.
+  if [ $rc -ne 0 ] && [ $rc -ne 1 ]; then
+    echo "| $(basename "$f") | - | - | - | - | - | - | - | - | - | check exit $rc |"
+    continue
+  fi
   echo "$check" | grep -q '"ok": true' || continue
   v=$(echo "$check" | sed -n 's/.*"vertices": \([0-9]*\).*/\1/p' | head -n 1)
   [ "$v" -le "$max_vertices" ] || continue

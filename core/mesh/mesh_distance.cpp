@@ -181,7 +181,11 @@ StatusOr<MeshDistance> MeshDistance::Create(const TriangleMesh& mesh) {
       }
     }
   }
-  t->tree.accelerate_distance_queries(hints.begin(), hints.end());
+  if (hints.empty()) {  // every corner in a piece rounded flat
+    t->tree.accelerate_distance_queries();
+  } else {
+    t->tree.accelerate_distance_queries(hints.begin(), hints.end());
+  }
   return MeshDistance(std::move(t));
 }
 
