@@ -461,26 +461,17 @@ class LevelOptimizer {
   std::vector<double> decrease_;
 };
 
-// Step 2 of the method: Tutte embedding of the base mesh minus its vertex of
-// highest degree, centrally projected onto the northern hemisphere, plus
-// that vertex at the south pole.
-Status EmbedBaseMesh(const LevelState& level, Points* sphere) {
+// Per vertex, its faces as (a, b): the other two corners counter-clockwise.
+using FaceRings = std::vector<std::vector<std::pair<int, int>>>;
+
+// The Tutte embedding of the base mesh minus `pole`, centrally projected
+// onto the northern hemisphere, plus `pole` at the south pole. Fails when a
+// triangle comes out folded: exact in theory, but the embedding shrinks
+// geometrically with the graph distance from the pole's link, and along a
+// long thin part the innermost triangles fall below double precision.
+Status EmbedBaseMeshFrom(const LevelState& level, const FaceRings& ring,
+                         int pole, Points* sphere) {
   const int nv = static_cast<int>(level.vertex_alive.size());
-  std::vector<std::vector<std::pair<int, int>>> ring(nv);  // (a, b) per face
-  for (int f = 0; f < level.faces.rows(); ++f) {
-    if (!level.face_alive[f]) continue;
-    for (int i = 0; i < 3; ++i) {
-      ring[level.faces(f, i)].emplace_back(level.faces(f, (i + 1) % 3),
-                                           level.faces(f, (i + 2) % 3));
-    }
-  }
-  int pole = -1;
-  for (int v = 0; v < nv; ++v) {
-    if (level.vertex_alive[v] &&
-        (pole < 0 || ring[v].size() > ring[pole].size())) {
-      pole = v;
-    }
-  }
   // The pole's link counter-clockwise; in the plane it must run clockwise
   // for the disk's faces to be counter-clockwise.
   std::map<int, int> next(ring[pole].begin(), ring[pole].end());
@@ -545,6 +536,63 @@ Status EmbedBaseMesh(const LevelState& level, Points* sphere) {
     }
   }
   return Status::Ok();
+}
+
+// The vertex whose largest graph distance to another is smallest (the
+// lowest index among equals): as the pole, it leaves the shallowest disk.
+int GraphCenter(const LevelState& level, const FaceRings& ring) {
+  const int nv = static_cast<int>(level.vertex_alive.size());
+  int best = -1, best_depth = nv;
+  std::vector<int> distance(nv, -1);
+  std::vector<int> queue;
+  for (int s = 0; s < nv; ++s) {
+    if (!level.vertex_alive[s]) continue;
+    for (int v : queue) distance[v] = -1;  // the last search's vertices
+    queue.assign(1, s);
+    distance[s] = 0;
+    int depth = 0;
+    for (size_t head = 0; head < queue.size(); ++head) {
+      const int v = queue[head];
+      depth = distance[v];
+      for (const auto& [w, unused] : ring[v]) {
+        if (distance[w] < 0) {
+          distance[w] = depth + 1;
+          queue.push_back(w);
+        }
+      }
+    }
+    if (depth < best_depth) {
+      best_depth = depth;
+      best = s;
+    }
+  }
+  return best;
+}
+
+// Step 2 of the method: EmbedBaseMeshFrom the vertex of highest degree, or,
+// when that folds, from the graph center.
+Status EmbedBaseMesh(const LevelState& level, Points* sphere) {
+  const int nv = static_cast<int>(level.vertex_alive.size());
+  FaceRings ring(nv);
+  for (int f = 0; f < level.faces.rows(); ++f) {
+    if (!level.face_alive[f]) continue;
+    for (int i = 0; i < 3; ++i) {
+      ring[level.faces(f, i)].emplace_back(level.faces(f, (i + 1) % 3),
+                                           level.faces(f, (i + 2) % 3));
+    }
+  }
+  int pole = -1;
+  for (int v = 0; v < nv; ++v) {
+    if (level.vertex_alive[v] &&
+        (pole < 0 || ring[v].size() > ring[pole].size())) {
+      pole = v;
+    }
+  }
+  const Status status = EmbedBaseMeshFrom(level, ring, pole, sphere);
+  if (status.ok()) return status;
+  const int center = GraphCenter(level, ring);
+  if (center == pole) return status;
+  return EmbedBaseMeshFrom(level, ring, center, sphere);
 }
 
 // Step 4: puts the vertex a collapse removed back inside the kernel of its

@@ -9,6 +9,7 @@
 
 #include "sdcb/core/param/parameterization_distortion.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
+#include "testing/finger_mesh.h"
 #include "testing/off_test_mesh.h"
 
 namespace sdcb {
@@ -226,6 +227,17 @@ TEST(SphericalParameterization, LargeLevelsRunFewSweepsAndSkipOneNearTheInput) {
   ExpectBijection(mesh, d->sphere);
   EXPECT_GT(RecomputedEnergy(mesh, d->sphere, 1.0),
             1.01 * RecomputedEnergy(mesh, c->sphere, 1.0));
+}
+
+// A finger 60 radii long: from the base mesh's vertex of highest degree the
+// Tutte embedding shrinks along the finger below double precision (a
+// folded triangle); from the graph center it does not.
+TEST(SphericalParameterization, LongThinPartEmbedsFromTheGraphCenter) {
+  const TriangleMesh mesh = testing::FingerMesh(0.1, 6.0, 0.05);
+  ASSERT_GT(mesh.num_vertices(), 6000);
+  const auto map = ParameterizeOnSphere(mesh, {});
+  ASSERT_TRUE(map.ok()) << map.status().message();
+  ExpectBijection(mesh, map->sphere);
 }
 
 TEST(SphericalParameterization, RejectsBadInput) {
