@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
   sdcb::DeviationOptions options;
   options.length_unit = side / model->transform.scale;
   options.min_surface_samples = samples;
+  options.mesh_samples = samples;  // the input's triangles too, as sdcb compare
   auto d = sdcb::MeasureSurfaceDeviation(*surface, normalized, options);
   if (!surface.ok() || !d.ok()) return 1;
   std::printf(
