@@ -246,7 +246,9 @@ nlohmann::ordered_json FitReportToJson(const FitResult& fit) {
   report["options"] = record["options"];
   report["map"] = {{"vertices", fit.map_vertices},
                    {"split_retry_run", fit.split_retry_run},
-                   {"split_retry_returned", fit.split_retry_returned}};
+                   {"split_retry_returned", fit.split_retry_returned},
+                   {"lambda", fit.model.statistics.options.lambda},
+                   {"lambda_retries_run", fit.lambda_retries_run}};
   report["features"] = {{"angle_degrees", fit.features.angle_degrees},
                         {"edges", fit.features.edges.size()},
                         {"curves", fit.features.curves.size()},

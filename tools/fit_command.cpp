@@ -108,7 +108,7 @@ int RunFit(const std::vector<std::string>& argv) {
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
   options.progress = [bar = progress.Callback()](const FitProgress& p) {
-    bar(std::string(p.second_fit ? "split, " : "") + FitStageName(p.stage),
+    bar((p.retry.empty() ? "" : p.retry + ", ") + FitStageName(p.stage),
         p.fraction);
   };
   StatusOr<FitResult> fit = FitSphericalSpline(*mesh, options);
@@ -183,6 +183,13 @@ int RunFit(const std::vector<std::string>& argv) {
         features.corners.size(),
         fit->features_kept ? "kept: the surface is creased along them"
                            : "detected; the surface is smooth across them");
+    const double lambda = fit->model.statistics.options.lambda;
+    if (lambda != options.lambda) {
+      std::printf(
+          "  map: lambda %g (fitted again with the area term weaker: it "
+          "folded less%s)\n",
+          lambda, fit->reached_target() ? " and reached the targets" : "");
+    }
     if (fit->map_vertices != mesh->num_vertices()) {
       std::printf(
           "  map: %s on the input split to %d vertices (the same surface)\n",

@@ -57,8 +57,9 @@ commands:
                              is fitted split to about N (the same surface);
                              auto (default): fitted again so, to 20000,
                              when the fit on its triangles folds or needs
-                             more control points than it has vertices;
-                             0: never;
+                             more control points than it has vertices,
+                             then with lambda x 0.5 and x 0.2 while it
+                             still folds; 0: one fit, never split;
                              --repair as for check.
   info MODEL.sdcb [--json FILE]
                              Summary of a model (format version, size,

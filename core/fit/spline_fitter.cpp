@@ -186,6 +186,12 @@ Status CheckOptions(const FitOptions& o) {
   if (!(o.fairness >= 0) || !std::isfinite(o.fairness)) {
     return InvalidArgumentError("the fairness weight must be finite and >= 0");
   }
+  for (double factor : o.retry_lambda_factors) {
+    if (!(factor > 0) || !std::isfinite(factor) || !(o.lambda * factor > 0)) {
+      return InvalidArgumentError(
+          "every retry lambda factor must be finite and > 0");
+    }
+  }
   if (o.basis_form != BasisForm::kNormalized &&
       o.basis_form != BasisForm::kRaw) {
     return InvalidArgumentError("unknown basis form");
@@ -296,8 +302,23 @@ BendingQuadrature MakeBendingQuadrature(const Eigen::MatrixX3d& knots,
   return q;
 }
 
-// A percentage with four significant digits, for messages.
-std::string ShortPercent(double value) {
+// The mesh FitOptions::map_vertices asks the map and the fit to use: `mesh`
+// split (SplitToEdgeLength) for about `map_vertices` vertices, or nullopt
+// when that leaves it as it is (or would make it too large).
+std::optional<TriangleMesh> SplitForMap(const TriangleMesh& mesh,
+                                        int map_vertices) {
+  if (mesh.num_vertices() >= map_vertices) return std::nullopt;
+  std::optional<TriangleMesh> split = SplitToEdgeLength(
+      mesh, SplitEdgeLengthFor(VertexAreas(mesh).sum(), map_vertices),
+      std::max<int64_t>(mesh.num_vertices(), 4 * int64_t{map_vertices}));
+  if (!split || split->num_vertices() == mesh.num_vertices()) {
+    return std::nullopt;
+  }
+  return split;
+}
+
+// A number with four significant digits, for messages.
+std::string ShortNumber(double value) {
   std::ostringstream out;
   out.imbue(std::locale::classic());
   out << std::setprecision(4) << value;
@@ -548,7 +569,7 @@ struct SplineFitter::State {
           kept.rmse_percent) {
         why = "the most accurate (round " + std::to_string(kept.round) +
               ", without folds in its round's measurement, folds " +
-              ShortPercent(kept.folded_area_percent) +
+              ShortNumber(kept.folded_area_percent) +
               " % of its area when measured densely)";
       } else {
         Return(other);
@@ -561,10 +582,10 @@ struct SplineFitter::State {
     }
     result.shortfall +=
         " (returned surface, measured densely: rms " +
-        ShortPercent(returned.rmse_percent) + " %, max " +
-        ShortPercent(returned.max_error_percent) + " %" +
+        ShortNumber(returned.rmse_percent) + " %, max " +
+        ShortNumber(returned.max_error_percent) + " %" +
         (returned.folded_area_percent > 0
-             ? ", folded " + ShortPercent(returned.folded_area_percent) +
+             ? ", folded " + ShortNumber(returned.folded_area_percent) +
                    " % of its area"
              : std::string()) +
         ")";
@@ -760,14 +781,10 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
                         DetectFeatures(mesh, o.feature_angle_degrees));
   // The mesh the map and the fit use: the input, or the input split
   // (FitOptions::map_vertices), its first rows the input's vertices.
-  std::optional<TriangleMesh> split;
-  if (mesh.num_vertices() < o.map_vertices &&
-      !(o.keep_features && FeatureCurvesJoinCorners(s.result.features))) {
-    split = SplitToEdgeLength(
-        mesh, SplitEdgeLengthFor(VertexAreas(mesh).sum(), o.map_vertices),
-        std::max<int64_t>(mesh.num_vertices(), 4 * int64_t{o.map_vertices}));
-    if (split && split->num_vertices() == mesh.num_vertices()) split.reset();
-  }
+  const std::optional<TriangleMesh> split =
+      o.keep_features && FeatureCurvesJoinCorners(s.result.features)
+          ? std::nullopt
+          : SplitForMap(mesh, o.map_vertices);
   const TriangleMesh& map_mesh = split ? *split : mesh;
   s.mesh.faces = map_mesh.faces;
   s.mesh.vertices = model.transform.ToNormalized(map_mesh.vertices);
@@ -1431,13 +1448,13 @@ Status SplineFitter::State::RunRound() {
     return Finish(false, folds_left);
   }
   if (fold_progress.Stalls(rs.knots, rs.folded_area_percent)) {
-    return Finish(
-        false, folds_left + "; its folds do not shrink as knots are added (" +
-                   ShortPercent(fold_progress.least_folded_percent()) +
-                   " % of its area at " +
-                   std::to_string(fold_progress.knots_at_least()) + " knots, " +
-                   ShortPercent(rs.folded_area_percent) + " % at " +
-                   std::to_string(rs.knots) + ")");
+    return Finish(false, folds_left +
+                             "; its folds do not shrink as knots are added (" +
+                             ShortNumber(fold_progress.least_folded_percent()) +
+                             " % of its area at " +
+                             std::to_string(fold_progress.knots_at_least()) +
+                             " knots, " + ShortNumber(rs.folded_area_percent) +
+                             " % at " + std::to_string(rs.knots) + ")");
   }
   // Fold rounds that have not shrunk the folds give way to an ordinary
   // round (knots where the error is, and where it folds).
@@ -1465,8 +1482,8 @@ Status SplineFitter::State::RunRound() {
       (needed < 0 || needed > left)) {
     const std::string error =
         rs.rmse_percent <= o.rmse_percent
-            ? "the Hausdorff distance (" + ShortPercent(rs.max_error_percent) +
-                  " %, target " + ShortPercent(MaxErrorTarget(o)) + " %)"
+            ? "the Hausdorff distance (" + ShortNumber(rs.max_error_percent) +
+                  " %, target " + ShortNumber(MaxErrorTarget(o)) + " %)"
             : std::string("the error");
     return Finish(false,
                   needed < 0
@@ -1521,6 +1538,97 @@ bool AnyRoundFolded(const FitStatistics& stats) {
   return false;
 }
 
+// Whether `candidate`, a further fit of the same input, should be returned
+// instead of `current`, which misses its target: one that reaches; between
+// two folded fits, the one folded less (the folds are what the further fits
+// are for); else IsBetterFallback's order.
+bool ReplacesMissedFit(const FitResult& candidate, const FitResult& current,
+                       const FitOptions& options) {
+  if (candidate.reached_target()) return true;
+  const RoundStatistics& a = candidate.model.statistics.final_result;
+  const RoundStatistics& b = current.model.statistics.final_result;
+  if (!options.fallback_accepts_folds && a.folded_area_percent > 0 &&
+      b.folded_area_percent > 0) {
+    return a.folded_area_percent < b.folded_area_percent;
+  }
+  return IsBetterFallback(a, b, options.fallback_accepts_folds);
+}
+
+bool MissedFolded(const FitResult& fit) {
+  return !fit.reached_target() && AnyRoundFolded(fit.model.statistics);
+}
+
+// `kept` gets the seconds of `other`, a fit of the same input not returned.
+void AddSeconds(const FitResult& other, FitResult* kept) {
+  AddRoundStages(other.timings, &kept->timings);
+  kept->timings.parameterization += other.timings.parameterization;
+  kept->timings.total += other.timings.total;
+}
+
+std::string Summary(const FitResult& fit) {
+  const RoundStatistics& r = fit.model.statistics.final_result;
+  return std::to_string(r.control_points) + " control points, rms " +
+         ShortNumber(r.rmse_percent) + " %, folded " +
+         ShortNumber(r.folded_area_percent) + " % of its area";
+}
+
+// `options` whose progress reports carry `retry`.
+FitOptions Retry(const FitOptions& options, const std::string& retry) {
+  FitOptions again = options;
+  if (options.progress) {
+    again.progress = [&options, retry](const FitProgress& p) {
+      FitProgress labelled = p;
+      labelled.retry = retry;
+      options.progress(labelled);
+    };
+  }
+  return again;
+}
+
+// The fit on the split input (FitOptions::retry_map_vertices) when `first`
+// calls for it, and the better of the two.
+FitResult FitAgainSplit(const TriangleMesh& mesh, const FitOptions& options,
+                        FitResult first, bool intersects_itself) {
+  // A fit that reached the target smooth with more control points than the
+  // input has vertices (its knots about as dense as the input's triangles:
+  // the spline follows the map's jumps between them, as on a CAD solid's
+  // few large triangles whose edges it rounds); a fit that missed with a
+  // folded round, on a mesh that does not pass through itself.
+  const RoundStatistics& returned = first.model.statistics.final_result;
+  const bool dense_knots = first.reached_target() && !first.features_kept &&
+                           returned.control_points > mesh.num_vertices();
+  const bool folded = MissedFolded(first) && !intersects_itself;
+  if (!dense_knots && !folded) return first;
+  if (!SplitForMap(mesh, options.retry_map_vertices)) return first;
+  FitOptions again = Retry(options, "split");
+  again.map_vertices = options.retry_map_vertices;
+  // Smooth: corners' clusters, had they been kept, would have ended it above
+  // (and they are tried on the input's own triangles only).
+  again.keep_features = false;
+  again.max_control_points =
+      std::min(options.max_control_points, returned.control_points);
+  StatusOr<FitResult> second = RunFit(mesh, again);
+  if (!second.ok()) return first;
+  // Of two that reach, the one with fewer control points.
+  const bool take_second =
+      first.reached_target()
+          ? second->reached_target() &&
+                second->model.statistics.final_result.control_points <
+                    returned.control_points
+          : ReplacesMissedFit(*second, first, options);
+  FitResult& kept = take_second ? *second : first;
+  const FitResult& other = take_second ? first : *second;
+  kept.split_retry_run = true;
+  kept.split_retry_returned = take_second;
+  AddSeconds(other, &kept);
+  if (!take_second && !first.reached_target()) {
+    kept.shortfall += "; a second fit on the input split to " +
+                      std::to_string(second->map_vertices) +
+                      " vertices did no better (" + Summary(*second) + ")";
+  }
+  return std::move(kept);
+}
+
 }  // namespace
 
 StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
@@ -1530,67 +1638,50 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
       mesh.num_vertices() >= options.retry_map_vertices) {
     return first;
   }
-  // A fit that reached the target smooth with more control points than the
-  // input has vertices (its knots about as dense as the input's triangles:
-  // the spline follows the map's jumps between them, as on a CAD solid's
-  // few large triangles whose edges it rounds); a fit that missed with a
-  // folded round, on a mesh that does not pass through itself.
-  const RoundStatistics& returned = first.model.statistics.final_result;
-  const bool dense_knots = first.reached_target() && !first.features_kept &&
-                           returned.control_points > mesh.num_vertices();
-  const bool folded = !first.reached_target() &&
-                      AnyRoundFolded(first.model.statistics) &&
-                      !IntersectsItself(mesh, options.threads);
-  if (!dense_knots && !folded) return first;
-  FitOptions again = options;
-  if (options.progress) {
-    again.progress = [&options](const FitProgress& p) {
-      FitProgress second = p;
-      second.second_fit = true;
-      options.progress(second);
-    };
+  const bool intersects_itself =
+      MissedFolded(first) && IntersectsItself(mesh, options.threads);
+  FitResult best =
+      FitAgainSplit(mesh, options, std::move(first), intersects_itself);
+  // Thin parts: the map's area term weaker; on the split input when the
+  // fit to return has more control points than the input has vertices.
+  std::string tried;
+  for (double factor : options.retry_lambda_factors) {
+    if (!MissedFolded(best) || intersects_itself) break;
+    const double lambda = options.lambda * factor;
+    const bool split = best.model.statistics.final_result.control_points >
+                           mesh.num_vertices() &&
+                       SplitForMap(mesh, options.retry_map_vertices);
+    FitOptions lower = Retry(options, std::string(split ? "split, " : "") +
+                                          "lambda " + ShortNumber(lambda));
+    lower.lambda = lambda;
+    if (split) {
+      lower.map_vertices = options.retry_map_vertices;
+      lower.keep_features = false;
+    }
+    StatusOr<FitResult> retry = RunFit(mesh, lower);
+    if (!retry.ok()) break;
+    const bool take = ReplacesMissedFit(*retry, best, options);
+    FitResult& kept = take ? *retry : best;
+    FitResult& other = take ? best : *retry;
+    kept.lambda_retries_run = best.lambda_retries_run + 1;
+    kept.split_retry_run = best.split_retry_run;
+    kept.split_retry_returned = take ? false : best.split_retry_returned;
+    AddSeconds(other, &kept);
+    if (take && !kept.reached_target()) {
+      kept.shortfall += "; this is a fit with lambda " + ShortNumber(lambda) +
+                        ", folded less than the one before it (" +
+                        Summary(other) + ")";
+    } else if (!take) {
+      tried += (tried.empty() ? "" : "; ") + std::string("lambda ") +
+               ShortNumber(lambda) + ": " + Summary(*retry);
+    }
+    if (take) best = std::move(*retry);
   }
-  again.map_vertices = options.retry_map_vertices;
-  // Smooth: corners' clusters, had they been kept, would have ended it above
-  // (and they are tried on the input's own triangles only).
-  again.keep_features = false;
-  again.max_control_points =
-      std::min(options.max_control_points, returned.control_points);
-  StatusOr<FitResult> second = RunFit(mesh, again);
-  if (!second.ok() || second->map_vertices == first.map_vertices) {
-    return first;  // nothing to split (or the second fit could not run)
+  if (!tried.empty() && !best.reached_target()) {
+    best.shortfall +=
+        "; fits with a smaller lambda did no better (" + tried + ")";
   }
-  // Of two that reach, the one with fewer control points; else reached
-  // wins; between two folded fits, the one folded less (the folds are what
-  // the second fit is for); else IsBetterFallback's order.
-  const RoundStatistics& a = second->model.statistics.final_result;
-  const RoundStatistics& b = returned;
-  const bool both_folded = !options.fallback_accepts_folds &&
-                           a.folded_area_percent > 0 &&
-                           b.folded_area_percent > 0;
-  const bool take_second =
-      first.reached_target()
-          ? second->reached_target() && a.control_points < b.control_points
-          : second->reached_target() ||
-                (both_folded
-                     ? a.folded_area_percent < b.folded_area_percent
-                     : IsBetterFallback(a, b, options.fallback_accepts_folds));
-  FitResult& kept = take_second ? *second : first;
-  const FitResult& other = take_second ? first : *second;
-  kept.split_retry_run = true;
-  kept.split_retry_returned = take_second;
-  AddRoundStages(other.timings, &kept.timings);
-  kept.timings.parameterization += other.timings.parameterization;
-  kept.timings.total += other.timings.total;
-  if (!take_second && !first.reached_target()) {
-    kept.shortfall +=
-        "; a second fit on the input split to " +
-        std::to_string(second->map_vertices) + " vertices did no better (" +
-        std::to_string(a.control_points) + " control points, rms " +
-        ShortPercent(a.rmse_percent) + " %, folded " +
-        ShortPercent(a.folded_area_percent) + " % of its area)";
-  }
-  return std::move(kept);
+  return best;
 }
 
 }  // namespace sdcb

@@ -52,9 +52,11 @@ struct FitProgress {
   // error's decay so far (docs/FITTING.md); within a round each stage
   // advances by its typical share of a round's time.
   double fraction = 0.0;
-  // The second fit FitSphericalSpline runs on the split input
-  // (FitOptions::retry_map_vertices); its fraction starts again from 0.
-  bool second_fit = false;
+  // Which of FitSphericalSpline's further fits this is: "" for the first,
+  // "split" for the one on the split input (FitOptions::retry_map_vertices),
+  // "lambda L" or "split, lambda L" for one with the map's lambda L
+  // (retry_lambda_factors). Each one's fraction starts again from 0.
+  std::string retry;
 };
 
 struct FitOptions {
@@ -99,6 +101,18 @@ struct FitOptions {
   // reaches, else of two folded fits the one folded less, else
   // IsBetterFallback's order. 0 = never.
   int retry_map_vertices = 20000;
+  // FitSphericalSpline, after the fits above, for the same inputs: while
+  // the fit to return still misses its target with a folded surface and the
+  // input does not pass through itself, the input is fitted again with the
+  // map's lambda times each of these in turn, the area term weaker: the map
+  // then gives a thin part more sphere area at its base and less toward its
+  // tip instead of stretching it along its length, and the spline folds
+  // less there (docs/FITTING.md, "Thin parts fitted again with a smaller
+  // lambda"). On the split input (smooth, as above) when the fit to return
+  // has more control points than the input has vertices, else on its own
+  // triangles. A fit that reaches its target, or folds less, replaces the
+  // one to return. Empty = never.
+  std::vector<double> retry_lambda_factors = {0.5, 0.2};
   double alpha = 4.0;            // density exponent (Sec. 4.4)
   double regularization = 1e-6;  // core/fit/least_squares.h
   // The basis the control points multiply (docs/FITTING.md compares them).
@@ -254,6 +268,10 @@ struct FitResult {
   // (its seconds are in `timings`), and whether it is the one returned.
   bool split_retry_run = false;
   bool split_retry_returned = false;
+  // FitOptions::retry_lambda_factors: how many fits with a smaller lambda
+  // were run (their seconds are in `timings`); the returned model's lambda
+  // is in its statistics' options.
+  int lambda_retries_run = 0;
   // Whether the model is the round on the feature corners' knot clusters
   // (core/knots/feature_knots.h), which keeps those features sharp.
   bool features_kept = false;

@@ -18,6 +18,7 @@
 #include "sdcb/io/sdcb_file.h"
 #include "testing/cgal_test_mesh.h"
 #include "testing/feature_normals.h"
+#include "testing/finger_mesh.h"
 #include "testing/honest_fit_errors.h"
 #include "testing/temp_dir.h"
 
@@ -216,6 +217,41 @@ TEST(AdaptiveFitTest, ACoarseInputWithDenseKnotsIsFittedAgainSplit) {
       EXPECT_GT(fit->features.edges.size(), 0u);
     }
   }
+}
+
+// A thin part that folds at lambda 1 reaches at a smaller lambda: a finger
+// 20 radii long on a sphere (testing/finger_mesh.h: radius 0.15, edges
+// 0.07, 3,119 vertices). At lambda 1 its map stretches the finger (median
+// singular value ratio 7.9 on it) and the spline turns over in streaks
+// along it; with lambda 0.5 the fit reaches. Six rounds at most, and no
+// split (retry_map_vertices just above the input's vertices splits none of
+// its edges), to keep the test short.
+TEST(AdaptiveFitTest, AThinPartThatFoldsIsFittedAgainWithASmallerLambda) {
+  const TriangleMesh mesh = testing::FingerMesh(0.15, 3.0, 0.07);
+  FitOptions options;
+  options.rmse_percent = 0.1;
+  options.max_rounds = 6;
+  options.retry_map_vertices = mesh.num_vertices() + 1;
+  options.retry_lambda_factors = {};
+  auto first = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(first.ok()) << first.status().message();
+  EXPECT_FALSE(first->reached_target());
+  EXPECT_FALSE(first->split_retry_run);
+  EXPECT_GT(first->model.statistics.final_result.folded_area_percent, 0.0);
+  EXPECT_GT(testing::BruteForceFoldedPoints(mesh, *first, 20000), 0);
+  EXPECT_EQ(first->lambda_retries_run, 0);
+
+  options.retry_lambda_factors = {0.5, 0.2};
+  auto fit = FitSphericalSpline(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  EXPECT_TRUE(fit->reached_target()) << fit->shortfall;
+  EXPECT_EQ(fit->lambda_retries_run, 1);  // 0.5 reached: 0.2 not run
+  EXPECT_EQ(fit->model.statistics.options.lambda, 0.5);
+  EXPECT_EQ(fit->map_vertices, mesh.num_vertices());
+  EXPECT_EQ(fit->model.statistics.final_result.folded_area_percent, 0.0);
+  EXPECT_EQ(testing::BruteForceFoldedPoints(mesh, *fit, 20000), 0);
+  ExpectHonestVertexErrors(mesh, *fit);
+  ExpectHonestSurfaceErrors(mesh, *fit, 2000);
 }
 
 // FitOptions::map_vertices asked for directly: the sphere (162 vertices)

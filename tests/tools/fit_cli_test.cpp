@@ -88,6 +88,8 @@ TEST(FitCliTest, ReportHasTheDesignKeysAndThePlotIsWritten) {
   // Reached on the input's own triangles: no split, no second fit.
   EXPECT_EQ(j["map"]["vertices"], j["vertices"]);
   EXPECT_EQ(j["map"]["split_retry_run"], false);
+  EXPECT_EQ(j["map"]["lambda"], 1.0);
+  EXPECT_EQ(j["map"]["lambda_retries_run"], 0);
   EXPECT_EQ(j["options"]["map_vertices"], 0);
   const std::string svg = ReadBytes(dir + "/plot.svg");
   EXPECT_EQ(svg.rfind("<svg", 0), 0u);
