@@ -58,7 +58,7 @@ commands:
                              auto (default): fitted again so, to 20000,
                              when the fit on its triangles folds or needs
                              more control points than it has vertices,
-                             then with lambda x 0.5 and x 0.2 while it
+                             then with lambda x 0.5, 0.25, 0.15 while it
                              still folds; 0: one fit, never split;
                              --repair as for check.
   info MODEL.sdcb [--json FILE]

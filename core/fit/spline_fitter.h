@@ -112,7 +112,7 @@ struct FitOptions {
   // has more control points than the input has vertices, else on its own
   // triangles. A fit that reaches its target, or folds less, replaces the
   // one to return. Empty = never.
-  std::vector<double> retry_lambda_factors = {0.5, 0.2};
+  std::vector<double> retry_lambda_factors = {0.5, 0.25, 0.15};
   double alpha = 4.0;            // density exponent (Sec. 4.4)
   double regularization = 1e-6;  // core/fit/least_squares.h
   // The basis the control points multiply (docs/FITTING.md compares them).
