@@ -105,10 +105,9 @@ struct FitOptions {
   // the fit to return still misses its target with a folded surface and the
   // input does not pass through itself, the input is fitted again with the
   // map's lambda times each of these in turn, the area term weaker: the map
-  // then gives a thin part more sphere area at its base and less toward its
-  // tip instead of stretching it along its length, and the spline folds
-  // less there (docs/FITTING.md, "Thin parts fitted again with a smaller
-  // lambda"). On the split input (smooth, as above) when the fit to return
+  // then distorts a thin part's area more and its angles less (it stretches
+  // it less along its length), and the spline folds less there
+  // (docs/FITTING.md, "Thin parts fitted again with a smaller lambda"). On the split input (smooth, as above) when the fit to return
   // has more control points than the input has vertices, else on its own
   // triangles. A fit that reaches its target, or folds less, replaces the
   // one to return. Empty = never.
