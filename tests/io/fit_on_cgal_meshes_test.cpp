@@ -223,14 +223,15 @@ TEST(AdaptiveFitTest, ACoarseInputWithDenseKnotsIsFittedAgainSplit) {
 // 20 radii long on a sphere (testing/finger_mesh.h: radius 0.15, edges
 // 0.07, 3,119 vertices). At lambda 1 its map stretches the finger (median
 // singular value ratio 7.9 on it) and the spline turns over in streaks
-// along it; with lambda 0.5 the fit reaches. Six rounds at most, and no
-// split (retry_map_vertices just above the input's vertices splits none of
-// its edges), to keep the test short.
+// along it (0.14 % of its area after four rounds); with lambda 0.5 the fit
+// reaches in four. Four rounds at most, and no split (retry_map_vertices
+// just above the input's vertices splits none of its edges), to keep the
+// test short.
 TEST(AdaptiveFitTest, AThinPartThatFoldsIsFittedAgainWithASmallerLambda) {
   const TriangleMesh mesh = testing::FingerMesh(0.15, 3.0, 0.07);
   FitOptions options;
   options.rmse_percent = 0.1;
-  options.max_rounds = 6;
+  options.max_rounds = 4;
   options.retry_map_vertices = mesh.num_vertices() + 1;
   options.retry_lambda_factors = {};
   auto first = FitSphericalSpline(mesh, options);
@@ -238,7 +239,7 @@ TEST(AdaptiveFitTest, AThinPartThatFoldsIsFittedAgainWithASmallerLambda) {
   EXPECT_FALSE(first->reached_target());
   EXPECT_FALSE(first->split_retry_run);
   EXPECT_GT(first->model.statistics.final_result.folded_area_percent, 0.0);
-  EXPECT_GT(testing::BruteForceFoldedPoints(mesh, *first, 20000), 0);
+  EXPECT_GT(testing::BruteForceFoldedPoints(mesh, *first, 5000), 0);
   EXPECT_EQ(first->lambda_retries_run, 0);
 
   options.retry_lambda_factors = {0.5, 0.25, 0.15};
@@ -249,7 +250,7 @@ TEST(AdaptiveFitTest, AThinPartThatFoldsIsFittedAgainWithASmallerLambda) {
   EXPECT_EQ(fit->model.statistics.options.lambda, 0.5);
   EXPECT_EQ(fit->map_vertices, mesh.num_vertices());
   EXPECT_EQ(fit->model.statistics.final_result.folded_area_percent, 0.0);
-  EXPECT_EQ(testing::BruteForceFoldedPoints(mesh, *fit, 20000), 0);
+  EXPECT_EQ(testing::BruteForceFoldedPoints(mesh, *fit, 5000), 0);
   ExpectHonestVertexErrors(mesh, *fit);
   ExpectHonestSurfaceErrors(mesh, *fit, 2000);
 }
