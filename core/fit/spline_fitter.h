@@ -107,10 +107,11 @@ struct FitOptions {
   // map's lambda times each of these in turn, the area term weaker: the map
   // then distorts a thin part's area more and its angles less (it stretches
   // it less along its length), and the spline folds less there
-  // (docs/FITTING.md, "Thin parts fitted again with a smaller lambda"). On the split input (smooth, as above) when the fit to return
-  // has more control points than the input has vertices, else on its own
-  // triangles. A fit that reaches its target, or folds less, replaces the
-  // one to return. Empty = never.
+  // (docs/FITTING.md, "Thin parts fitted again with a smaller lambda"). On the
+  // split input (smooth, as above) when the fit to return has more control
+  // points than the input has vertices, else on its own triangles. A fit that
+  // reaches its target, or folds less, replaces the one to return. Empty =
+  // never.
   std::vector<double> retry_lambda_factors = {0.5, 0.25, 0.15};
   double alpha = 4.0;            // density exponent (Sec. 4.4)
   double regularization = 1e-6;  // core/fit/least_squares.h
