@@ -478,9 +478,13 @@ int RunDracoInput(const sdcb::TriangleMesh& input, int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  using Run = int (*)(const sdcb::TriangleMesh&, int, char**);
+  const std::map<std::string, Run> modes = {
+      {"count", RunCount}, {"glb", RunGlb},     {"sdcb", RunSdcb},
+      {"mesh", RunMesh},   {"draco", RunDraco}, {"draco-input", RunDracoInput}};
   const std::string mode = argc > 1 ? argv[1] : "";
-  const bool needs_third = mode != "draco-input";
-  if (argc < (needs_third ? 4 : 3)) {
+  const auto run = modes.find(mode);
+  if (run == modes.end() || argc < (mode == "draco-input" ? 3 : 4)) {
     std::fprintf(
         stderr,
         "usage: decimation_bench count MESH MODEL.sdcb [SAMPLES]\n"
@@ -491,13 +495,5 @@ int main(int argc, char** argv) {
         "       decimation_bench draco-input MESH [QUANTIZATION_BITS]\n");
     return 2;
   }
-  const sdcb::TriangleMesh input = OrDie(sdcb::ReadMesh(argv[2]));
-  if (mode == "count") return RunCount(input, argc, argv);
-  if (mode == "glb") return RunGlb(input, argc, argv);
-  if (mode == "sdcb") return RunSdcb(input, argc, argv);
-  if (mode == "mesh") return RunMesh(input, argc, argv);
-  if (mode == "draco") return RunDraco(input, argc, argv);
-  if (mode == "draco-input") return RunDracoInput(input, argc, argv);
-  std::fprintf(stderr, "unknown mode %s\n", mode.c_str());
-  return 2;
+  return run->second(OrDie(sdcb::ReadMesh(argv[2])), argc, argv);
 }
