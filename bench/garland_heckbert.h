@@ -1,4 +1,4 @@
-// Shared by the decimation benches: the input mesh decimated by CGAL's
+// For bench/decimation_bench: the input mesh decimated by CGAL's
 // Garland-Heckbert (plane quadrics) edge collapse, and the two-sided
 // distance between two triangle meshes measured by dense area-weighted
 // samples (the alternative a user would pick instead of a spline, measured

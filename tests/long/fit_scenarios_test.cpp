@@ -1,9 +1,13 @@
 // Long scenarios of the fit's rounds on CGAL's meshes: each runs a whole
 // adaptive fit to a tight target (10 to 40 s of CPU each), too long for the
-// test command, and checks the same properties as the fitting tests
-// (tests/io/fit_on_cgal_meshes_test.cpp) with GoogleTest. Each fit prints its
-// rounds, control points, errors and seconds. Run when the fitter changes:
-//   build/bench/fit_scenarios_check [--gtest_filter=FitScenario.NAME]
+// test command (scripts/test.sh), and checks the same properties as the
+// fitting tests (tests/io/fit_on_cgal_meshes_test.cpp). Each fit prints its
+// rounds, control points, errors and seconds. Built and registered (ctest
+// label `long`) only with -DSDCB_LONG_TESTS=ON; run when the fitter changes:
+//   cmake -S . -B build -DSDCB_LONG_TESTS=ON
+//   cmake --build build -j2 --target sdcb_long_tests
+//   ctest --test-dir build -L long --output-on-failure
+// or build/tests/sdcb_long_tests [--gtest_filter=FitScenario.NAME].
 #include <gtest/gtest.h>
 
 #include <algorithm>
