@@ -6,7 +6,7 @@
 // sign/exponent bytes of nearby values agree, the low mantissa bytes are
 // noise); grouping byte b of every value together gives deflate long runs
 // to work with. On bunny00's 3640 control points deflate alone saves 4 %,
-// byte planes first 15 % (bench/format_sizes.sh).
+// byte planes first 15 % (bench/decimation_tables.sh sizes).
 #ifndef SDCB_IO_BYTE_PACKING_H_
 #define SDCB_IO_BYTE_PACKING_H_
 

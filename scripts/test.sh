@@ -2,7 +2,7 @@
 # Setup, build, and run every test (in parallel), then a
 # 15-second smoke run of every fuzzer (clang, ASan + UBSan: scripts/fuzz.sh),
 # and print how long each part took. Long end-to-end checks that are not part
-# of this run live in bench/ (bench/fit_scenarios_check and the scripts).
+# of this run live in tests/long (built with -DSDCB_LONG_TESTS=ON) and bench/.
 # SDCB_SANITIZE=1 also runs the whole suite under AddressSanitizer + UBSan
 # (scripts/sanitize.sh); it is not on by default because it rebuilds
 # everything and took 34 min to build plus 16 min to run on the shared

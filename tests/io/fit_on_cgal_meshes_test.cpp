@@ -2,7 +2,7 @@
 // them): reaches the targets, errors are honest, output deterministic. The
 // longer scenarios of the fit's rounds (the beam's first-order estimate,
 // fandisk_large's final measurement, the bear's thinned rows, the cow's and
-// the hand's fold rounds) run in bench/fit_scenarios_check.cpp.
+// the hand's fold rounds) run in tests/long/fit_scenarios_test.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 // Independent checks of the errors a fit reports (core/fit/spline_fitter.h),
 // shared by the fitting tests (tests/io/fit_on_cgal_meshes_test.cpp) and the
-// long fitting scenarios (bench/fit_scenarios_check.cpp):
+// long fitting scenarios (tests/long/fit_scenarios_test.cpp):
 // - the paper's vertex errors, recomputed from the model's surface at its
 //   stored parameters;
 // - the surface -> mesh half of the dense two-sided error, against a
