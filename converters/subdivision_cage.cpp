@@ -15,6 +15,7 @@
 #include "sdcb/core/fit/least_squares.h"
 #include "sdcb/core/knots/feature_knots.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/tessellate/feature_pattern.h"
 

@@ -18,6 +18,127 @@ uint64_t EdgeKey(int a, int b) {
   return (static_cast<uint64_t>(a) << 32) | static_cast<uint32_t>(b);
 }
 
+// Appends the unit vector of p to `points`; returns its index.
+int AddPoint(const Eigen::Vector3d& p, std::vector<Eigen::Vector3d>* points) {
+  points->push_back(p.normalized());
+  return static_cast<int>(points->size()) - 1;
+}
+
+// A cage as its leaves' templates emit it: all points (the forest's first),
+// the faces and the leaf cell of each.
+struct CageFaces {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::array<int, 4>> faces;
+  std::vector<int> face_cell;
+
+  int AddPointAt(const Eigen::Vector3d& p) { return AddPoint(p, &points); }
+  void Emit(int cell, int a, int b, int c, int d) {
+    faces.push_back({a, b, c, d});
+    face_cell.push_back(cell);
+  }
+};
+
+// The faces of quad leaf `cell` (corners v, edge points m, -1 where none)
+// by the template of its hanging points: none, two opposite, two adjacent
+// (around its centre) or four.
+void EmitQuadLeaf(int cell, const std::array<int, 4>& v,
+                  const std::array<int, 4>& m, CageFaces* out) {
+  int hanging = 0;
+  for (int i = 0; i < 4; ++i) hanging += m[i] >= 0;
+  auto centre = [&]() {
+    const std::vector<Eigen::Vector3d>& points = out->points;
+    return out->AddPointAt(points[v[0]] + points[v[1]] + points[v[2]] +
+                           points[v[3]]);
+  };
+  if (hanging == 0) {
+    out->Emit(cell, v[0], v[1], v[2], v[3]);
+  } else if (hanging == 4) {
+    const int c = centre();
+    out->Emit(cell, v[0], m[0], c, m[3]);
+    out->Emit(cell, m[0], v[1], m[1], c);
+    out->Emit(cell, c, m[1], v[2], m[2]);
+    out->Emit(cell, m[3], c, m[2], v[3]);
+  } else {
+    assert(hanging == 2);
+    int i = 0;
+    while (m[i] < 0) ++i;
+    if (i == 0 && m[3] >= 0) i = 3;  // the pair (3, 0) starts at 3
+    const int i1 = (i + 1) % 4, i2 = (i + 2) % 4, i3 = (i + 3) % 4;
+    if (m[i2] >= 0) {  // opposite edges
+      out->Emit(cell, v[i], m[i], m[i2], v[i3]);
+      out->Emit(cell, m[i], v[i1], v[i2], m[i2]);
+    } else {  // adjacent edges i and i + 1, corner v[i + 1]
+      const int c = centre();
+      out->Emit(cell, m[i], v[i1], m[i1], c);
+      out->Emit(cell, v[i], m[i], c, v[i3]);
+      out->Emit(cell, c, m[i1], v[i2], v[i3]);
+    }
+  }
+}
+
+// The faces of triangle leaf `cell` (corners v, edge points m, -1 where
+// none) by green closure: one hanging point gives two triangles, two give
+// three, three give four.
+void EmitTriangleLeaf(int cell, const std::array<int, 4>& v,
+                      const std::array<int, 4>& m, CageFaces* out) {
+  int hanging = 0;
+  for (int i = 0; i < 3; ++i) hanging += m[i] >= 0;
+  if (hanging == 0) {
+    out->Emit(cell, v[0], v[1], v[2], -1);
+  } else if (hanging == 1) {
+    int i = 0;
+    while (m[i] < 0) ++i;
+    out->Emit(cell, v[i], m[i], v[(i + 2) % 3], -1);
+    out->Emit(cell, m[i], v[(i + 1) % 3], v[(i + 2) % 3], -1);
+  } else if (hanging == 2) {
+    int j = 0;  // the edge without a point
+    while (m[j] >= 0) ++j;
+    const int a = v[j], b = v[(j + 1) % 3], c = v[(j + 2) % 3];
+    const int m1 = m[(j + 1) % 3], m2 = m[(j + 2) % 3];
+    out->Emit(cell, m1, c, m2, -1);
+    // The quad a, b, m1, m2 split along its shorter diagonal.
+    const std::vector<Eigen::Vector3d>& points = out->points;
+    if ((points[a] - points[m1]).squaredNorm() <=
+        (points[b] - points[m2]).squaredNorm()) {
+      out->Emit(cell, a, b, m1, -1);
+      out->Emit(cell, a, m1, m2, -1);
+    } else {
+      out->Emit(cell, a, b, m2, -1);
+      out->Emit(cell, b, m1, m2, -1);
+    }
+  } else {
+    out->Emit(cell, v[0], m[0], m[2], -1);
+    out->Emit(cell, m[0], v[1], m[1], -1);
+    out->Emit(cell, m[2], m[1], v[2], -1);
+    out->Emit(cell, m[0], m[1], m[2], -1);
+  }
+}
+
+// The cage of `made` (faces of `n` corners): only the points some face
+// uses, in index order.
+SphereCage CompactCage(CageFaces made, int n) {
+  SphereCage cage;
+  cage.face_size = n;
+  std::vector<int> index(made.points.size(), -1);
+  for (const auto& f : made.faces) {
+    for (int k = 0; k < n; ++k) index[f[k]] = 0;
+  }
+  int used = 0;
+  for (int& i : index) {
+    if (i >= 0) i = used++;
+  }
+  cage.sphere_points.resize(used, 3);
+  for (size_t i = 0; i < made.points.size(); ++i) {
+    if (index[i] >= 0) cage.sphere_points.row(index[i]) = made.points[i];
+  }
+  for (auto& f : made.faces) {
+    for (int k = 0; k < n; ++k) f[k] = index[f[k]];
+  }
+  cage.faces = std::move(made.faces);
+  cage.face_cell = std::move(made.face_cell);
+  return cage;
+}
+
 }  // namespace
 
 Eigen::Vector3d SphereCage::SpherePoint(int f, double u, double v) const {
@@ -169,195 +290,114 @@ std::vector<int> SphereCageTopology::BuildCage() {
   const int nl = static_cast<int>(leaves.size());
   num_leaves_ = nl;
   // Points of the cage: the forest's, then those only the closure adds.
-  std::vector<Eigen::Vector3d> points = points_;
-  auto add_point = [&](const Eigen::Vector3d& p) {
-    points.push_back(p.normalized());
-    return static_cast<int>(points.size()) - 1;
-  };
+  CageFaces out;
+  out.points = points_;
   // The point on each leaf edge (edge i from corner i to corner i + 1).
   std::vector<std::array<int, 4>> mid(nl, {-1, -1, -1, -1});
   for (int l = 0; l < nl; ++l) {
     const std::array<int, 4>& v = cells_[leaves[l]].corners;
     for (int i = 0; i < n; ++i) mid[l][i] = Midpoint(v[i], v[(i + 1) % n]);
   }
-
   if (n == 4) {
-    // Parity: leaves sharing a whole edge (equal leaves) can take a new
-    // midpoint on it together.
-    std::unordered_map<uint64_t, std::array<int, 2>> edge_leaves;
-    for (int l = 0; l < nl; ++l) {
-      const std::array<int, 4>& v = cells_[leaves[l]].corners;
-      for (int i = 0; i < 4; ++i) {
-        auto [it, inserted] = edge_leaves.try_emplace(
-            EdgeKey(v[i], v[(i + 1) % 4]), std::array<int, 2>{-1, -1});
-        (it->second[0] < 0 ? it->second[0] : it->second[1]) = 4 * l + i;
-      }
-    }
-    auto neighbour = [&](int l, int i) {  // 4 * leaf + edge across, or -1
-      const std::array<int, 4>& v = cells_[leaves[l]].corners;
-      const std::array<int, 2>& e =
-          edge_leaves.at(EdgeKey(v[i], v[(i + 1) % 4]));
-      if (e[1] < 0) return -1;
-      return e[0] == 4 * l + i ? e[1] : e[0];
-    };
-    // Parity as a T-join: every leaf's forced points plus the toggled
-    // equal edges must be even. Each odd leaf is paired with the nearest
-    // odd leaf (breadth-first over equal leaves) and the edges of the path
-    // between them are toggled, which flips only the two ends. A quad grid
-    // on the cube is bipartite, so the level-l edges where a region of equal
-    // leaves meets finer ones add up to an even number and every such region
-    // holds an even number of odd leaves: a partner always exists.
-    std::vector<int> parity(nl, 0);
-    for (int l = 0; l < nl; ++l) {
-      for (int i = 0; i < 4; ++i) parity[l] ^= mid[l][i] >= 0;
-    }
-    std::vector<char> toggled(4 * static_cast<size_t>(nl), 0);
-    std::vector<int> from(nl, -1);  // BFS: 4 * leaf + edge it was reached by
-    std::vector<int> visited_at(nl, -1);
-    std::vector<int> refine;
-    for (int s = 0; s < nl; ++s) {
-      if (!parity[s]) continue;
-      std::deque<int> queue = {s};
-      visited_at[s] = s;
-      int t = -1;
-      while (!queue.empty() && t < 0) {
-        const int l = queue.front();
-        queue.pop_front();
-        for (int i = 0; i < 4; ++i) {
-          if (mid[l][i] >= 0) continue;  // a forced point: a finer leaf
-          const int across = neighbour(l, i);
-          if (across < 0 || visited_at[across / 4] == s) continue;
-          visited_at[across / 4] = s;
-          from[across / 4] = 4 * l + i;
-          if (parity[across / 4]) {
-            t = across / 4;
-            break;
-          }
-          queue.push_back(across / 4);
-        }
-      }
-      if (t < 0) {  // not expected (see above); refining s is always valid
-        refine.push_back(leaves[s]);
-        continue;
-      }
-      for (int l = t; l != s;) {
-        const int edge = from[l];
-        const int across = neighbour(edge / 4, edge % 4);
-        toggled[edge] ^= 1;
-        toggled[across] ^= 1;
-        l = edge / 4;
-      }
-      parity[s] = parity[t] = 0;
-    }
-    for (int l = 0; l < nl; ++l) {
-      for (int i = 0; i < 4; ++i) {
-        const int across = neighbour(l, i);
-        if (!toggled[4 * l + i] || across < 4 * l + i) continue;
-        const std::array<int, 4>& v = cells_[leaves[l]].corners;
-        const int p = add_point(points[v[i]] + points[v[(i + 1) % 4]]);
-        mid[l][i] = p;
-        mid[across / 4][across % 4] = p;
-      }
-    }
+    const std::vector<int> refine = PairQuadParity(leaves, &mid, &out.points);
     if (!refine.empty()) return refine;
   }
-
   // Faces by template.
-  SphereCage cage;
-  cage.face_size = n;
-  std::vector<std::array<int, 4>> faces;
-  std::vector<int> face_cell;
-  auto emit = [&](int cell, int a, int b, int c, int d) {
-    faces.push_back({a, b, c, d});
-    face_cell.push_back(cell);
-  };
   for (int l = 0; l < nl; ++l) {
     const int cell = leaves[l];
-    const std::array<int, 4>& v = cells_[cell].corners;
-    const std::array<int, 4>& m = mid[l];
-    int hanging = 0;
-    for (int i = 0; i < n; ++i) hanging += m[i] >= 0;
     if (n == 4) {
-      auto centre = [&]() {
-        return add_point(points[v[0]] + points[v[1]] + points[v[2]] +
-                         points[v[3]]);
-      };
-      if (hanging == 0) {
-        emit(cell, v[0], v[1], v[2], v[3]);
-      } else if (hanging == 4) {
-        const int c = centre();
-        emit(cell, v[0], m[0], c, m[3]);
-        emit(cell, m[0], v[1], m[1], c);
-        emit(cell, c, m[1], v[2], m[2]);
-        emit(cell, m[3], c, m[2], v[3]);
-      } else {
-        assert(hanging == 2);
-        int i = 0;
-        while (m[i] < 0) ++i;
-        if (i == 0 && m[3] >= 0) i = 3;  // the pair (3, 0) starts at 3
-        const int i1 = (i + 1) % 4, i2 = (i + 2) % 4, i3 = (i + 3) % 4;
-        if (m[i2] >= 0) {  // opposite edges
-          emit(cell, v[i], m[i], m[i2], v[i3]);
-          emit(cell, m[i], v[i1], v[i2], m[i2]);
-        } else {  // adjacent edges i and i + 1, corner v[i + 1]
-          const int c = centre();
-          emit(cell, m[i], v[i1], m[i1], c);
-          emit(cell, v[i], m[i], c, v[i3]);
-          emit(cell, c, m[i1], v[i2], v[i3]);
-        }
-      }
+      EmitQuadLeaf(cell, cells_[cell].corners, mid[l], &out);
     } else {
-      if (hanging == 0) {
-        emit(cell, v[0], v[1], v[2], -1);
-      } else if (hanging == 1) {
-        int i = 0;
-        while (m[i] < 0) ++i;
-        emit(cell, v[i], m[i], v[(i + 2) % 3], -1);
-        emit(cell, m[i], v[(i + 1) % 3], v[(i + 2) % 3], -1);
-      } else if (hanging == 2) {
-        int j = 0;  // the edge without a point
-        while (m[j] >= 0) ++j;
-        const int a = v[j], b = v[(j + 1) % 3], c = v[(j + 2) % 3];
-        const int m1 = m[(j + 1) % 3], m2 = m[(j + 2) % 3];
-        emit(cell, m1, c, m2, -1);
-        // The quad a, b, m1, m2 split along its shorter diagonal.
-        if ((points[a] - points[m1]).squaredNorm() <=
-            (points[b] - points[m2]).squaredNorm()) {
-          emit(cell, a, b, m1, -1);
-          emit(cell, a, m1, m2, -1);
-        } else {
-          emit(cell, a, b, m2, -1);
-          emit(cell, b, m1, m2, -1);
-        }
-      } else {
-        emit(cell, v[0], m[0], m[2], -1);
-        emit(cell, m[0], v[1], m[1], -1);
-        emit(cell, m[2], m[1], v[2], -1);
-        emit(cell, m[0], m[1], m[2], -1);
-      }
+      EmitTriangleLeaf(cell, cells_[cell].corners, mid[l], &out);
     }
   }
-
-  // Only the points some face uses, in index order.
-  std::vector<int> index(points.size(), -1);
-  for (const auto& f : faces) {
-    for (int k = 0; k < n; ++k) index[f[k]] = 0;
-  }
-  int used = 0;
-  for (int& i : index) {
-    if (i >= 0) i = used++;
-  }
-  cage.sphere_points.resize(used, 3);
-  for (size_t i = 0; i < points.size(); ++i) {
-    if (index[i] >= 0) cage.sphere_points.row(index[i]) = points[i];
-  }
-  for (auto& f : faces) {
-    for (int k = 0; k < n; ++k) f[k] = index[f[k]];
-  }
-  cage.faces = std::move(faces);
-  cage.face_cell = std::move(face_cell);
-  cage_ = std::move(cage);
+  cage_ = CompactCage(std::move(out), n);
   return {};
+}
+
+std::vector<int> SphereCageTopology::PairQuadParity(
+    const std::vector<int>& leaves, std::vector<std::array<int, 4>>* mid_of,
+    std::vector<Eigen::Vector3d>* points) const {
+  const int nl = static_cast<int>(leaves.size());
+  std::vector<std::array<int, 4>>& mid = *mid_of;
+  // Parity: leaves sharing a whole edge (equal leaves) can take a new
+  // midpoint on it together.
+  std::unordered_map<uint64_t, std::array<int, 2>> edge_leaves;
+  for (int l = 0; l < nl; ++l) {
+    const std::array<int, 4>& v = cells_[leaves[l]].corners;
+    for (int i = 0; i < 4; ++i) {
+      auto [it, inserted] = edge_leaves.try_emplace(
+          EdgeKey(v[i], v[(i + 1) % 4]), std::array<int, 2>{-1, -1});
+      (it->second[0] < 0 ? it->second[0] : it->second[1]) = 4 * l + i;
+    }
+  }
+  auto neighbour = [&](int l, int i) {  // 4 * leaf + edge across, or -1
+    const std::array<int, 4>& v = cells_[leaves[l]].corners;
+    const std::array<int, 2>& e = edge_leaves.at(EdgeKey(v[i], v[(i + 1) % 4]));
+    if (e[1] < 0) return -1;
+    return e[0] == 4 * l + i ? e[1] : e[0];
+  };
+  // Parity as a T-join: every leaf's forced points plus the toggled
+  // equal edges must be even. Each odd leaf is paired with the nearest
+  // odd leaf (breadth-first over equal leaves) and the edges of the path
+  // between them are toggled, which flips only the two ends. A quad grid
+  // on the cube is bipartite, so the level-l edges where a region of equal
+  // leaves meets finer ones add up to an even number and every such region
+  // holds an even number of odd leaves: a partner always exists.
+  std::vector<int> parity(nl, 0);
+  for (int l = 0; l < nl; ++l) {
+    for (int i = 0; i < 4; ++i) parity[l] ^= mid[l][i] >= 0;
+  }
+  std::vector<char> toggled(4 * static_cast<size_t>(nl), 0);
+  std::vector<int> from(nl, -1);  // BFS: 4 * leaf + edge it was reached by
+  std::vector<int> visited_at(nl, -1);
+  std::vector<int> refine;
+  for (int s = 0; s < nl; ++s) {
+    if (!parity[s]) continue;
+    std::deque<int> queue = {s};
+    visited_at[s] = s;
+    int t = -1;
+    while (!queue.empty() && t < 0) {
+      const int l = queue.front();
+      queue.pop_front();
+      for (int i = 0; i < 4; ++i) {
+        if (mid[l][i] >= 0) continue;  // a forced point: a finer leaf
+        const int across = neighbour(l, i);
+        if (across < 0 || visited_at[across / 4] == s) continue;
+        visited_at[across / 4] = s;
+        from[across / 4] = 4 * l + i;
+        if (parity[across / 4]) {
+          t = across / 4;
+          break;
+        }
+        queue.push_back(across / 4);
+      }
+    }
+    if (t < 0) {  // not expected (see above); refining s is always valid
+      refine.push_back(leaves[s]);
+      continue;
+    }
+    for (int l = t; l != s;) {
+      const int edge = from[l];
+      const int across = neighbour(edge / 4, edge % 4);
+      toggled[edge] ^= 1;
+      toggled[across] ^= 1;
+      l = edge / 4;
+    }
+    parity[s] = parity[t] = 0;
+  }
+  for (int l = 0; l < nl; ++l) {
+    for (int i = 0; i < 4; ++i) {
+      const int across = neighbour(l, i);
+      if (!toggled[4 * l + i] || across < 4 * l + i) continue;
+      const std::array<int, 4>& v = cells_[leaves[l]].corners;
+      const int p =
+          AddPoint((*points)[v[i]] + (*points)[v[(i + 1) % 4]], points);
+      mid[l][i] = p;
+      mid[across / 4][across % 4] = p;
+    }
+  }
+  return refine;
 }
 
 }  // namespace sdcb

@@ -92,6 +92,14 @@ class SphereCageTopology {
   // Builds cage_ from the leaves; returns the leaves that must be refined
   // first (quads whose parity cannot be fixed), empty on success.
   std::vector<int> BuildCage();
+  // Quads: makes every leaf's number of edge points even (odd leaves paired
+  // over equal leaves, the paths between them toggled). `mid` holds the
+  // point on edge i of leaves[l] at (*mid)[l][i] (-1: none) and takes the
+  // points added to `points`; returns the leaves to refine first (an odd
+  // leaf without a partner), empty on success.
+  std::vector<int> PairQuadParity(const std::vector<int>& leaves,
+                                  std::vector<std::array<int, 4>>* mid,
+                                  std::vector<Eigen::Vector3d>* points) const;
 
   CageCellShape shape_ = CageCellShape::kQuad;
   std::vector<Eigen::Vector3d> points_;

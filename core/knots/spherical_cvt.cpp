@@ -557,6 +557,91 @@ StatusOr<Eigen::MatrixX3d> SeedNewKnots(const Quadrature& q,
   return knots;
 }
 
+// The quadrature of `density` for `num_knots` knots, its resolution from
+// CvtOptions::samples_per_knot and bins_per_knot, spatially sorted; an error
+// if the density's triangles do not cover the sphere or its mass is 0.
+StatusOr<Quadrature> BuildKnotQuadrature(const SphericalDensity& density,
+                                         int num_knots,
+                                         const CvtOptions& options) {
+  const double wanted =
+      static_cast<double>(options.samples_per_knot) * num_knots;
+  int m = 1;
+  while (m < options.max_subdivision &&
+         static_cast<double>(density.faces.rows()) * m * m < wanted) {
+    ++m;
+  }
+  Quadrature q = BuildQuadrature(density, m);
+  double area = 0, mass = 0;
+  for (int s = 0; s < q.size(); ++s) {
+    area += q.areas[s];
+    mass += q.weights[s];
+  }
+  if (std::abs(area - 4 * kPi) > 1e-3 * 4 * kPi) {
+    return InvalidArgumentError(
+        "density triangles cover an area of " + std::to_string(area) +
+        " sr instead of 4 pi: not a valid spherical parameterization");
+  }
+  if (!(mass > 0)) {
+    return InvalidInputError("density integrates to 0 over the sphere");
+  }
+  const double bins = static_cast<double>(options.bins_per_knot) * num_knots;
+  if (options.bins_per_knot > 0 && q.size() > 2 * bins) {
+    q = Aggregate(q, static_cast<int>(bins));
+  }
+  SortSpatially(&q);
+  return q;
+}
+
+// Squared distance of every sample to its nearest fixed knot (infinite
+// without fixed knots): fixed knots never move, so this is computed once.
+std::vector<double> FixedDistances(const Quadrature& q,
+                                   const PointKdTree& fixed_tree) {
+  std::vector<double> fixed_d2(q.size(), kInf);
+  if (fixed_tree.size() > 0) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, q.size()), [&](const auto& r) {
+      // Consecutive points are close (Morton order): the previous point's
+      // nearest knot bounds the search.
+      int previous = -1;
+      for (int s = r.begin(); s < r.end(); ++s) {
+        const PointKdTree::Neighbor n =
+            fixed_tree.NearestNear(q.points[s], previous);
+        fixed_d2[s] = n.squared_distance;
+        previous = n.index;
+      }
+    });
+  }
+  return fixed_d2;
+}
+
+// Lloyd step: each free knot to the projected centroid of its cell, in
+// order, unless that would bring it within min_separation of a knot in its
+// current position (then it stays; E still does not increase). Returns
+// whether a knot moved; the largest move in `*largest_move`.
+bool LloydStep(const Assignment& assignment, const PointKdTree& fixed_tree,
+               double separation_d2, Eigen::MatrixX3d* free_knots,
+               double* largest_move) {
+  const int new_knots = static_cast<int>(free_knots->rows());
+  bool moved = false;
+  for (int k = 0; k < new_knots; ++k) {
+    const Eigen::Vector3d& moment = assignment.moment[k];
+    if (!(assignment.mass[k] > 0) || moment.squaredNorm() == 0) continue;
+    const Eigen::Vector3d target = moment.normalized();
+    if (fixed_tree.Nearest(target, separation_d2).index >= 0) continue;
+    bool too_close = false;
+    for (int j = 0; j < new_knots && !too_close; ++j) {
+      too_close =
+          j != k && (free_knots->row(j).transpose() - target).squaredNorm() <
+                        separation_d2;
+    }
+    if (too_close) continue;
+    const double move = (free_knots->row(k).transpose() - target).norm();
+    moved = moved || move > 0;
+    *largest_move = std::max(*largest_move, move);
+    free_knots->row(k) = target.transpose();
+  }
+  return moved;
+}
+
 }  // namespace
 
 StatusOr<Eigen::VectorXd> DensityFromValues(const Eigen::VectorXd& values,
@@ -628,52 +713,12 @@ StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
   const double chord = ChordFromAngle(options.min_separation);
   const double separation_d2 = chord * chord;
 
-  // Quadrature resolution (see CvtOptions::samples_per_knot).
-  const double wanted =
-      static_cast<double>(options.samples_per_knot) * (num_fixed + new_knots);
-  int m = 1;
-  while (m < options.max_subdivision &&
-         static_cast<double>(density.faces.rows()) * m * m < wanted) {
-    ++m;
-  }
-  Quadrature q = BuildQuadrature(density, m);
-  double area = 0, mass = 0;
-  for (int s = 0; s < q.size(); ++s) {
-    area += q.areas[s];
-    mass += q.weights[s];
-  }
-  if (std::abs(area - 4 * kPi) > 1e-3 * 4 * kPi) {
-    return InvalidArgumentError(
-        "density triangles cover an area of " + std::to_string(area) +
-        " sr instead of 4 pi: not a valid spherical parameterization");
-  }
-  if (!(mass > 0)) {
-    return InvalidInputError("density integrates to 0 over the sphere");
-  }
-  const double bins =
-      static_cast<double>(options.bins_per_knot) * (num_fixed + new_knots);
-  if (options.bins_per_knot > 0 && q.size() > 2 * bins) {
-    q = Aggregate(q, static_cast<int>(bins));
-  }
-  SortSpatially(&q);
+  SDCB_ASSIGN_OR_RETURN(
+      const Quadrature q,
+      BuildKnotQuadrature(density, num_fixed + new_knots, options));
 
-  // Squared distance of every sample to its nearest fixed knot: fixed knots
-  // never move, so this is computed once.
   const PointKdTree fixed_tree(fixed_knots);
-  std::vector<double> fixed_d2(q.size(), kInf);
-  if (num_fixed > 0) {
-    tbb::parallel_for(tbb::blocked_range<int>(0, q.size()), [&](const auto& r) {
-      // Consecutive points are close (Morton order): the previous point's
-      // nearest knot bounds the search.
-      int previous = -1;
-      for (int s = r.begin(); s < r.end(); ++s) {
-        const PointKdTree::Neighbor n =
-            fixed_tree.NearestNear(q.points[s], previous);
-        fixed_d2[s] = n.squared_distance;
-        previous = n.index;
-      }
-    });
-  }
+  const std::vector<double> fixed_d2 = FixedDistances(q, fixed_tree);
   SDCB_ASSIGN_OR_RETURN(Eigen::MatrixX3d free_knots,
                         SeedNewKnots(q, fixed_d2, fixed_tree, new_knots,
                                      separation_d2, options.seed));
@@ -705,28 +750,9 @@ StatusOr<KnotPlacement> PlaceKnots(const SphericalDensity& density,
       break;
     }
     if (iteration == options.max_iterations) break;
-    // Lloyd step: each free knot to the projected centroid of its cell, in
-    // order, unless that would bring it within min_separation of a knot in
-    // its current position (then it stays; E still does not increase).
-    bool moved = false;
     double largest_move = 0;
-    for (int k = 0; k < new_knots; ++k) {
-      const Eigen::Vector3d& moment = assignment.moment[k];
-      if (!(assignment.mass[k] > 0) || moment.squaredNorm() == 0) continue;
-      const Eigen::Vector3d target = moment.normalized();
-      if (fixed_tree.Nearest(target, separation_d2).index >= 0) continue;
-      bool too_close = false;
-      for (int j = 0; j < new_knots && !too_close; ++j) {
-        too_close =
-            j != k && (free_knots.row(j).transpose() - target).squaredNorm() <
-                          separation_d2;
-      }
-      if (too_close) continue;
-      const double move = (free_knots.row(k).transpose() - target).norm();
-      moved = moved || move > 0;
-      largest_move = std::max(largest_move, move);
-      free_knots.row(k) = target.transpose();
-    }
+    const bool moved = LloydStep(assignment, fixed_tree, separation_d2,
+                                 &free_knots, &largest_move);
     capture.travel += largest_move;
     result.iterations = iteration + 1;
     if (!moved) {

@@ -44,6 +44,67 @@ struct HalfEdge {
   int from_corner;
 };
 
+// Faces with a repeated index or three exactly collinear points.
+int CountDegenerateFaces(const TriangleMesh& mesh) {
+  int count = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const int a = mesh.faces(f, 0), b = mesh.faces(f, 1), c = mesh.faces(f, 2);
+    bool degenerate = (a == b || b == c || a == c);
+    if (!degenerate) {
+      auto point = [&](int v) {
+        return Kernel::Point_3(mesh.vertices(v, 0), mesh.vertices(v, 1),
+                               mesh.vertices(v, 2));
+      };
+      degenerate = CGAL::collinear(point(a), point(b), point(c));
+    }
+    if (degenerate) ++count;
+  }
+  return count;
+}
+
+// Vertices at the coordinates of another, found by a lexicographic sort.
+int CountDuplicateVertices(const TriangleMesh& mesh) {
+  const int nv = mesh.num_vertices();
+  std::vector<int> order(nv);
+  std::iota(order.begin(), order.end(), 0);
+  auto key = [&](int v) {
+    return std::array<double, 3>{mesh.vertices(v, 0), mesh.vertices(v, 1),
+                                 mesh.vertices(v, 2)};
+  };
+  tbb::parallel_sort(order.begin(), order.end(), [&](int a, int b) {
+    return key(a) != key(b) ? key(a) < key(b) : a < b;
+  });
+  int count = 0;
+  for (int i = 1; i < nv; ++i) {
+    if (key(order[i]) == key(order[i - 1])) ++count;
+  }
+  return count;
+}
+
+// The half-edges of the non-degenerate face edges, grouped by undirected
+// edge (a strict total order: the parallel sort's result is then unique).
+std::vector<HalfEdge> SortedHalfEdges(const TriangleMesh& mesh) {
+  const int nf = mesh.num_faces();
+  std::vector<HalfEdge> half_edges;
+  half_edges.reserve(3 * static_cast<size_t>(nf));
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int from = mesh.faces(f, k), to = mesh.faces(f, (k + 1) % 3);
+      if (from == to) continue;
+      half_edges.push_back(
+          {std::min(from, to), std::max(from, to), from, to, f, 3 * f + k});
+    }
+  }
+  tbb::parallel_sort(half_edges.begin(), half_edges.end(),
+                     [](const HalfEdge& a, const HalfEdge& b) {
+                       if (a.lo != b.lo) return a.lo < b.lo;
+                       if (a.hi != b.hi) return a.hi < b.hi;
+                       if (a.face != b.face) return a.face < b.face;
+                       return a.from_corner < b.from_corner;
+                     });
+  return half_edges;
+}
+
 }  // namespace
 
 StatusOr<MeshTopologyReport> AnalyzeMeshTopology(const TriangleMesh& mesh) {
@@ -55,55 +116,9 @@ StatusOr<MeshTopologyReport> AnalyzeMeshTopology(const TriangleMesh& mesh) {
   r.vertices = nv;
   r.faces = nf;
 
-  // Degenerate faces: a repeated index or three exactly collinear points.
-  for (int f = 0; f < nf; ++f) {
-    const int a = mesh.faces(f, 0), b = mesh.faces(f, 1), c = mesh.faces(f, 2);
-    bool degenerate = (a == b || b == c || a == c);
-    if (!degenerate) {
-      auto point = [&](int v) {
-        return Kernel::Point_3(mesh.vertices(v, 0), mesh.vertices(v, 1),
-                               mesh.vertices(v, 2));
-      };
-      degenerate = CGAL::collinear(point(a), point(b), point(c));
-    }
-    if (degenerate) ++r.degenerate_faces;
-  }
-
-  // Duplicate vertices: equal coordinates, found by a lexicographic sort.
-  {
-    std::vector<int> order(nv);
-    std::iota(order.begin(), order.end(), 0);
-    auto key = [&](int v) {
-      return std::array<double, 3>{mesh.vertices(v, 0), mesh.vertices(v, 1),
-                                   mesh.vertices(v, 2)};
-    };
-    tbb::parallel_sort(order.begin(), order.end(), [&](int a, int b) {
-      return key(a) != key(b) ? key(a) < key(b) : a < b;
-    });
-    for (int i = 1; i < nv; ++i) {
-      if (key(order[i]) == key(order[i - 1])) ++r.duplicate_vertices;
-    }
-  }
-
-  // Half-edges grouped by undirected edge.
-  std::vector<HalfEdge> half_edges;
-  half_edges.reserve(3 * static_cast<size_t>(nf));
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int from = mesh.faces(f, k), to = mesh.faces(f, (k + 1) % 3);
-      if (from == to) continue;
-      half_edges.push_back(
-          {std::min(from, to), std::max(from, to), from, to, f, 3 * f + k});
-    }
-  }
-  // (A strict total order: the parallel sort's result is then unique.)
-  tbb::parallel_sort(half_edges.begin(), half_edges.end(),
-                     [](const HalfEdge& a, const HalfEdge& b) {
-                       if (a.lo != b.lo) return a.lo < b.lo;
-                       if (a.hi != b.hi) return a.hi < b.hi;
-                       if (a.face != b.face) return a.face < b.face;
-                       return a.from_corner < b.from_corner;
-                     });
+  r.degenerate_faces = CountDegenerateFaces(mesh);
+  r.duplicate_vertices = CountDuplicateVertices(mesh);
+  const std::vector<HalfEdge> half_edges = SortedHalfEdges(mesh);
 
   UnionFind vertex_sets(nv);
   for (int f = 0; f < nf; ++f) {

@@ -2,6 +2,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 namespace sdcb {
@@ -116,6 +117,15 @@ bool InOpenHemisphere(const Eigen::MatrixX3d& points) {
           }
         }
   return true;
+}
+
+void TangentFrame(const Eigen::Vector3d& p, Eigen::Vector3d* e_u,
+                  Eigen::Vector3d* e_v) {
+  // Cross with the coordinate axis least aligned with p.
+  int axis = 0;
+  p.cwiseAbs().minCoeff(&axis);
+  *e_u = Eigen::Vector3d::Unit(axis).cross(p).normalized();
+  *e_v = p.cross(*e_u);
 }
 
 }  // namespace sdcb

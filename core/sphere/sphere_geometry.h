@@ -64,6 +64,11 @@ int CapSide(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 // function only for such V (its cone must be pointed).
 bool InOpenHemisphere(const Eigen::MatrixX3d& points);
 
+// Orthonormal tangent frame (e_u, e_v) of S^2 at the unit vector p, with
+// e_u x e_v = p; deterministic in p.
+void TangentFrame(const Eigen::Vector3d& p, Eigen::Vector3d* e_u,
+                  Eigen::Vector3d* e_v);
+
 }  // namespace sdcb
 
 #endif  // SDCB_CORE_SPHERE_SPHERE_GEOMETRY_H_

@@ -54,6 +54,37 @@ Eigen::MatrixX3d Rows(const Eigen::MatrixX3d& knots,
   return local;
 }
 
+// kInvalidArgument unless every set of `configurations` has degree + 3
+// knots in [0, n) and boundary triples of its own knots.
+Status CheckConfigurationSets(const DelaunayConfigurations& configurations,
+                              int n) {
+  const int k = configurations.degree;
+  for (size_t i = 0; i < configurations.sets.size(); ++i) {
+    const ConfigurationSet& set = configurations.sets[i];
+    const std::string where = "configuration set " + std::to_string(i);
+    if (static_cast<int>(set.knots.size()) != k + 3) {
+      return InvalidArgumentError(where + " does not have degree + 3 knots");
+    }
+    if (set.boundaries.empty()) {
+      return InvalidArgumentError(where + " has no boundary triple");
+    }
+    for (int q : set.knots) {
+      if (q < 0 || q >= n) {
+        return InvalidArgumentError(where + " has a knot index out of range");
+      }
+    }
+    for (const auto& b : set.boundaries) {
+      for (int q : b) {
+        if (!std::binary_search(set.knots.begin(), set.knots.end(), q)) {
+          return InvalidArgumentError(where +
+                                      " has a boundary knot outside the set");
+        }
+      }
+    }
+  }
+  return Status();
+}
+
 }  // namespace
 
 // One basis function (eq. 4) of the set: its simplex spline and weight, the
@@ -143,29 +174,7 @@ StatusOr<DcbBasis> DcbBasis::Create(
     return InvalidArgumentError("DCB basis degree must be in 0..5, got " +
                                 std::to_string(k));
   }
-  for (size_t i = 0; i < configurations.sets.size(); ++i) {
-    const ConfigurationSet& set = configurations.sets[i];
-    const std::string where = "configuration set " + std::to_string(i);
-    if (static_cast<int>(set.knots.size()) != k + 3) {
-      return InvalidArgumentError(where + " does not have degree + 3 knots");
-    }
-    if (set.boundaries.empty()) {
-      return InvalidArgumentError(where + " has no boundary triple");
-    }
-    for (int q : set.knots) {
-      if (q < 0 || q >= n) {
-        return InvalidArgumentError(where + " has a knot index out of range");
-      }
-    }
-    for (const auto& b : set.boundaries) {
-      for (int q : b) {
-        if (!std::binary_search(set.knots.begin(), set.knots.end(), q)) {
-          return InvalidArgumentError(where +
-                                      " has a boundary knot outside the set");
-        }
-      }
-    }
-  }
+  SDCB_RETURN_IF_ERROR(CheckConfigurationSets(configurations, n));
 
   DcbBasis basis;
   basis.degree_ = k;
@@ -199,36 +208,7 @@ StatusOr<DcbBasis> DcbBasis::Create(
     }
     basis.forest_.FinishAdding();
   }
-  // The great circles bounding each set's spherical convex hull, interior on
-  // the positive side: a point strictly outside one of them is outside the
-  // support (B = 0 there, with all derivatives), so evaluation can skip it.
-  {
-    std::vector<std::vector<Eigen::Vector3d>> hulls(m);
-    tbb::parallel_for(0, m, [&](int i) {
-      if (!basis.splines_[i].has_value()) return;  // no pointed cone: no test
-      const std::vector<int>& set = basis.sets_[i].knots;
-      for (int a : set) {
-        for (int b : set) {
-          if (a == b) continue;
-          const Eigen::Vector3d ka = knots.row(a).transpose();
-          const Eigen::Vector3d kb = knots.row(b).transpose();
-          bool edge = true;
-          for (int c : set) {
-            if (c == a || c == b) continue;
-            edge = edge && Det3Sign(ka, kb, knots.row(c).transpose()) > 0;
-          }
-          if (edge) hulls[i].push_back(ka.cross(kb));
-        }
-      }
-    });
-    basis.hull_start_.assign(m + 1, 0);
-    for (int i = 0; i < m; ++i) {
-      basis.hull_start_[i + 1] =
-          basis.hull_start_[i] + static_cast<int>(hulls[i].size());
-      for (const Eigen::Vector3d& n : hulls[i])
-        basis.hull_normals_.push_back(n);
-    }
-  }
+  basis.BuildHulls();
   basis.limit_start_.assign(m + 1, 0);
   for (int i = 0; i < m; ++i) {
     basis.limit_start_[i + 1] =
@@ -238,14 +218,53 @@ StatusOr<DcbBasis> DcbBasis::Create(
     }
   }
 
-  // Support grid over latitude / longitude.
-  basis.rows_ = options.grid_rows > 0
-                    ? options.grid_rows
-                    : Clamp(static_cast<int>(std::ceil(std::sqrt(n))), 4, 512);
-  const int rows = basis.rows_, cols = 2 * rows;
+  basis.BuildSupportGrid(options.grid_rows);
+  SDCB_RETURN_IF_ERROR(basis.CheckCoverage(options.coverage_samples));
+  return basis;
+}
+
+// The great circles bounding each set's spherical convex hull, interior on
+// the positive side: a point strictly outside one of them is outside the
+// support (B = 0 there, with all derivatives), so evaluation can skip it.
+void DcbBasis::BuildHulls() {
+  const int m = static_cast<int>(sets_.size());
+  std::vector<std::vector<Eigen::Vector3d>> hulls(m);
+  tbb::parallel_for(0, m, [&](int i) {
+    if (!splines_[i].has_value()) return;  // no pointed cone: no test
+    const std::vector<int>& set = sets_[i].knots;
+    for (int a : set) {
+      for (int b : set) {
+        if (a == b) continue;
+        const Eigen::Vector3d ka = knots_.row(a).transpose();
+        const Eigen::Vector3d kb = knots_.row(b).transpose();
+        bool edge = true;
+        for (int c : set) {
+          if (c == a || c == b) continue;
+          edge = edge && Det3Sign(ka, kb, knots_.row(c).transpose()) > 0;
+        }
+        if (edge) hulls[i].push_back(ka.cross(kb));
+      }
+    }
+  });
+  hull_start_.assign(m + 1, 0);
+  for (int i = 0; i < m; ++i) {
+    hull_start_[i + 1] = hull_start_[i] + static_cast<int>(hulls[i].size());
+    for (const Eigen::Vector3d& n : hulls[i]) hull_normals_.push_back(n);
+  }
+}
+
+// The support grid over latitude / longitude: each cell lists the basis
+// functions whose support cap may meet it.
+void DcbBasis::BuildSupportGrid(int grid_rows) {
+  const int n = static_cast<int>(knots_.rows());
+  const int m = static_cast<int>(sets_.size());
+  rows_ = grid_rows > 0
+              ? grid_rows
+              : Clamp(static_cast<int>(std::ceil(std::sqrt(n))), 4, 512);
+  const int rows = rows_, cols = 2 * rows;
   std::vector<std::vector<int>> cells(rows * cols);
   for (int i = 0; i < m; ++i) {
-    const SphericalCap& cap = basis.caps_[i];
+    const SphericalCap& cap = caps_[i];
     const double radius =
         std::acos(std::max(-1.0, std::min(1.0, cap.cos_radius))) + 1e-9;
     const double lat = std::asin(std::max(-1.0, std::min(1.0, cap.axis.z())));
@@ -285,17 +304,14 @@ StatusOr<DcbBasis> DcbBasis::Create(
         cells[r * cols + wrapped].push_back(i);
       }
   }
-  basis.cell_start_.assign(rows * cols + 1, 0);
+  cell_start_.assign(rows * cols + 1, 0);
   for (int c = 0; c < rows * cols; ++c) {
-    basis.cell_start_[c + 1] =
-        basis.cell_start_[c] + static_cast<int>(cells[c].size());
+    cell_start_[c + 1] = cell_start_[c] + static_cast<int>(cells[c].size());
   }
-  basis.cell_items_.reserve(basis.cell_start_.back());
+  cell_items_.reserve(cell_start_.back());
   for (const auto& cell : cells) {
-    basis.cell_items_.insert(basis.cell_items_.end(), cell.begin(), cell.end());
+    cell_items_.insert(cell_items_.end(), cell.begin(), cell.end());
   }
-  SDCB_RETURN_IF_ERROR(basis.CheckCoverage(options.coverage_samples));
-  return basis;
 }
 
 Status DcbBasis::CheckCoverage(int samples) const {

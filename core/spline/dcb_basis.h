@@ -138,6 +138,11 @@ class DcbBasis {
                                    double* weight,
                                    std::vector<LimitTerm>* limit_terms,
                                    SphericalCap* support);
+  // Fills hull_start_ and hull_normals_ from knots_, sets_ and splines_.
+  void BuildHulls();
+  // Fills rows_ (grid_rows, or from the knot count if 0), cell_start_ and
+  // cell_items_ from caps_.
+  void BuildSupportGrid(int grid_rows);
   int CellOf(const Eigen::Vector3d& p) const;
   // Value(i, p) with the forest's value of a handle from
   // forest_value(handle).

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/spherical_spline.h"
 
 namespace sdcb {

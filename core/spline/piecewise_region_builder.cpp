@@ -74,6 +74,83 @@ struct PiecewiseRegionBuilder::Cell {
     while (size < 2 * expected) size *= 2;
     triangle_of.assign(size, {0, -1});
   }
+  // Inserts the known triangles again into a larger triangle_of.
+  void GrowTriangles() {
+    std::vector<std::pair<uint64_t, int>> known;
+    for (const auto& entry : triangle_of) {
+      if (entry.second >= 0) known.push_back(entry);
+    }
+    ClearTriangles(2 * known.size() + 2);
+    for (const auto& entry : known) {
+      std::size_t s = 0;
+      FindTriangle(entry.first, &s);
+      triangle_of[s] = entry;
+    }
+  }
+  // Adds the triangle `id` (not yet in triangle_of, whose free `slot` for it
+  // FindTriangle gave): the leaf of local knots k (ascending) and
+  // orientation `orientation` of a set of m knots, global indices `global`
+  // and pair bits `bits`. Records its lines' bits and the signs it needs
+  // there, its other edges, its group and 4 * size zero sums; returns its
+  // index.
+  int AddTriangle(uint64_t id, std::size_t slot, const std::array<int, 3>& k,
+                  int orientation, const int8_t* bits,
+                  const std::vector<int>& global, int m,
+                  const Eigen::MatrixX3d& knots, int size) {
+    if (2 * (triangles.size() + 1) > triangle_of.size()) {
+      GrowTriangles();
+      FindTriangle(id, &slot);
+    }
+    const int index = static_cast<int>(triangles.size());
+    triangle_of[slot] = {id, index};
+    Triangle t;
+    t.first_edge = static_cast<int>(edges.size());
+    t.sum = static_cast<int>(sums.size());
+    sums.resize(sums.size() + 4 * size, 0.0);
+    uint64_t mask = 0, want = 0;
+    for (int e = 0; e < 3; ++e) {
+      const int x = k[e == 0 ? 1 : 0], y = k[e == 2 ? 1 : 2];
+      const int sign = e == 1 ? -orientation : orientation;
+      const int bit = bits[PairIndex(x, y, m)];
+      if (bit >= 0) {
+        // The key's bit is the sign with the knots ascending.
+        mask |= uint64_t{1} << bit;
+        if ((global[x] < global[y]) == (sign > 0)) {
+          want |= uint64_t{1} << bit;
+        }
+      } else {
+        Edge edge;
+        edge.a = global[x];
+        edge.b = global[y];
+        const Eigen::Vector3d ta = knots.row(edge.a).transpose();
+        const Eigen::Vector3d tb = knots.row(edge.b).transpose();
+        edge.normal = ta.cross(tb);
+        edge.sign = sign;
+        edges.push_back(edge);
+      }
+    }
+    t.num_edges = static_cast<int>(edges.size()) - t.first_edge;
+    size_t g = 0;
+    while (g < groups.size() &&
+           (groups[g].mask != mask || groups[g].want != want)) {
+      ++g;
+    }
+    if (g == groups.size()) {
+      Group group;
+      group.mask = mask;
+      group.want = want;
+      groups.push_back(group);
+    }
+    Group& group = groups[g];
+    if (group.last >= 0) {
+      triangles[group.last].next = index;
+    } else {
+      group.first = index;
+    }
+    group.last = index;
+    triangles.push_back(t);
+    return index;
+  }
 };
 
 // The cell's sums kept for its life: Cell's arrays copied to the arena.
@@ -138,9 +215,6 @@ void PiecewiseRegionBuilder::MakeCell(const Eigen::Vector3d& p,
   const int m = spline_.degree() + 3;
   const int pairs = m * (m - 1) / 2;
   const uint64_t n = static_cast<uint64_t>(knots.rows());
-  const auto knot = [&](int i) -> Eigen::Vector3d {
-    return knots.row(i).transpose();
-  };
   cell->base = fixed_;
   cell->edges.clear();
   cell->triangles.clear();
@@ -205,67 +279,8 @@ void PiecewiseRegionBuilder::MakeCell(const Eigen::Vector3d& p,
       std::size_t slot = 0;
       int index = cell->FindTriangle(id, &slot);
       if (index < 0) {
-        if (2 * (cell->triangles.size() + 1) > cell->triangle_of.size()) {
-          // Grow: insert the known triangles again.
-          std::vector<std::pair<uint64_t, int>> known;
-          for (const auto& entry : cell->triangle_of) {
-            if (entry.second >= 0) known.push_back(entry);
-          }
-          cell->ClearTriangles(2 * known.size() + 2);
-          for (const auto& entry : known) {
-            std::size_t s = 0;
-            cell->FindTriangle(entry.first, &s);
-            cell->triangle_of[s] = entry;
-          }
-          cell->FindTriangle(id, &slot);
-        }
-        index = static_cast<int>(cell->triangles.size());
-        cell->triangle_of[slot] = {id, index};
-        // Its lines' bits and the signs it needs there; its other edges.
-        Cell::Triangle t;
-        t.first_edge = static_cast<int>(cell->edges.size());
-        t.sum = static_cast<int>(cell->sums.size());
-        cell->sums.resize(cell->sums.size() + 4 * size_, 0.0);
-        uint64_t mask = 0, want = 0;
-        for (int e = 0; e < 3; ++e) {
-          const int x = k[e == 0 ? 1 : 0], y = k[e == 2 ? 1 : 2];
-          const int sign = e == 1 ? -leaf.orientation : leaf.orientation;
-          const int bit = bits[PairIndex(x, y, m)];
-          if (bit >= 0) {
-            // The key's bit is the sign with the knots ascending.
-            mask |= uint64_t{1} << bit;
-            if ((global[x] < global[y]) == (sign > 0)) {
-              want |= uint64_t{1} << bit;
-            }
-          } else {
-            Cell::Edge edge;
-            edge.a = global[x];
-            edge.b = global[y];
-            edge.normal = knot(edge.a).cross(knot(edge.b));
-            edge.sign = sign;
-            cell->edges.push_back(edge);
-          }
-        }
-        t.num_edges = static_cast<int>(cell->edges.size()) - t.first_edge;
-        size_t g = 0;
-        while (g < cell->groups.size() &&
-               (cell->groups[g].mask != mask || cell->groups[g].want != want)) {
-          ++g;
-        }
-        if (g == cell->groups.size()) {
-          Cell::Group group;
-          group.mask = mask;
-          group.want = want;
-          cell->groups.push_back(group);
-        }
-        Cell::Group& group = cell->groups[g];
-        if (group.last >= 0) {
-          cell->triangles[group.last].next = index;
-        } else {
-          group.first = index;
-        }
-        group.last = index;
-        cell->triangles.push_back(t);
+        index = cell->AddTriangle(id, slot, k, leaf.orientation, bits, global,
+                                  m, knots, size_);
       }
       AddScaled(poly, c4, size_,
                 cell->sums.data() + cell->triangles[index].sum);

@@ -80,6 +80,9 @@ class PiecewiseSurface {
   struct Leaf;
   struct Table;
   struct Scratch;
+  class CellBuilder;  // the constructor's quadtrees
+  // Fills segments_, set_segment_start_ and set_segments_ from the basis.
+  void CollectSegments();
   // The leaf cell of p and p's local coordinates (s, t) in it, in [-1, 1]^2.
   int Locate(const Eigen::Vector3d& p, double* s, double* t) const;
   // The coefficients of p's region in `leaf` (monomial m, component d =

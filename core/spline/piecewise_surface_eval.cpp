@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/piecewise_surface_cells.h"
 #include "sdcb/core/spline/simplex_spline.h"

@@ -76,6 +76,154 @@ bool InHalfOpenTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
          PerturbedDetSign(p, t0, t1) == o;
 }
 
+// The recursion tree of M(p | V) (eq. 3) for SimplexSpline::Create, built
+// depth-first, children first, each subset of the knots once.
+class SimplexSpline::TreeBuilder {
+ public:
+  // Appends the nodes to `*built` and W's matrices to `*matrices`.
+  TreeBuilder(const Eigen::MatrixX3d& knots,
+              const SimplexSplineOptions& options, std::vector<Node>* built,
+              std::vector<Eigen::Matrix3d>* matrices)
+      : knots_(knots),
+        options_(options),
+        m_(static_cast<int>(knots.rows())),
+        built_(*built),
+        matrices_(*matrices) {
+    // Every triple's determinant, once: det_[(a * kMax + b) * kMax + c] for
+    // a < b < c (the same product SpansR3 and Det3 would compute).
+    for (int a = 0; a < m_; ++a)
+      for (int b = a + 1; b < m_; ++b)
+        for (int c = b + 1; c < m_; ++c) {
+          det_[(a * kMax + b) * kMax + c] = Det3(t(a), t(b), t(c));
+        }
+    index_of_.fill(-1);
+    matrix_of_.fill(-1);
+  }
+
+  // The index in *built of the node of the subset `mask` (bit i: knot i),
+  // built with its descendants on first use.
+  int Build(std::uint32_t mask) {
+    if (index_of_[mask] >= 0) return index_of_[mask];
+    int members[kMax];
+    int ms = 0;
+    for (int i = 0; i < m_; ++i)
+      if (mask & (1u << i)) members[ms++] = i;
+    Node node;
+    node.mask = mask;
+    std::array<int, 3> w;
+    if (ms == 3) {
+      MakeLeaf(members[0], members[1], members[2], &node);
+    } else if (PickSplit(mask, members, ms, &w)) {
+      node.matrix = MatrixOf(w);
+      for (int j = 0; j < 3; ++j) {
+        node.local[j] = w[j];
+        node.child[j] = Build(mask & ~(1u << w[j]));
+      }
+    }
+    // else: S lies on a plane P through the origin (up to kFlatDeterminant):
+    // M(p | S) is a measure on P, and its coefficient in the parent vanishes
+    // on P (the parent's W spans R^3, and its two members in S span P, so
+    // b_j = det(.., p, ..) / det(W) is 0 there). The product is 0: a zero
+    // leaf (orientation 0: value 0), like a three-knot subset with det = 0
+    // (degree 0, eq. 3).
+    const int index = static_cast<int>(built_.size());
+    built_.push_back(node);
+    index_of_[mask] = index;
+    return index;
+  }
+
+ private:
+  Eigen::Vector3d t(int i) const { return knots_.row(i).transpose(); }
+  double TripleDet(int a, int b, int c) const {
+    return det_[(a * kMax + b) * kMax + c];
+  }
+  bool Spans(int a, int b, int c) const {
+    return std::abs(TripleDet(a, b, c)) > kFlatDeterminant;
+  }
+
+  // Fills the leaf `node` of the triple a < b < c.
+  void MakeLeaf(int a, int b, int c, Node* node) const {
+    node->local[0] = a;
+    node->local[1] = b;
+    node->local[2] = c;
+    node->pair[0] = PairIndex(b, c, m_);
+    node->pair[1] = PairIndex(a, c, m_);
+    node->pair[2] = PairIndex(a, b, m_);
+    // det = 0 (three knots on a great circle, or within kFlatDeterminant of
+    // one): a zero leaf, for the reason given in Build for larger flat
+    // subsets.
+    node->orientation = Spans(a, b, c) ? Det3Sign(t(a), t(b), t(c)) : 0;
+    if (node->orientation != 0) {
+      node->inv_abs_det = 1.0 / std::abs(TripleDet(a, b, c));
+    }
+  }
+
+  // The triple W of the subset `mask` (members[0 .. ms), ascending) that
+  // eq. 3 splits it by: by default the spanning triple of largest |det|,
+  // whose barycentric coordinates stay small over the hull of S (the
+  // recursion then cancels little); with a split seed, a seeded pick among
+  // the fair ones. False if no triple spans R^3.
+  bool PickSplit(std::uint32_t mask, const int* members, int ms,
+                 std::array<int, 3>* w) const {
+    // Spanning triples of S in ascending order.
+    std::array<int, 3> spanning[kMax * (kMax - 1) * (kMax - 2) / 6];
+    int num_spanning = 0;
+    for (int x = 0; x < ms; ++x)
+      for (int y = x + 1; y < ms; ++y)
+        for (int z = y + 1; z < ms; ++z) {
+          if (Spans(members[x], members[y], members[z])) {
+            spanning[num_spanning++] = {members[x], members[y], members[z]};
+          }
+        }
+    if (num_spanning == 0) return false;
+    int pick = 0;
+    double largest = -1.0;
+    for (int x = 0; x < num_spanning; ++x) {
+      const auto& s = spanning[x];
+      const double v = std::abs(TripleDet(s[0], s[1], s[2]));
+      if (v > largest) {
+        largest = v;
+        pick = x;
+      }
+    }
+    if (options_.split_seed != 0) {
+      // Any W gives the same M; skip triples so thin that rounding would
+      // dominate (|det| below a quarter of the largest).
+      std::vector<int> fair;
+      for (int x = 0; x < num_spanning; ++x) {
+        const auto& s = spanning[x];
+        if (std::abs(TripleDet(s[0], s[1], s[2])) >= 0.25 * largest) {
+          fair.push_back(x);
+        }
+      }
+      pick = fair[Mix(options_.split_seed * 0x9e3779b9U ^ mask) % fair.size()];
+    }
+    *w = spanning[pick];
+    return true;
+  }
+
+  // The index in *matrices of W's spherical barycentric matrix, made on
+  // first use.
+  int MatrixOf(const std::array<int, 3>& w) {
+    int& matrix = matrix_of_[(w[0] * kMax + w[1]) * kMax + w[2]];
+    if (matrix < 0) {
+      matrix = static_cast<int>(matrices_.size());
+      matrices_.push_back(
+          SphericalBarycentricMatrix(t(w[0]), t(w[1]), t(w[2])));
+    }
+    return matrix;
+  }
+
+  const Eigen::MatrixX3d& knots_;
+  const SimplexSplineOptions& options_;
+  const int m_;
+  std::array<double, kMax * kMax * kMax> det_;
+  std::array<int, 1 << kMax> index_of_;            // -1: not built yet
+  std::array<int, kMax * kMax * kMax> matrix_of_;  // W's matrix, -1: none yet
+  std::vector<Node>& built_;
+  std::vector<Eigen::Matrix3d>& matrices_;
+};
+
 StatusOr<SimplexSpline> SimplexSpline::Create(
     const Eigen::MatrixX3d& knots, const SimplexSplineOptions& options) {
   const int m = static_cast<int>(knots.rows());
@@ -107,121 +255,12 @@ StatusOr<SimplexSpline> SimplexSpline::Create(
       s.pair_normals_[PairIndex(i, j, m)] = t(i).cross(t(j));
     }
 
-  // Every triple's determinant, once: det[(a * kMax + b) * kMax + c] for a <
-  // b < c (the same product SpansR3 and Det3 would compute).
-  std::array<double, kMax * kMax * kMax> det;
-  for (int a = 0; a < m; ++a)
-    for (int b = a + 1; b < m; ++b)
-      for (int c = b + 1; c < m; ++c) {
-        det[(a * kMax + b) * kMax + c] = Det3(t(a), t(b), t(c));
-      }
-  const auto triple_det = [&](int a, int b, int c) {
-    return det[(a * kMax + b) * kMax + c];
-  };
-  const auto spans = [&](int a, int b, int c) {
-    return std::abs(triple_det(a, b, c)) > kFlatDeterminant;
-  };
-
-  // Depth-first construction, children first; `index_of` memoizes subsets
-  // (-1: not built yet) and `matrix_of` the matrices of triples.
-  std::array<int, 1 << kMax> index_of;
-  index_of.fill(-1);
-  std::array<int, kMax * kMax * kMax> matrix_of;
-  matrix_of.fill(-1);
   // Built in this thread's buffers, kept at their exact sizes.
   thread_local std::vector<Node> built;
   thread_local std::vector<Eigen::Matrix3d> matrices;
   built.clear();
   matrices.clear();
-  const auto build = [&](const auto& self, std::uint32_t mask) -> int {
-    if (index_of[mask] >= 0) return index_of[mask];
-    int members[kMax];
-    int ms = 0;
-    for (int i = 0; i < m; ++i)
-      if (mask & (1u << i)) members[ms++] = i;
-    Node node;
-    node.mask = mask;
-    if (ms == 3) {
-      const int a = members[0], b = members[1], c = members[2];
-      node.local[0] = a;
-      node.local[1] = b;
-      node.local[2] = c;
-      node.pair[0] = PairIndex(b, c, m);
-      node.pair[1] = PairIndex(a, c, m);
-      node.pair[2] = PairIndex(a, b, m);
-      // det = 0 (three knots on a great circle, or within kFlatDeterminant of
-      // one): a zero leaf, for the reason given below for larger flat
-      // subsets.
-      node.orientation = spans(a, b, c) ? Det3Sign(t(a), t(b), t(c)) : 0;
-      if (node.orientation != 0) {
-        node.inv_abs_det = 1.0 / std::abs(triple_det(a, b, c));
-      }
-    } else {
-      // Spanning triples of S in ascending order; pick one by the rule.
-      std::array<int, 3> spanning[kMax * (kMax - 1) * (kMax - 2) / 6];
-      int num_spanning = 0;
-      for (int x = 0; x < ms; ++x)
-        for (int y = x + 1; y < ms; ++y)
-          for (int z = y + 1; z < ms; ++z) {
-            if (spans(members[x], members[y], members[z])) {
-              spanning[num_spanning++] = {members[x], members[y], members[z]};
-            }
-          }
-      if (num_spanning == 0) {
-        // S lies on a plane P through the origin (up to kFlatDeterminant): M(p
-        // | S) is a measure on P, and its coefficient in the parent vanishes on
-        // P (the parent's W spans R^3, and its two members in S span P, so b_j
-        // = det(.., p,
-        // ..) / det(W) is 0 there). The product is 0: a zero leaf, like a
-        // three-knot subset with det = 0 (degree 0, eq. 3).
-        const int index = static_cast<int>(built.size());
-        built.push_back(node);  // orientation 0: value 0
-        index_of[mask] = index;
-        return index;
-      }
-      // Default: the triple of largest |det|, whose barycentric coordinates
-      // stay small over the hull of S (the recursion then cancels little).
-      int pick = 0;
-      double largest = -1.0;
-      for (int x = 0; x < num_spanning; ++x) {
-        const auto& w = spanning[x];
-        const double v = std::abs(triple_det(w[0], w[1], w[2]));
-        if (v > largest) {
-          largest = v;
-          pick = x;
-        }
-      }
-      if (options.split_seed != 0) {
-        // Any W gives the same M; skip triples so thin that rounding would
-        // dominate (|det| below a quarter of the largest).
-        std::vector<int> fair;
-        for (int x = 0; x < num_spanning; ++x) {
-          const auto& w = spanning[x];
-          if (std::abs(triple_det(w[0], w[1], w[2])) >= 0.25 * largest) {
-            fair.push_back(x);
-          }
-        }
-        pick = fair[Mix(options.split_seed * 0x9e3779b9U ^ mask) % fair.size()];
-      }
-      const std::array<int, 3> w = spanning[pick];
-      int& matrix = matrix_of[(w[0] * kMax + w[1]) * kMax + w[2]];
-      if (matrix < 0) {
-        matrix = static_cast<int>(matrices.size());
-        matrices.push_back(
-            SphericalBarycentricMatrix(t(w[0]), t(w[1]), t(w[2])));
-      }
-      node.matrix = matrix;
-      for (int j = 0; j < 3; ++j) {
-        node.local[j] = w[j];
-        node.child[j] = self(self, mask & ~(1u << w[j]));
-      }
-    }
-    const int index = static_cast<int>(built.size());
-    built.push_back(node);
-    index_of[mask] = index;
-    return index;
-  };
-  build(build, (1u << m) - 1);
+  TreeBuilder(knots, options, &built, &matrices).Build((1u << m) - 1);
   // Leaves first, so an evaluation can stop once all degree-0 values are
   // known to vanish; then the internal nodes by size (children before
   // parents), each size's first at level_start_[size - 3].

@@ -239,6 +239,8 @@ class SimplexSpline {
     int matrix = -1;             // Internal: index into matrices_.
   };
 
+  class TreeBuilder;  // Create's recursion tree
+
   SimplexSpline() = default;
   template <int K>
   void PathsOfDegree(const Eigen::Vector3d& o, const Eigen::Vector3d& e1,

@@ -6,16 +6,9 @@
 #include <string>
 #include <utility>
 
-namespace sdcb {
+#include "sdcb/core/sphere/sphere_geometry.h"
 
-void TangentFrame(const Eigen::Vector3d& p, Eigen::Vector3d* e_u,
-                  Eigen::Vector3d* e_v) {
-  // Cross with the coordinate axis least aligned with p.
-  int axis = 0;
-  p.cwiseAbs().minCoeff(&axis);
-  *e_u = Eigen::Vector3d::Unit(axis).cross(p).normalized();
-  *e_v = p.cross(*e_u);
-}
+namespace sdcb {
 
 StatusOr<SphericalSpline> SphericalSpline::Create(
     DcbBasis basis, Eigen::MatrixX3d control_points, BasisForm form) {

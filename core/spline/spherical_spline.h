@@ -97,11 +97,6 @@ class SphericalSpline {
 // and configurations, its control points and basis form.
 StatusOr<SphericalSpline> SurfaceFromModel(const SplineModel& model);
 
-// Orthonormal tangent frame (e_u, e_v) of S^2 at the unit vector p, with
-// e_u x e_v = p; deterministic in p.
-void TangentFrame(const Eigen::Vector3d& p, Eigen::Vector3d* e_u,
-                  Eigen::Vector3d* e_v);
-
 }  // namespace sdcb
 
 #endif  // SDCB_CORE_SPLINE_SPHERICAL_SPLINE_H_

@@ -18,6 +18,7 @@
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
+#include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/far_refinement.h"

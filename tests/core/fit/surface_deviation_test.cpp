@@ -16,6 +16,7 @@
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
+#include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/dcb_basis.h"
 #include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/core/spline/spherical_spline.h"

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "sdcb/core/mesh/icosphere.h"
+#include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "testing/random_spline.h"
