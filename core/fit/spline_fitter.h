@@ -5,7 +5,13 @@
 // regularized least squares, and repeat until the error reaches the target.
 //
 // SplineFitter is the stage as a class one can step (one round per AddRound),
-// FitSphericalSpline the one-shot loop over it.
+// FitSphericalSpline the one-shot loop over it. This file is the driver; the
+// ideas it drives live beside it in core/fit/: fit_mesh (the mesh and its
+// map), feature_round (round 0 on the feature corners' clusters), fit_round
+// (one round's steps) and round_problem (its least squares), stop_rule (the
+// target and when to stop), fallback_round (the round a missed fit
+// returns), retry_strategy (FitSphericalSpline's further fits), fit_progress
+// (progress and timings), fit_result (what a fit returns).
 //
 // Errors are in percent of the largest side of the input's bounding box: the
 // fit works in the normalized frame of ComputeNormalizingTransform, where
