@@ -296,21 +296,31 @@ TEST(SplineFitterTest, SteppedRoundByRoundItGivesFitSphericalSplinesModel) {
   EXPECT_EQ(once->lambda_retries_run, 0);
 }
 
+// A fit of the sphere that misses, stepped by two AddRound calls: not
+// finished after the first, finished after the second with `rounds`
+// rounds; its result.
+FitResult StepTwice(const FitOptions& options, int rounds) {
+  StatusOr<SplineFitter> fitter =
+      SplineFitter::Create(MakeIcosphere(2), options);
+  EXPECT_TRUE(fitter.ok()) << fitter.status().message();
+  if (!fitter.ok()) return FitResult();
+  EXPECT_TRUE(fitter->AddRound().ok());
+  EXPECT_FALSE(fitter->finished());
+  EXPECT_TRUE(fitter->AddRound().ok());
+  EXPECT_TRUE(fitter->finished());
+  EXPECT_EQ(fitter->rounds(), rounds);
+  if (!fitter->finished()) return FitResult();
+  const FitResult result = fitter->TakeResult();
+  EXPECT_FALSE(result.reached_target());
+  return result;
+}
+
 TEST(SplineFitterTest, AFitThatCannotReachItsTargetStopsAtMaxRounds) {
   FitOptions options = TinyFitOptions();
   options.rmse_percent = 1e-6;
   options.max_error_percent = -1;
   options.max_rounds = 2;
-  StatusOr<SplineFitter> fitter =
-      SplineFitter::Create(MakeIcosphere(2), options);
-  ASSERT_TRUE(fitter.ok()) << fitter.status().message();
-  ASSERT_TRUE(fitter->AddRound().ok());
-  EXPECT_FALSE(fitter->finished());
-  ASSERT_TRUE(fitter->AddRound().ok());
-  EXPECT_TRUE(fitter->finished());
-  EXPECT_EQ(fitter->rounds(), 2);
-  const FitResult result = fitter->TakeResult();
-  EXPECT_FALSE(result.reached_target());
+  const FitResult result = StepTwice(options, 2);
   EXPECT_EQ(result.shortfall.find("the target was not reached within 2 rounds"),
             0u)
       << result.shortfall;
@@ -320,16 +330,7 @@ TEST(SplineFitterTest, ARoundAboveTheControlPointCapIsNotAdded) {
   FitOptions options = TinyFitOptions();
   options.rmse_percent = 1e-6;
   options.max_control_points = 1;  // round 0 is added all the same
-  StatusOr<SplineFitter> fitter =
-      SplineFitter::Create(MakeIcosphere(2), options);
-  ASSERT_TRUE(fitter.ok()) << fitter.status().message();
-  ASSERT_TRUE(fitter->AddRound().ok());
-  EXPECT_FALSE(fitter->finished());
-  ASSERT_TRUE(fitter->AddRound().ok());
-  EXPECT_TRUE(fitter->finished());
-  EXPECT_EQ(fitter->rounds(), 1);
-  const FitResult result = fitter->TakeResult();
-  EXPECT_FALSE(result.reached_target());
+  const FitResult result = StepTwice(options, 1);
   EXPECT_EQ(
       result.shortfall.find("the next round would exceed 1 control points"), 0u)
       << result.shortfall;
