@@ -57,6 +57,185 @@ std::vector<int> ColumnsNear(const ChartGradientRows& rows,
   return columns;
 }
 
+// The lattice samples the repair constrains: the folded ones and their
+// lattice ring, in the order they were added.
+class ConstrainedSamples {
+ public:
+  explicit ConstrainedSamples(Eigen::Index lattice_samples)
+      : constrained_(lattice_samples, 0) {}
+
+  // Constrains the folded samples of `measured` and their lattice ring.
+  void AddFolds(const SurfaceDeviation& measured) {
+    const Eigen::Index ns = static_cast<Eigen::Index>(constrained_.size());
+    std::vector<char> mark(ns, 0);
+    for (Eigen::Index i = 0; i < ns; ++i) {
+      mark[i] = measured.surface_sample_folded[i];
+    }
+    GrowByOneRing(measured.surface_sample_triangles, &mark);
+    for (Eigen::Index i = 0; i < ns; ++i) {
+      if (mark[i] && !constrained_[i]) {
+        constrained_[i] = 1;
+        samples_.push_back(static_cast<int>(i));
+      }
+    }
+  }
+
+  const std::vector<int>& samples() const { return samples_; }
+
+ private:
+  std::vector<char> constrained_;
+  std::vector<int> samples_;
+};
+
+// g's pieces at the constrained samples: the chart derivatives' rows and
+// the mesh's normal at each sample's closest point.
+struct Linearization {
+  ChartGradientRows jet;
+  std::vector<Eigen::Vector3d> normals;
+
+  // min(0, g - floor |F_u| |F_v|) at the constrained samples for the
+  // control points x.
+  Eigen::VectorXd Shortfall(const Eigen::MatrixX3d& x, double floor) const {
+    const Eigen::MatrixX3d fu = jet.u * x, fv = jet.v * x;
+    const int r = static_cast<int>(normals.size());
+    Eigen::VectorXd shortfall(r);
+    for (int s = 0; s < r; ++s) {
+      const Eigen::Vector3d a = fu.row(s).transpose(),
+                            b = fv.row(s).transpose();
+      shortfall[s] = std::min(
+          0.0, a.cross(b).dot(normals[s]) - floor * a.norm() * b.norm());
+    }
+    return shortfall;
+  }
+};
+
+Linearization Linearize(const DcbBasis& basis, BasisForm form,
+                        const MeshDistance& mesh_distance,
+                        const SurfaceDeviation& d,
+                        const std::vector<int>& samples) {
+  const int r = static_cast<int>(samples.size());
+  Eigen::MatrixX3d points(r, 3);
+  Linearization l;
+  l.normals.resize(r);
+  for (int s = 0; s < r; ++s) {
+    points.row(s) = d.surface_sample_points.row(samples[s]);
+    MeshDistance::Closest closest;
+    closest.face = d.surface_sample_mesh_face[samples[s]];
+    closest.point = d.surface_sample_mesh_point.row(samples[s]).transpose();
+    l.normals[s] = mesh_distance.Normal(closest);
+  }
+  l.jet = BuildChartGradientRows(basis, points, form);
+  return l;
+}
+
+// The block of N (the normal matrix whose lower triangle is `lower`) of
+// the moved control points `columns` (`local`: their index in the block,
+// -1 for the others), each entry repeated for the 3 coordinates; and the
+// diagonal of that block.
+Eigen::SparseMatrix<double> MovedBlock(const Eigen::SparseMatrix<double>& lower,
+                                       const std::vector<int>& columns,
+                                       const std::vector<int>& local,
+                                       Eigen::VectorXd* diagonal) {
+  const int ml = static_cast<int>(columns.size());
+  std::vector<Eigen::Triplet<double>> entries;
+  diagonal->resize(ml);
+  for (int l = 0; l < ml; ++l) {
+    for (Eigen::SparseMatrix<double>::InnerIterator e(lower, columns[l]); e;
+         ++e) {
+      const int row = local[e.row()];
+      if (row < 0) continue;
+      if (row == l) (*diagonal)[l] = e.value();
+      for (int c = 0; c < 3; ++c) {
+        entries.emplace_back(3 * row + c, 3 * l + c, e.value());
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> system(3 * ml, 3 * ml);
+  system.setFromTriplets(entries.begin(), entries.end());
+  return system;
+}
+
+// The linearized constraints J d >= t - g, one row per sample, in the
+// moved control points' coordinates (`local`, `ml` of them) at
+// `control_points`.
+RowMajor ConstraintJacobian(const Linearization& lin,
+                            const Eigen::MatrixX3d& control_points,
+                            const std::vector<int>& local, int ml) {
+  const Eigen::MatrixX3d fu = lin.jet.u * control_points;
+  const Eigen::MatrixX3d fv = lin.jet.v * control_points;
+  const int r = static_cast<int>(lin.normals.size());
+  std::vector<Eigen::Triplet<double>> j_entries;
+  for (int s = 0; s < r; ++s) {
+    const Eigen::Vector3d& n = lin.normals[s];
+    const Eigen::Vector3d a = fu.row(s).transpose(), b = fv.row(s).transpose();
+    const Eigen::Vector3d along_u = b.cross(n), along_v = n.cross(a);
+    for (DesignMatrix::InnerIterator e(lin.jet.u, s); e; ++e) {
+      for (int c = 0; c < 3; ++c) {
+        j_entries.emplace_back(s, 3 * local[e.col()] + c,
+                               e.value() * along_u[c]);
+      }
+    }
+    for (DesignMatrix::InnerIterator e(lin.jet.v, s); e; ++e) {
+      for (int c = 0; c < 3; ++c) {
+        j_entries.emplace_back(s, 3 * local[e.col()] + c,
+                               e.value() * along_v[c]);
+      }
+    }
+  }
+  RowMajor jacobian(r, 3 * ml);
+  jacobian.setFromTriplets(j_entries.begin(), j_entries.end());
+  return jacobian;
+}
+
+// One step: the control points `columns` (the others fixed) moved by the
+// d that minimizes d^T (N (x) I_3) d + sum_s w_s (g_s + J_s d - t_s)^2, the
+// weights damped by `damping` (fold_repair.h). kInternal if the
+// factorization or the solve fails.
+StatusOr<Eigen::MatrixX3d> TrialStep(
+    const Linearization& lin, const Eigen::SparseMatrix<double>& normal_lower,
+    const std::vector<int>& columns, const Eigen::VectorXd& shortfall,
+    double damping, const Eigen::MatrixX3d& control_points) {
+  const Eigen::Index m = normal_lower.cols();
+  const int r = static_cast<int>(lin.normals.size());
+  // The moved control points, their block of N.
+  const int ml = static_cast<int>(columns.size());
+  std::vector<int> local(m, -1);
+  for (int l = 0; l < ml; ++l) local[columns[l]] = l;
+  Eigen::VectorXd diagonal;
+  Eigen::SparseMatrix<double> system =
+      MovedBlock(normal_lower, columns, local, &diagonal);
+  const RowMajor jacobian = ConstraintJacobian(lin, control_points, local, ml);
+  Eigen::VectorXd weight(r);
+  for (int s = 0; s < r; ++s) {
+    double scale = 0;
+    for (RowMajor::InnerIterator e(jacobian, s); e; ++e) {
+      scale += e.value() * e.value() / diagonal[e.col() / 3];
+    }
+    weight[s] = scale > 0 ? 1.0 / (damping * scale) : 0.0;
+  }
+  const Eigen::SparseMatrix<double> weighted_t =
+      Eigen::SparseMatrix<double>(jacobian.transpose()) * weight.asDiagonal();
+  const Eigen::SparseMatrix<double> penalty =
+      (weighted_t * jacobian).triangularView<Eigen::Lower>();
+  system += penalty;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
+  factor.cholmod().print = 0;  // a library does not print
+  factor.compute(system);
+  if (factor.info() != Eigen::Success) {
+    return InternalError("fold repair: the factorization failed");
+  }
+  const Eigen::VectorXd step =
+      factor.solve(Eigen::VectorXd(-(weighted_t * shortfall)));
+  if (factor.info() != Eigen::Success || !step.allFinite()) {
+    return InternalError("fold repair: the solve failed");
+  }
+  Eigen::MatrixX3d trial = control_points;
+  for (int l = 0; l < ml; ++l) {
+    for (int c = 0; c < 3; ++c) trial(columns[l], c) += step[3 * l + c];
+  }
+  return trial;
+}
+
 }  // namespace
 
 StatusOr<FoldRepairResult> RepairFolds(
@@ -65,7 +244,6 @@ StatusOr<FoldRepairResult> RepairFolds(
     const MeshDistance& mesh_distance, const DeviationOptions& lattice,
     const FoldRepairOptions& options, Eigen::MatrixX3d* control_points) {
   FoldRepairResult result;
-  const Eigen::Index m = normal_lower.cols();
   const Eigen::MatrixX3d given = *control_points;
   SDCB_ASSIGN_OR_RETURN(const SphericalSpline spline,
                         SphericalSpline::Create(basis, given, form));
@@ -82,138 +260,28 @@ StatusOr<FoldRepairResult> RepairFolds(
       std::max(d.surface_to_mesh_max_percent, options.max_distance_percent);
   const DesignMatrix lattice_values =
       BuildFormDesignMatrix(basis, d.surface_sample_points, form);
-  const Eigen::Index ns = d.surface_sample_points.rows();
-  std::vector<char> constrained(ns, 0);
-  std::vector<int> samples;  // constrained, in the order they were added
-  // Constrains the folded samples of `measured` and their lattice ring.
-  const auto constrain_folds = [&](const SurfaceDeviation& measured) {
-    std::vector<char> mark(ns, 0);
-    for (Eigen::Index i = 0; i < ns; ++i) {
-      mark[i] = measured.surface_sample_folded[i];
-    }
-    GrowByOneRing(measured.surface_sample_triangles, &mark);
-    for (Eigen::Index i = 0; i < ns; ++i) {
-      if (mark[i] && !constrained[i]) {
-        constrained[i] = 1;
-        samples.push_back(static_cast<int>(i));
-      }
-    }
-  };
-  constrain_folds(d);
+  ConstrainedSamples constrained(d.surface_sample_points.rows());
+  constrained.AddFolds(d);
   double damping = options.damping;
   while (result.iterations < options.max_iterations) {
-    const int r = static_cast<int>(samples.size());
-    Eigen::MatrixX3d points(r, 3);
-    std::vector<Eigen::Vector3d> normals(r);
-    for (int s = 0; s < r; ++s) {
-      points.row(s) = d.surface_sample_points.row(samples[s]);
-      MeshDistance::Closest closest;
-      closest.face = d.surface_sample_mesh_face[samples[s]];
-      closest.point = d.surface_sample_mesh_point.row(samples[s]).transpose();
-      normals[s] = mesh_distance.Normal(closest);
-    }
-    const ChartGradientRows jet = BuildChartGradientRows(basis, points, form);
-    // min(0, g - floor |F_u| |F_v|) at the constrained samples for the
-    // control points x.
-    const auto shortfall_at = [&](const Eigen::MatrixX3d& x) {
-      const Eigen::MatrixX3d fu = jet.u * x, fv = jet.v * x;
-      Eigen::VectorXd shortfall(r);
-      for (int s = 0; s < r; ++s) {
-        const Eigen::Vector3d a = fu.row(s).transpose(),
-                              b = fv.row(s).transpose();
-        shortfall[s] =
-            std::min(0.0, a.cross(b).dot(normals[s]) -
-                              options.normal_floor * a.norm() * b.norm());
-      }
-      return shortfall;
-    };
-    const Eigen::VectorXd shortfall = shortfall_at(*control_points);
+    const Linearization lin =
+        Linearize(basis, form, mesh_distance, d, constrained.samples());
+    const Eigen::VectorXd shortfall =
+        lin.Shortfall(*control_points, options.normal_floor);
     // Done when nothing folds and every constrained sample has its margin
     // (a sample between the lattice's may still turn over before that).
     if (d.folded_area_percent == 0 && shortfall.isZero(0)) break;
     ++result.iterations;
-    const Eigen::MatrixX3d fu = jet.u * *control_points;
-    const Eigen::MatrixX3d fv = jet.v * *control_points;
-
-    // The moved control points, their block of N.
-    const std::vector<int> columns = ColumnsNear(jet, normal_lower);
-    const int ml = static_cast<int>(columns.size());
-    std::vector<int> local(m, -1);
-    for (int l = 0; l < ml; ++l) local[columns[l]] = l;
-    std::vector<Eigen::Triplet<double>> entries;
-    Eigen::VectorXd diagonal(ml);
-    for (int l = 0; l < ml; ++l) {
-      for (Eigen::SparseMatrix<double>::InnerIterator e(normal_lower,
-                                                        columns[l]);
-           e; ++e) {
-        const int row = local[e.row()];
-        if (row < 0) continue;
-        if (row == l) diagonal[l] = e.value();
-        for (int c = 0; c < 3; ++c) {
-          entries.emplace_back(3 * row + c, 3 * l + c, e.value());
-        }
-      }
-    }
-
-    // The linearized constraints J d >= t - g, one row per sample.
-    std::vector<Eigen::Triplet<double>> j_entries;
-    for (int s = 0; s < r; ++s) {
-      const Eigen::Vector3d& n = normals[s];
-      const Eigen::Vector3d a = fu.row(s).transpose(),
-                            b = fv.row(s).transpose();
-      const Eigen::Vector3d along_u = b.cross(n), along_v = n.cross(a);
-      for (DesignMatrix::InnerIterator e(jet.u, s); e; ++e) {
-        for (int c = 0; c < 3; ++c) {
-          j_entries.emplace_back(s, 3 * local[e.col()] + c,
-                                 e.value() * along_u[c]);
-        }
-      }
-      for (DesignMatrix::InnerIterator e(jet.v, s); e; ++e) {
-        for (int c = 0; c < 3; ++c) {
-          j_entries.emplace_back(s, 3 * local[e.col()] + c,
-                                 e.value() * along_v[c]);
-        }
-      }
-    }
-    RowMajor jacobian(r, 3 * ml);
-    jacobian.setFromTriplets(j_entries.begin(), j_entries.end());
-    Eigen::VectorXd weight(r);
-    for (int s = 0; s < r; ++s) {
-      double scale = 0;
-      for (RowMajor::InnerIterator e(jacobian, s); e; ++e) {
-        scale += e.value() * e.value() / diagonal[e.col() / 3];
-      }
-      weight[s] = scale > 0 ? 1.0 / (damping * scale) : 0.0;
-    }
-    Eigen::SparseMatrix<double> system(3 * ml, 3 * ml);
-    system.setFromTriplets(entries.begin(), entries.end());
-    const Eigen::SparseMatrix<double> weighted_t =
-        Eigen::SparseMatrix<double>(jacobian.transpose()) * weight.asDiagonal();
-    const Eigen::SparseMatrix<double> penalty =
-        (weighted_t * jacobian).triangularView<Eigen::Lower>();
-    system += penalty;
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>
-        factor;
-    factor.cholmod().print = 0;  // a library does not print
-    factor.compute(system);
-    if (factor.info() != Eigen::Success) {
-      return InternalError("fold repair: the factorization failed");
-    }
-    const Eigen::VectorXd step =
-        factor.solve(Eigen::VectorXd(-(weighted_t * shortfall)));
-    if (factor.info() != Eigen::Success || !step.allFinite()) {
-      return InternalError("fold repair: the solve failed");
-    }
-    Eigen::MatrixX3d trial = *control_points;
-    for (int l = 0; l < ml; ++l) {
-      for (int c = 0; c < 3; ++c) trial(columns[l], c) += step[3 * l + c];
-    }
+    const std::vector<int> columns = ColumnsNear(lin.jet, normal_lower);
+    SDCB_ASSIGN_OR_RETURN(Eigen::MatrixX3d trial,
+                          TrialStep(lin, normal_lower, columns, shortfall,
+                                    damping, *control_points));
     SDCB_ASSIGN_OR_RETURN(const SphericalSpline moved,
                           SphericalSpline::Create(basis, trial, form));
     SurfaceDeviation measured = d;
     SDCB_RETURN_IF_ERROR(RemeasureSurfaceToMesh(
         moved, mesh_distance, lattice, lattice_values, columns, &measured));
-    result.constrained_samples = r;
+    result.constrained_samples = static_cast<int>(lin.normals.size());
     // A step that keeps the surface within the distance and folds less, or
     // as much with less shortfall, is taken, and the next may be longer;
     // else it is dropped and the next is shorter. Either way the samples it
@@ -221,13 +289,15 @@ StatusOr<FoldRepairResult> RepairFolds(
     const bool better =
         measured.folded_area_percent < d.folded_area_percent ||
         (measured.folded_area_percent == d.folded_area_percent &&
-         shortfall_at(trial).squaredNorm() < shortfall.squaredNorm());
-    constrain_folds(measured);
+         lin.Shortfall(trial, options.normal_floor).squaredNorm() <
+             shortfall.squaredNorm());
+    constrained.AddFolds(measured);
     if (better && measured.surface_to_mesh_max_percent <= max_distance) {
       *control_points = std::move(trial);
       d = std::move(measured);
       damping = std::max(options.damping, damping / kDampingFactor);
-      result.moved_control_points = std::max(result.moved_control_points, ml);
+      result.moved_control_points = std::max(result.moved_control_points,
+                                             static_cast<int>(columns.size()));
     } else {
       damping *= kDampingFactor;
     }
