@@ -33,6 +33,15 @@ const std::vector<OptionSpec>& FitOptionSpecs();
 std::string FitUsage();
 const CommandOptions& FitOptionNames();
 const CommandOptions& ExportOptionNames();
+// The options of `sdcb export`, each once, with the outputs it applies to
+// (the others refuse it): ExportOptionNames() comes from this list.
+enum class ExportTarget { kAll, kMesh, kCad };
+struct ExportOption {
+  const char* name;
+  bool takes_value;
+  ExportTarget target;
+};
+const std::vector<ExportOption>& ExportOptions();
 // Whether `export` writes files with this extension (lower case, with the
 // dot: ".glb").
 bool IsExportExtension(const std::string& extension);
