@@ -2,6 +2,10 @@
 
 #include <limits>
 #include <string>
+#include <type_traits>
+#include <variant>
+
+#include "sdcb/core/fit/fit_options.h"
 
 namespace sdcb {
 namespace {
@@ -87,6 +91,46 @@ Status GetOptional(const json& obj, const char* key, const std::string& where,
   return get(obj, key, where, out);
 }
 
+// The record's "options": every recorded option of FitOptionTable under its
+// key.
+json RecordedOptionsToJson(const RecordedFitOptions& r) {
+  json options = json::object();
+  for (const FitOptionDescriptor& d : FitOptionTable()) {
+    std::visit(
+        [&](auto field) {
+          if constexpr (!std::is_same_v<decltype(field), std::monostate>) {
+            options[d.key] = r.*field;
+          }
+        },
+        d.recorded);
+  }
+  return options;
+}
+
+// Reads what RecordedOptionsToJson wrote: the keys of format version 1
+// required, the others read when present.
+Status RecordedOptionsFromJson(const json& obj, const std::string& where,
+                               RecordedFitOptions* r) {
+  for (const FitOptionDescriptor& d : FitOptionTable()) {
+    const bool required = d.required_in_record;
+    Status status = Status::Ok();
+    if (const auto* f = std::get_if<int RecordedFitOptions::*>(&d.recorded)) {
+      status = required ? GetInt(obj, d.key, where, &(r->**f))
+                        : GetOptional(obj, d.key, where, &(r->**f), GetInt);
+    } else if (const auto* g =
+                   std::get_if<double RecordedFitOptions::*>(&d.recorded)) {
+      status = required ? GetDouble(obj, d.key, where, &(r->**g))
+                        : GetOptional(obj, d.key, where, &(r->**g), GetDouble);
+    } else if (const auto* h =
+                   std::get_if<bool RecordedFitOptions::*>(&d.recorded)) {
+      status = required ? GetBool(obj, d.key, where, &(r->**h))
+                        : GetOptional(obj, d.key, where, &(r->**h), GetBool);
+    }
+    SDCB_RETURN_IF_ERROR(status);
+  }
+  return Status::Ok();
+}
+
 Status RoundFromJson(const json& obj, const std::string& where,
                      RoundStatistics* r) {
   SDCB_RETURN_IF_ERROR(GetInt(obj, "round", where, &r->round));
@@ -112,31 +156,9 @@ Status RoundFromJson(const json& obj, const std::string& where,
 json FitStatisticsToJson(const FitStatistics& s) {
   json rounds = json::array();
   for (const RoundStatistics& r : s.rounds) rounds.push_back(RoundToJson(r));
-  const RecordedFitOptions& o = s.options;
   return json{{"rounds", std::move(rounds)},
               {"final", RoundToJson(s.final_result)},
-              {"options",
-               {{"degree", o.degree},
-                {"rmse_percent", o.rmse_percent},
-                {"max_error_percent", o.max_error_percent},
-                {"knots_per_round", o.knots_per_round},
-                {"knots_growth", o.knots_growth},
-                {"initial_knots", o.initial_knots},
-                {"max_rounds", o.max_rounds},
-                {"max_control_points", o.max_control_points},
-                {"lambda", o.lambda},
-                {"alpha", o.alpha},
-                {"regularization", o.regularization},
-                {"fairness", o.fairness},
-                {"samples_per_spacing", o.samples_per_spacing},
-                {"thinned_cells_per_spacing", o.thinned_cells_per_spacing},
-                {"max_fold_rounds", o.max_fold_rounds},
-                {"fallback_accepts_folds", o.fallback_accepts_folds},
-                {"round_samples_per_knot", o.round_samples_per_knot},
-                {"final_surface_samples", o.final_surface_samples},
-                {"final_mesh_samples", o.final_mesh_samples},
-                {"knot_grid_bits", o.knot_grid_bits},
-                {"map_vertices", o.map_vertices}}},
+              {"options", RecordedOptionsToJson(s.options)},
               {"error_measure", ErrorMeasureName(s.error_measure)},
               {"reached_target", s.reached_target}};
 }
@@ -161,42 +183,7 @@ StatusOr<FitStatistics> FitStatisticsFromJson(const json& j) {
   SDCB_ASSIGN_OR_RETURN(const json* o, Member(j, "options", where));
   const std::string ow = "statistics.options";
   RecordedFitOptions& so = s.options;
-  SDCB_RETURN_IF_ERROR(GetInt(*o, "degree", ow, &so.degree));
-  SDCB_RETURN_IF_ERROR(GetDouble(*o, "rmse_percent", ow, &so.rmse_percent));
-  SDCB_RETURN_IF_ERROR(GetInt(*o, "knots_per_round", ow, &so.knots_per_round));
-  SDCB_RETURN_IF_ERROR(GetInt(*o, "max_rounds", ow, &so.max_rounds));
-  SDCB_RETURN_IF_ERROR(GetDouble(*o, "lambda", ow, &so.lambda));
-  SDCB_RETURN_IF_ERROR(
-      GetOptional(*o, "initial_knots", ow, &so.initial_knots, GetInt));
-  SDCB_RETURN_IF_ERROR(
-      GetOptional(*o, "knots_growth", ow, &so.knots_growth, GetDouble));
-  SDCB_RETURN_IF_ERROR(GetOptional(*o, "max_error_percent", ow,
-                                   &so.max_error_percent, GetDouble));
-  SDCB_RETURN_IF_ERROR(GetOptional(*o, "max_control_points", ow,
-                                   &so.max_control_points, GetInt));
-  SDCB_RETURN_IF_ERROR(GetOptional(*o, "alpha", ow, &so.alpha, GetDouble));
-  SDCB_RETURN_IF_ERROR(
-      GetOptional(*o, "regularization", ow, &so.regularization, GetDouble));
-  SDCB_RETURN_IF_ERROR(
-      GetOptional(*o, "fairness", ow, &so.fairness, GetDouble));
-  SDCB_RETURN_IF_ERROR(GetOptional(*o, "samples_per_spacing", ow,
-                                   &so.samples_per_spacing, GetDouble));
-  SDCB_RETURN_IF_ERROR(GetOptional(*o, "thinned_cells_per_spacing", ow,
-                                   &so.thinned_cells_per_spacing, GetDouble));
-  SDCB_RETURN_IF_ERROR(
-      GetOptional(*o, "max_fold_rounds", ow, &so.max_fold_rounds, GetInt));
-  SDCB_RETURN_IF_ERROR(GetOptional(*o, "fallback_accepts_folds", ow,
-                                   &so.fallback_accepts_folds, GetBool));
-  SDCB_RETURN_IF_ERROR(GetOptional(*o, "round_samples_per_knot", ow,
-                                   &so.round_samples_per_knot, GetInt));
-  SDCB_RETURN_IF_ERROR(GetOptional(*o, "final_surface_samples", ow,
-                                   &so.final_surface_samples, GetInt));
-  SDCB_RETURN_IF_ERROR(GetOptional(*o, "final_mesh_samples", ow,
-                                   &so.final_mesh_samples, GetInt));
-  SDCB_RETURN_IF_ERROR(
-      GetOptional(*o, "knot_grid_bits", ow, &so.knot_grid_bits, GetInt));
-  SDCB_RETURN_IF_ERROR(
-      GetOptional(*o, "map_vertices", ow, &so.map_vertices, GetInt));
+  SDCB_RETURN_IF_ERROR(RecordedOptionsFromJson(*o, ow, &so));
 
   // Version 1 measured at the vertices and did not store the outcome.
   s.error_measure = ErrorMeasure::kVertices;

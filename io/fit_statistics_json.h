@@ -2,7 +2,8 @@
 // chunk, `sdcb dump`'s "statistics"), and the `fit --json` report, which adds
 // the wall-clock times the model does not keep (keys: docs/CLI.md, `sdcb fit`):
 //   {"rounds": [ROUND, ...], "final": ROUND,
-//    "options": {every RecordedFitOptions field by name},
+//    "options": {every recorded option of core/fit/fit_options.h's
+//                FitOptionTable, under its key},
 //    "error_measure": "dense_two_sided" | "vertices",
 //    "reached_target": bool}
 //   ROUND = {"round", "knots", "control_points", "rmse_percent",

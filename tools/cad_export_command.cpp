@@ -27,11 +27,9 @@ int RunCadExport(const Args& args, const std::string& ext) {
   // OpenCASCADE's writers print statistics on stdout; the command line owns
   // the process, so it silences them.
   SilenceOpenCascadeMessages();
-  for (const char* mesh_only :
-       {"uniform", "qp", "cl", "colors", "mesh", "measure-samples", "draco",
-        "meshopt", "angle"}) {
-    if (args.Has(mesh_only)) {
-      throw UsageError{std::string("--") + mesh_only + " does not apply to a " +
+  for (const ExportOption& o : ExportOptions()) {
+    if (o.target == ExportTarget::kMesh && args.Has(o.name)) {
+      throw UsageError{std::string("--") + o.name + " does not apply to a " +
                        ext + " output"};
     }
   }

@@ -16,6 +16,7 @@
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/io/atomic_file.h"
+#include "tools/commands.h"
 #include "tools/interrupts.h"
 
 namespace sdcb::cli {
@@ -169,6 +170,49 @@ std::vector<std::string> Concat(std::vector<std::string> a,
                                 const std::vector<std::string>& b) {
   a.insert(a.end(), b.begin(), b.end());
   return a;
+}
+
+CommandOptions OptionNamesOf(const std::vector<OptionSpec>& specs) {
+  CommandOptions names;
+  for (const OptionSpec& spec : specs) {
+    (spec.value.empty() ? names.flags : names.values).push_back(spec.name);
+  }
+  return names;
+}
+
+std::string OptionUsage(const std::vector<OptionSpec>& specs) {
+  constexpr size_t kHelpColumn = 29, kWidth = 79;
+  std::string text;
+  for (const OptionSpec& spec : specs) {
+    std::string line = "      --" + spec.name;
+    if (!spec.value.empty()) line += " " + spec.value;
+    // The help's words, wrapped; it starts on the next line when the
+    // option's own text reaches its column.
+    if (line.size() + 1 > kHelpColumn) {
+      text += line + "\n";
+      line.clear();
+    }
+    size_t start = 0;
+    while (start < spec.help.size()) {
+      size_t end = spec.help.find(' ', start);
+      if (end == std::string::npos) end = spec.help.size();
+      const std::string word = spec.help.substr(start, end - start);
+      start = end + 1;
+      const bool first = line.size() <= kHelpColumn;
+      if (!first && line.size() + 1 + word.size() > kWidth) {
+        text += line + "\n";
+        line.clear();
+      }
+      if (line.size() < kHelpColumn) {
+        line.resize(kHelpColumn, ' ');
+      } else {
+        line += ' ';
+      }
+      line += word;
+    }
+    text += line + "\n";
+  }
+  return text;
 }
 
 MeshReadLimits MeshReadLimitsFromArgs(const Args& args) {

@@ -20,12 +20,37 @@
 
 namespace sdcb::cli {
 
+const std::vector<ExportOption>& ExportOptions() {
+  using T = ExportTarget;
+  static const std::vector<ExportOption> options = {
+      {"output", true, T::kAll},
+      {"tolerance", true, T::kAll},
+      {"json", true, T::kAll},
+      {"quiet", false, T::kAll},
+      {"uniform", true, T::kMesh},
+      {"qp", true, T::kMesh},
+      {"cl", true, T::kMesh},
+      {"colors", true, T::kMesh},
+      {"mesh", true, T::kMesh},
+      {"measure-samples", true, T::kMesh},
+      {"draco", false, T::kMesh},
+      {"meshopt", false, T::kMesh},
+      {"angle", true, T::kMesh},
+      {"max-faces", true, T::kCad},
+      {"smoothness-degrees", true, T::kCad},
+      {"max-control-points", true, T::kCad},
+  };
+  return options;
+}
+
 const CommandOptions& ExportOptionNames() {
-  static const CommandOptions names = {
-      {"output", "tolerance", "angle", "uniform", "qp", "cl", "colors", "mesh",
-       "json", "measure-samples", "max-faces", "smoothness-degrees",
-       "max-control-points"},
-      {"draco", "meshopt", "quiet"}};
+  static const CommandOptions names = [] {
+    CommandOptions n;
+    for (const ExportOption& o : ExportOptions()) {
+      (o.takes_value ? n.values : n.flags).push_back(o.name);
+    }
+    return n;
+  }();
   return names;
 }
 
@@ -52,10 +77,9 @@ int RunExport(const std::vector<std::string>& argv) {
   }
   const std::string ext = LowercaseExtension(output);
   if (IsCadExtension(ext)) return RunCadExport(args, ext);
-  for (const char* cad_only :
-       {"max-faces", "smoothness-degrees", "max-control-points"}) {
-    if (args.Has(cad_only)) {
-      throw UsageError{std::string("--") + cad_only +
+  for (const ExportOption& o : ExportOptions()) {
+    if (o.target == ExportTarget::kCad && args.Has(o.name)) {
+      throw UsageError{std::string("--") + o.name +
                        " goes with a .step, .stp, .igs or .iges output"};
     }
   }

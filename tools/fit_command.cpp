@@ -1,11 +1,6 @@
-// sdcb fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--max-error PCT]
-//          [--knots-per-round N]
-//          [--knots-growth G] [--max-rounds R] [--max-control-points M]
-//          [--lambda L]
-//          [--threads T] [--regularization R] [--store-parameters]
-//          [--quantize BITS|auto] [--knot-grid BITS] [--feature-angle DEG]
-//          [--map-vertices N|auto] [--json FILE] [--plot FILE.svg] [--quiet]
-//          [--accept-folds] [--repair] [--max-file-mb N] [--max-memory-mb N]
+// sdcb fit MESH -o MODEL.sdcb [options]: the options of its FitOptions come
+// from FitOptionTable (core/fit/fit_options.h), the others from
+// OwnOptionSpecs below; FitUsage() is its usage text.
 #include <tbb/task_arena.h>
 
 #include <cstdio>
@@ -13,8 +8,11 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <variant>
+#include <vector>
 
 #include "sdcb/converters/convergence_plot.h"
+#include "sdcb/core/fit/fit_options.h"
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/sphere/unit_vector_grid.h"
@@ -27,15 +25,154 @@
 
 namespace sdcb::cli {
 
+namespace {
+
+// "0.05", "1e-06".
+std::string DefaultText(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+// The options of `sdcb fit` that are not FitOptions.
+const std::vector<OptionSpec>& OwnOptionSpecs() {
+  static const std::vector<OptionSpec> specs = {
+      {"quantize", "BITS|auto",
+       "store the control points in BITS bits (8..30), the error bound "
+       "reported (auto: the coarsest grid whose bound is within half the "
+       "fit's rms), the knots on a 16-bit grid"},
+      {"json", "FILE", "the report (docs/CLI.md)"},
+      {"plot", "FILE.svg", "the error per round"},
+      {"quiet", "", "no progress bar, no summary"},
+  };
+  return specs;
+}
+
+// Sets the FitOptions of `table` that have a flag from `args`.
+void ParseFitOptionFlags(const Args& args,
+                         const std::vector<FitOptionDescriptor>& table,
+                         FitOptions* options) {
+  for (const FitOptionDescriptor& d : table) {
+    if (d.flag == nullptr) continue;
+    if (d.value_name == nullptr) {
+      options->*std::get<bool FitOptions::*>(d.field) = args.Has(d.flag);
+    } else if (const auto* f = std::get_if<int FitOptions::*>(&d.field)) {
+      int& value = options->**f;
+      const int lo = static_cast<int>(d.flag_lo);
+      const int hi = static_cast<int>(d.flag_hi);
+      if (d.auto_clears == nullptr) {
+        value = args.GetInt(d.flag, value, lo, hi);
+        continue;
+      }
+      const int automatic = lo - 1;  // no value of the flag's own
+      const int v = args.GetIntOrAuto(d.flag, automatic, lo, hi, automatic);
+      if (v != automatic) {
+        value = v;
+        options->*d.auto_clears = 0;
+      }
+    } else {
+      double FitOptions::*g = std::get<double FitOptions::*>(d.field);
+      options->*g = args.GetDouble(d.flag, options->*g, d.flag_lo, d.flag_hi);
+    }
+  }
+}
+
+// The summary on stdout (docs/CLI.md): the model, its errors against the
+// targets, the seconds per stage, the features, the map and quantization.
+void PrintFitSummary(const std::string& path, const std::string& output,
+                     const FitOptions& options, const FitResult& result,
+                     int input_vertices,
+                     const ControlPointQuantization& quantization) {
+  const FitStatistics& stats = result.model.statistics;
+  const RoundStatistics& f = stats.final_result;
+  std::printf("%s -> %s: degree %d, %d knots, %d control points, %d rounds\n",
+              path.c_str(), output.c_str(), options.degree, f.knots,
+              f.control_points, static_cast<int>(stats.rounds.size()));
+  std::printf(
+      "  rmse %.4f%%  max error %.4f%%  (targets: rmse %.4f%%, max %.4f%%)  "
+      "%.2f s\n",
+      f.rmse_percent, f.max_error_percent, options.rmse_percent,
+      MaxErrorTarget(options), result.timings.total);
+  const StageTimings& t = result.timings;
+  std::printf(
+      "  stages: parameterization %.2f s, knot placement %.2f s, "
+      "configurations %.2f s, basis %.2f s, solve %.2f s, measure %.2f s\n",
+      t.parameterization, t.knot_placement, t.configurations, t.basis, t.solve,
+      t.measure);
+  const MeshFeatures& features = result.features;
+  std::printf(
+      "  sharp features (normals turning by > %g deg): %zu edges, %zu "
+      "curves, %zu corners (%s)\n",
+      features.angle_degrees, features.edges.size(), features.curves.size(),
+      features.corners.size(),
+      result.features_kept ? "kept: the surface is creased along them"
+                           : "detected; the surface is smooth across them");
+  const double lambda = result.model.statistics.options.lambda;
+  if (lambda != options.lambda) {
+    std::printf(
+        "  map: lambda %g (fitted again with the area term weaker: it "
+        "folded less%s)\n",
+        lambda, result.reached_target() ? " and reached the targets" : "");
+  }
+  if (result.map_vertices != input_vertices) {
+    std::printf(
+        "  map: %s on the input split to %d vertices (the same surface)\n",
+        result.split_retry_returned
+            ? "better than the fit on its own triangles; fitted again"
+            : "parameterized and fitted",
+        result.map_vertices);
+  }
+  if (!quantization.lossless()) {
+    std::printf(
+        "  control points quantized to %d bits: the stored surface is "
+        "within %.3g%% of the fitted one%s\n",
+        quantization.bits, quantization.surface_error_bound_percent(),
+        quantization.basis_sum_measured ? " (bound measured)" : "");
+  }
+}
+
+}  // namespace
+
+const std::vector<OptionSpec>& FitOptionSpecs() {
+  static const std::vector<OptionSpec> specs = [] {
+    std::vector<OptionSpec> all;
+    const FitOptions defaults;
+    for (const FitOptionDescriptor& d : FitOptionTable()) {
+      if (d.flag == nullptr) continue;
+      std::string help = d.help;
+      if (d.value_name != nullptr) {
+        help += " (default " +
+                (d.default_text != nullptr
+                     ? std::string(d.default_text)
+                     : DefaultText(FitOptionValue(defaults, d))) +
+                ")";
+      }
+      all.push_back(
+          {d.flag, d.value_name != nullptr ? d.value_name : "", help});
+    }
+    const std::vector<OptionSpec>& own = OwnOptionSpecs();
+    all.insert(all.end(), own.begin(), own.end());
+    return all;
+  }();
+  return specs;
+}
+
 const CommandOptions& FitOptionNames() {
-  static const CommandOptions names = {
-      Concat({"output", "degree", "rmse", "max-error", "knots-per-round",
-              "knots-growth", "max-rounds", "max-control-points", "lambda",
-              "threads", "json", "plot", "regularization", "quantize",
-              "knot-grid", "feature-angle", "map-vertices"},
-             kMeshValueOptions),
-      Concat({"quiet", "store-parameters", "accept-folds"}, kMeshFlagOptions)};
+  static const CommandOptions names = [] {
+    CommandOptions n = OptionNamesOf(FitOptionSpecs());
+    n.values = Concat(Concat(n.values, {"output"}), kMeshValueOptions);
+    n.flags = Concat(n.flags, kMeshFlagOptions);
+    return n;
+  }();
   return names;
+}
+
+std::string FitUsage() {
+  return "  fit MESH -o MODEL.sdcb [options] [--repair]\n"
+         "                             Fit one smooth spherical DCB-spline "
+         "(--repair\n"
+         "                             as for check); the options:\n" +
+         OptionUsage(FitOptionSpecs());
 }
 
 int RunFit(const std::vector<std::string>& argv) {
@@ -46,51 +183,24 @@ int RunFit(const std::vector<std::string>& argv) {
   const std::string output = args.Get("output");
   if (output.empty()) throw UsageError{"missing -o MODEL.sdcb"};
   FitOptions options;
-  options.degree = args.GetInt("degree", options.degree, 2, 5);
-  options.rmse_percent =
-      args.GetDouble("rmse", options.rmse_percent, 1e-6, 100);
-  options.max_error_percent =
-      args.GetDouble("max-error", options.max_error_percent, 0, 1000);
-  options.knots_per_round =
-      args.GetInt("knots-per-round", options.knots_per_round, 1, 100000);
-  options.knots_growth =
-      args.GetDouble("knots-growth", options.knots_growth, 0, 10);
-  options.max_rounds = args.GetInt("max-rounds", options.max_rounds, 1, 1000);
-  options.max_control_points = args.GetInt(
-      "max-control-points", options.max_control_points, 10, 10000000);
-  options.lambda = args.GetDouble("lambda", options.lambda, 1e-3, 1e3);
-  // --map-vertices N: split (N > 0) or not (0) from the start, no second
-  // fit; auto (default): a second fit split when the first folds or needs
-  // more control points than the input has vertices.
-  constexpr int kAutoMap = -1;
-  const int map_vertices =
-      args.GetIntOrAuto("map-vertices", kAutoMap, 0, 10000000, kAutoMap);
-  if (map_vertices != kAutoMap) {
-    options.map_vertices = map_vertices;
-    options.retry_map_vertices = 0;
-  }
-  options.threads = args.GetInt("threads", 0, 0, 1024);
-  options.regularization =
-      args.GetDouble("regularization", options.regularization, 1e-12, 1e3);
-  // The sphere point of every input vertex is kept only on request: it is
-  // most of a file's bytes and needed only to check the vertex errors.
-  options.store_parameters = args.Has("store-parameters");
-  options.fallback_accepts_folds = args.Has("accept-folds");
-  options.feature_angle_degrees =
-      args.GetDouble("feature-angle", options.feature_angle_degrees, 1e-3, 180);
   SdcbWriteOptions write_options;
-  write_options.store_parameters = options.store_parameters;
   // --quantize auto: the coarsest grid whose bound is within a fraction of the
-  // fit's rms. Any --quantize also snaps the knots to a grid, so that the
-  // file stores them in a few bytes, exactly as fitted.
+  // fit's rms. Any --quantize also snaps the knots to a grid (the default of
+  // --knot-grid then), so that the file stores them in a few bytes, exactly
+  // as fitted.
   write_options.quantize_bits =
       args.GetIntOrAuto("quantize", 0, 8, 30, kQuantizeBitsAuto);
   if (write_options.quantize_bits != 0) {
     options.knot_grid_bits = kQuantizedFitKnotGridBits;
   }
-  // --knot-grid BITS: knots on that grid (0: off), quantized or not.
-  options.knot_grid_bits = args.GetInt("knot-grid", options.knot_grid_bits, 0,
-                                       kMaxUnitVectorGridBits);
+  // The rest by the table (core/fit/fit_options.h): --map-vertices N splits
+  // (N > 0) or not (0) from the start, no second fit; auto (default): a
+  // second fit split when the first folds or needs more control points than
+  // the input has vertices. --store-parameters: the sphere point of every
+  // input vertex is kept only on request, it is most of a file's bytes and
+  // needed only to check the vertex errors.
+  ParseFitOptionFlags(args, FitOptionTable(), &options);
+  write_options.store_parameters = options.store_parameters;
 
   // Outputs are checked before the work; the mesh is read, repaired if
   // asked, checked (tools/cli.h).
@@ -159,52 +269,9 @@ int RunFit(const std::vector<std::string>& argv) {
                              args.Get("plot"));
     if (!written.ok()) return ReportError(written);
   }
-  const RoundStatistics& f = stats.final_result;
   if (!args.Has("quiet") && args.Get("json") != "-") {
-    std::printf("%s -> %s: degree %d, %d knots, %d control points, %d rounds\n",
-                path.c_str(), output.c_str(), options.degree, f.knots,
-                f.control_points, static_cast<int>(stats.rounds.size()));
-    std::printf(
-        "  rmse %.4f%%  max error %.4f%%  (targets: rmse %.4f%%, max %.4f%%)  "
-        "%.2f s\n",
-        f.rmse_percent, f.max_error_percent, options.rmse_percent,
-        MaxErrorTarget(options), fit->timings.total);
-    const StageTimings& t = fit->timings;
-    std::printf(
-        "  stages: parameterization %.2f s, knot placement %.2f s, "
-        "configurations %.2f s, basis %.2f s, solve %.2f s, measure %.2f s\n",
-        t.parameterization, t.knot_placement, t.configurations, t.basis,
-        t.solve, t.measure);
-    const MeshFeatures& features = fit->features;
-    std::printf(
-        "  sharp features (normals turning by > %g deg): %zu edges, %zu "
-        "curves, %zu corners (%s)\n",
-        features.angle_degrees, features.edges.size(), features.curves.size(),
-        features.corners.size(),
-        fit->features_kept ? "kept: the surface is creased along them"
-                           : "detected; the surface is smooth across them");
-    const double lambda = fit->model.statistics.options.lambda;
-    if (lambda != options.lambda) {
-      std::printf(
-          "  map: lambda %g (fitted again with the area term weaker: it "
-          "folded less%s)\n",
-          lambda, fit->reached_target() ? " and reached the targets" : "");
-    }
-    if (fit->map_vertices != mesh->num_vertices()) {
-      std::printf(
-          "  map: %s on the input split to %d vertices (the same surface)\n",
-          fit->split_retry_returned
-              ? "better than the fit on its own triangles; fitted again"
-              : "parameterized and fitted",
-          fit->map_vertices);
-    }
-    if (!quantization.lossless()) {
-      std::printf(
-          "  control points quantized to %d bits: the stored surface is "
-          "within %.3g%% of the fitted one%s\n",
-          quantization.bits, quantization.surface_error_bound_percent(),
-          quantization.basis_sum_measured ? " (bound measured)" : "");
-    }
+    PrintFitSummary(path, output, options, *fit, mesh->num_vertices(),
+                    quantization);
   }
   if (!fit->reached_target()) {
     // Where a returned surface folds, the measurement's picture shows it.

@@ -13,7 +13,8 @@
 
 namespace {
 
-constexpr const char* kUsage = R"(usage: sdcb COMMAND [ARGS]
+// Before `sdcb fit`'s usage.
+constexpr const char* kUsageHead = R"(usage: sdcb COMMAND [ARGS]
 
 Turns closed genus-0 triangle meshes into one smooth spherical DCB-spline.
 
@@ -30,38 +31,10 @@ commands:
                              (same vertices and faces; .obj/.off/.ply);
                              lambda (default 1) trades angle for area
                              distortion; --colors angle|area needs .ply.
-  fit MESH -o MODEL.sdcb [--degree K] [--rmse PCT] [--max-error PCT] [--knots-per-round N]
-      [--knots-growth G] [--max-rounds R] [--max-control-points M] [--lambda L] [--threads T]
-      [--regularization R] [--store-parameters] [--quantize BITS|auto] [--knot-grid BITS]
-      [--accept-folds] [--feature-angle DEG] [--map-vertices N|auto] [--json FILE]
-      [--plot FILE.svg] [--quiet] [--repair]
-                             Fit one smooth spherical DCB-spline (defaults:
-                             degree 4, rmse 0.05 %, max error 10 x rmse,
-                             70 knots per round or
-                             a quarter of the knots so far if more, 30
-                             rounds); --plot draws the error per round;
-                             --store-parameters keeps each vertex's sphere
-                             point; --quantize BITS (8..30) stores the control
-                             points in BITS bits, the error bound reported
-                             (auto: the coarsest grid whose bound is within
-                             half the fit's rms), the knots on a 16-bit grid
-                             (--knot-grid BITS: on that grid, 0 = off);
-                             --accept-folds: a missed target returns the
-                             most accurate round even if it folds;
-                             --feature-angle DEG (default 30): the input's
-                             sharp edges, curves and corners, reported and
-                             kept sharp where every feature is one edge
-                             between corners (knot clusters at the
-                             corners); 180 finds none (smooth everywhere);
-                             --map-vertices N: an input of fewer vertices
-                             is fitted split to about N (the same surface);
-                             auto (default): fitted again so, to 20000,
-                             when the fit on its triangles folds or needs
-                             more control points than it has vertices,
-                             then with lambda x 0.5, 0.25, 0.15 while it
-                             still folds; 0: one fit, never split;
-                             --repair as for check.
-  info MODEL.sdcb [--json FILE]
+)";
+
+// After `sdcb fit`'s usage (FitUsage()).
+constexpr const char* kUsageTail = R"(  info MODEL.sdcb [--json FILE]
                              Summary of a model (format version, size,
                              quantization bound).
   dump MODEL.sdcb -o MODEL.json
@@ -143,6 +116,9 @@ run (SIGINT, SIGTERM, SIGHUP) leaves no temporary file.
 Exit codes: 0 success, 1 bad input (the reason is printed), 2 bad usage.
 )";
 
+// The usage text of every command.
+std::string Usage() { return kUsageHead + sdcb::cli::FitUsage() + kUsageTail; }
+
 }  // namespace
 
 namespace {
@@ -150,18 +126,18 @@ namespace {
 int RunCommand(int argc, char** argv) {
   using namespace sdcb::cli;
   if (argc < 2) {
-    std::cerr << kUsage;
+    std::cerr << Usage();
     return kExitUsage;
   }
   const std::string command = argv[1];
   if (command == "-h" || command == "--help" || command == "help") {
-    std::cout << kUsage;
+    std::cout << Usage();
     return kExitOk;
   }
   std::vector<std::string> args(argv + 2, argv + argc);
   for (const auto& a : args) {
     if (a == "-h" || a == "--help") {
-      std::cout << kUsage;
+      std::cout << Usage();
       return kExitOk;
     }
   }
@@ -176,7 +152,7 @@ int RunCommand(int argc, char** argv) {
     if (command == "export") return RunExport(args);
     if (command == "batch") return RunBatch(args);
     if (command == "cage") return RunCage(args);
-    std::cerr << "sdcb: unknown command '" << command << "'\n\n" << kUsage;
+    std::cerr << "sdcb: unknown command '" << command << "'\n\n" << Usage();
     return kExitUsage;
   } catch (const UsageError& e) {
     std::cerr << "sdcb " << command << ": " << e.message << "\n";

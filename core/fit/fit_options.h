@@ -1,6 +1,7 @@
-// The options of a fit (FitOptions), their check, and the part of them a
-// model records (RecordedFitOptions): every option of FitSphericalSpline in
-// one place.
+// The options of a fit (FitOptions), their table (FitOptionTable: each
+// option's key, range, record and `sdcb fit` flag), their check, and the part
+// of them a model records (RecordedFitOptions): every option of
+// FitSphericalSpline in one place.
 //
 // Errors are in percent of the largest side of the input's bounding box
 // (docs/FITTING.md).
@@ -8,7 +9,9 @@
 #define SDCB_CORE_FIT_FIT_OPTIONS_H_
 
 #include <functional>
+#include <limits>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "sdcb/core/common/status.h"
@@ -168,10 +171,82 @@ struct FitOptions {
   std::function<void(const FitProgress&)> progress;
 };
 
-// kInvalidArgument naming the first option out of its range.
+// The fields of FitOptions as data, one entry each (FitOptionTable): the
+// key that names it in the model's record and JSON, its valid range, whether
+// the model records it, and its `sdcb fit` flag with the flag's range and
+// help sentence. CheckFitOptions, RecordFitOptions, the record's JSON
+// (io/fit_statistics_json.h), the flags of `sdcb fit` and their usage text
+// (tools/fit_command.cpp) all iterate it; docs/CLI.md documents every flag
+// (tests/core/fit/fit_options_test.cpp checks).
+//
+// The one field out of it is `progress` (a callback, no value).
+using FitOptionField =
+    std::variant<int FitOptions::*, double FitOptions::*, bool FitOptions::*,
+                 std::vector<double> FitOptions::*, BasisForm FitOptions::*>;
+// The field of RecordedFitOptions of the same type, or none.
+using RecordedFitOptionField =
+    std::variant<std::monostate, int RecordedFitOptions::*,
+                 double RecordedFitOptions::*, bool RecordedFitOptions::*>;
+
+// Values in [lo, hi] (open at an end when lo_open / hi_open), finite, and
+// for an integer whole; `zero_too`: 0 as well ("0 = off"). A list's every
+// element, an enum's underlying value. Bools have no range.
+struct FitOptionRange {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = true;
+  bool hi_open = true;
+  bool zero_too = false;
+
+  bool Contains(double value) const;
+  // "[2, 5]", "(0, inf)", "0 or [2, 26]".
+  std::string Describe() const;
+};
+
+struct FitOptionDescriptor {
+  // The FitOptions field's name, and the key of its value in the record's
+  // JSON ("options" of the .sdcb STAT chunk and of `fit --json`).
+  const char* key = "";
+  FitOptionField field;
+  FitOptionRange range;  // what CheckFitOptions accepts
+  // Recorded in the model (every option that changes a model's bytes and is
+  // not stored otherwise), or std::monostate.
+  RecordedFitOptionField recorded;
+  // The record of format version 1 has this key already: a file without it
+  // is refused, where a newer key missing reads as 0 / false.
+  bool required_in_record = false;
+  // The `sdcb fit` flag without its dashes ("rmse"), or nullptr: not a flag.
+  const char* flag = nullptr;
+  // What the flag takes ("PCT", "N|auto"); nullptr for a flag without a
+  // value, which sets a bool option to whether it is given (so
+  // --store-parameters: off unless given, whatever FitOptions' default).
+  const char* value_name = nullptr;
+  // The values the flag accepts (closed range, tools/cli.h Args::GetInt /
+  // GetDouble), within `range`.
+  double flag_lo = 0;
+  double flag_hi = 0;
+  // The flag also takes "auto", meaning the default of both this option and
+  // `auto_clears`; a number given sets this option and sets `auto_clears`
+  // (an int option) to 0.
+  int FitOptions::*auto_clears = nullptr;
+  // The help sentence of the usage text, and the default it names when not
+  // the field's own default ("10 x rmse"); nullptr: the field's default.
+  const char* help = "";
+  const char* default_text = nullptr;
+};
+
+// Every field of FitOptions but `progress`, in the order of the struct.
+const std::vector<FitOptionDescriptor>& FitOptionTable();
+
+// The field's value as a double (bool: 0 / 1, enum: its underlying value;
+// a list has none: NaN).
+double FitOptionValue(const FitOptions& options, const FitOptionDescriptor& d);
+
+// kInvalidArgument naming the first option out of its range (table order).
 Status CheckFitOptions(const FitOptions& options);
 
-// The options of `options` that change a model's bytes.
+// The options of `options` that change a model's bytes: the table's recorded
+// fields, max_error_percent as applied (MaxErrorTarget).
 RecordedFitOptions RecordFitOptions(const FitOptions& options);
 
 // The Hausdorff target a fit applies: options.max_error_percent, or ten

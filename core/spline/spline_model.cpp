@@ -62,9 +62,9 @@ Status ValidateStatistics(const FitStatistics& s) {
   }
   SDCB_RETURN_IF_ERROR(ValidateRound(s.final_result, "final fit statistics"));
   const RecordedFitOptions& o = s.options;
-  for (double v :
-       {o.rmse_percent, o.lambda, o.alpha, o.regularization, o.fairness,
-        o.samples_per_spacing, o.thinned_cells_per_spacing}) {
+  for (double v : {o.rmse_percent, o.lambda, o.alpha, o.regularization,
+                   o.fairness, o.samples_per_spacing,
+                   o.thinned_cells_per_spacing, o.feature_angle_degrees}) {
     if (!std::isfinite(v)) {
       return InvalidArgumentError("a recorded fit option is not finite");
     }

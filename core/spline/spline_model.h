@@ -65,10 +65,12 @@ enum class ErrorMeasure {
   kDenseTwoSided = 1,
 };
 
-// Every fitting option that changes a model's bytes (core/fit/fit_options.h
-// documents each), recorded so that a model can be reproduced. Options a
-// model's file does not record read as 0 / false (format version 1 recorded
-// only degree, rmse_percent, knots_per_round, max_rounds and lambda).
+// Every option of the fit that made a model and changes its bytes
+// (core/fit/fit_options.h documents each; its FitOptionTable says which are
+// recorded and under which key), recorded so that a model can be reproduced
+// by SplineFitter. Options a model's file does not record read as 0 / false
+// (format version 1 recorded only degree, rmse_percent, knots_per_round,
+// max_rounds and lambda).
 struct RecordedFitOptions {
   int degree = 0;
   double rmse_percent = 0.0;  // Target RMSE, percent of the largest side.
@@ -97,6 +99,11 @@ struct RecordedFitOptions {
   int knot_grid_bits = 0;
   // FitOptions::map_vertices of the fit (0: the input's own triangles).
   int map_vertices = 0;
+  // FitOptions::feature_angle_degrees and keep_features of the fit; 0 and
+  // false in files written before they were recorded (keep_features means
+  // something only when feature_angle_degrees is > 0).
+  double feature_angle_degrees = 0.0;
+  bool keep_features = false;
 };
 
 // How the fit went, without wall-clock times (they would make the model's

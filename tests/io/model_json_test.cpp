@@ -1,6 +1,7 @@
 // Tests io/model_json.*: the dump parses back with nlohmann, has the keys
 // docs/FORMAT.md lists, and its values are the model's (control points
-// transformed to input coordinates, doubles exact).
+// transformed to input coordinates, doubles exact); and the record of the fit
+// options in it (io/fit_statistics_json.h) by core/fit/fit_options.h's table.
 #include "sdcb/io/model_json.h"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,8 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "sdcb/core/fit/fit_options.h"
+#include "sdcb/io/fit_statistics_json.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/spline_model_fixture.h"
 
@@ -145,6 +148,59 @@ TEST(ModelJsonTest, SameDumpAfterFileRoundTrip) {
   const StatusOr<SplineModel> back = ParseSdcb(*bytes);
   ASSERT_TRUE(back.ok());
   EXPECT_EQ(ModelToJson(*back), ModelToJson(m));
+}
+
+// A FitOptions with each recorded option of FitOptionTable changed: the
+// record's JSON changes, under the option's key, and reads back equal.
+TEST(ModelJsonTest, EveryRecordedFitOptionRoundTripsThroughTheJson) {
+  FitStatistics defaults;
+  defaults.options = RecordFitOptions(FitOptions());
+  const json base = FitStatisticsToJson(defaults);
+  int changed = 0;
+  for (const FitOptionDescriptor& d : FitOptionTable()) {
+    if (std::holds_alternative<std::monostate>(d.recorded)) continue;
+    FitOptions o;
+    if (const auto* f = std::get_if<int FitOptions::*>(&d.field)) {
+      int& value = o.**f;
+      value += 3;
+    } else if (const auto* g = std::get_if<double FitOptions::*>(&d.field)) {
+      double& value = o.**g;
+      value = value * 0.5 + 0.1 + 0.2;  // not a short decimal
+    } else {
+      bool FitOptions::*b = std::get<bool FitOptions::*>(d.field);
+      o.*b = !(o.*b);
+    }
+    FitStatistics s;
+    s.options = RecordFitOptions(o);
+    const json j = FitStatisticsToJson(s);
+    EXPECT_NE(j["options"][d.key], base["options"][d.key]) << d.key;
+    ASSERT_EQ(j["options"].size(), base["options"].size());
+    const StatusOr<FitStatistics> back = FitStatisticsFromJson(j);
+    ASSERT_TRUE(back.ok()) << back.status().message();
+    EXPECT_EQ(FitStatisticsToJson(*back), j) << d.key;
+    ++changed;
+  }
+  EXPECT_EQ(static_cast<size_t>(changed), base["options"].size());
+}
+
+// A record of a file older than feature_angle_degrees and keep_features
+// reads them as 0 / false; one without a key of format version 1 is refused.
+TEST(ModelJsonTest, OlderRecordsReadWithoutTheNewerKeys) {
+  FitStatistics s;
+  s.options = RecordFitOptions(FitOptions());
+  json j = FitStatisticsToJson(s);
+  j["options"].erase("feature_angle_degrees");
+  j["options"].erase("keep_features");
+  StatusOr<FitStatistics> back = FitStatisticsFromJson(j);
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_EQ(back->options.feature_angle_degrees, 0.0);
+  EXPECT_FALSE(back->options.keep_features);
+  EXPECT_EQ(back->options.degree, 4);
+  j["options"].erase("max_rounds");
+  back = FitStatisticsFromJson(j);
+  ASSERT_FALSE(back.ok());
+  EXPECT_EQ(back.status().message(),
+            "statistics.options lacks the key \"max_rounds\"");
 }
 
 }  // namespace
