@@ -40,10 +40,11 @@ struct FitProgress {
   FitStage stage = FitStage::kParameterization;
   int round = 0;  // The round the stage belongs to (0 before the rounds).
   // Estimated finished fraction of the whole fit, in [0, 1]. The
-  // parameterization counts as the first kParameterizationShare; the rounds
-  // share the rest equally, the number of rounds being estimated from the
-  // error's decay so far (docs/FITTING.md); within a round each stage
-  // advances by its typical share of a round's time.
+  // parameterization counts as the first kParameterizationShare
+  // (core/fit/fit_progress.h); the rounds share the rest equally, the number
+  // of rounds being estimated from the error's decay so far
+  // (docs/FITTING.md); within a round each stage advances by its typical
+  // share of a round's time.
   double fraction = 0.0;
   // Which of FitSphericalSpline's further fits this is: "" for the first,
   // "split" for the one on the split input (FitOptions::retry_map_vertices),
