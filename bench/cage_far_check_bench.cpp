@@ -14,7 +14,7 @@
 #include <sstream>
 #include <string>
 
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/far_refinement.h"
 

@@ -13,7 +13,7 @@
 #include <string>
 
 #include "bench/garland_heckbert.h"
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/sdcb_file.h"

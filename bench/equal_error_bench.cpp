@@ -4,8 +4,8 @@
 //   equal_error_bench sdcb MESH MODEL.sdcb [BITS|auto[:FRACTION]] ...
 //     the model written as an .sdcb (no sphere parameters), lossless (0) or
 //     quantized (SdcbWriteOptions), read back and measured as `sdcb compare`
-//     measures (core/fit/surface_deviation.h) with 200,000 samples each way;
-//     prints the file's bytes, its chunks' bytes and the stated bound.
+//     measures (core/measure/surface_deviation.h) with 200,000 samples each
+//     way; prints the file's bytes, its chunks' bytes and the stated bound.
 //   equal_error_bench mesh MESH CANDIDATE ...
 //     any triangle mesh (a decoded gltfpack file), measured against MESH
 //     with 200,000 area-weighted samples on each (bench/garland_heckbert.h).
@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "bench/garland_heckbert.h"
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/sdcb_file.h"
 

@@ -18,11 +18,11 @@
 #include <cstring>
 #include <vector>
 
+#include "sdcb/core/measure/triangle_distance.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/core/tessellate/adaptive_tessellation.h"
 #include "sdcb/core/tessellate/optimal_triangle_count.h"
-#include "sdcb/core/tessellate/triangle_distance.h"
 #include "sdcb/io/sdcb_file.h"
 
 namespace {

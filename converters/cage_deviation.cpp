@@ -10,9 +10,9 @@
 #include <cstdlib>
 #include <vector>
 
+#include "sdcb/core/measure/closest_surface_points.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
-#include "sdcb/core/tessellate/closest_surface_points.h"
 
 namespace sdcb {
 namespace {

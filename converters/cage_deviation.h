@@ -7,7 +7,7 @@
 //
 // - limit -> spline: each limit point's distance to the spline by a
 //   closest-point search on the spline
-//   (core/tessellate/closest_surface_points.h) from its sphere point, and where
+//   (core/measure/closest_surface_points.h) from its sphere point, and where
 //   that ends more than 1 % farther than its nearest point on an image of the
 //   spline (SplineImage) plus half that image's chord there, or farther than
 //   the spline at that point's sphere point, again from that sphere point; the
@@ -30,9 +30,9 @@
 #include "sdcb/converters/limit_surface.h"
 #include "sdcb/core/cage/sphere_cage_topology.h"
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/measure/surface_sampler.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
-#include "sdcb/core/tessellate/surface_sampler.h"
 
 namespace sdcb {
 

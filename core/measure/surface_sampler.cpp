@@ -1,4 +1,4 @@
-#include "sdcb/core/tessellate/surface_sampler.h"
+#include "sdcb/core/measure/surface_sampler.h"
 
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/spherical_spline.h"

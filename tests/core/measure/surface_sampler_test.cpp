@@ -1,4 +1,4 @@
-#include "sdcb/core/tessellate/surface_sampler.h"
+#include "sdcb/core/measure/surface_sampler.h"
 
 #include <gtest/gtest.h>
 

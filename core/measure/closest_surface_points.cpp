@@ -1,4 +1,4 @@
-#include "sdcb/core/tessellate/closest_surface_points.h"
+#include "sdcb/core/measure/closest_surface_points.h"
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

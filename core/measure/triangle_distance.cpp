@@ -1,4 +1,4 @@
-#include "sdcb/core/tessellate/triangle_distance.h"
+#include "sdcb/core/measure/triangle_distance.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>

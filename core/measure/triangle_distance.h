@@ -1,6 +1,6 @@
 // Euclidean distance from a point to a (flat, closed) triangle in R^3.
-#ifndef SDCB_CORE_TESSELLATE_TRIANGLE_DISTANCE_H_
-#define SDCB_CORE_TESSELLATE_TRIANGLE_DISTANCE_H_
+#ifndef SDCB_CORE_MEASURE_TRIANGLE_DISTANCE_H_
+#define SDCB_CORE_MEASURE_TRIANGLE_DISTANCE_H_
 
 #include <Eigen/Core>
 
@@ -23,4 +23,4 @@ inline double PointTriangleDistance(const Eigen::Vector3d& p,
 
 }  // namespace sdcb
 
-#endif  // SDCB_CORE_TESSELLATE_TRIANGLE_DISTANCE_H_
+#endif  // SDCB_CORE_MEASURE_TRIANGLE_DISTANCE_H_

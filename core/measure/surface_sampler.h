@@ -3,8 +3,8 @@
 // the pattern of domain triangles) knows nothing about splines; a sampler is
 // the evaluator (OpenSubdiv keeps Bfr::Tessellation apart from Bfr::Surface
 // the same way).
-#ifndef SDCB_CORE_TESSELLATE_SURFACE_SAMPLER_H_
-#define SDCB_CORE_TESSELLATE_SURFACE_SAMPLER_H_
+#ifndef SDCB_CORE_MEASURE_SURFACE_SAMPLER_H_
+#define SDCB_CORE_MEASURE_SURFACE_SAMPLER_H_
 
 #include <Eigen/Core>
 #include <vector>
@@ -85,4 +85,4 @@ class PiecewiseSplineSampler : public SurfaceSampler {
 
 }  // namespace sdcb
 
-#endif  // SDCB_CORE_TESSELLATE_SURFACE_SAMPLER_H_
+#endif  // SDCB_CORE_MEASURE_SURFACE_SAMPLER_H_

@@ -6,13 +6,13 @@
 // core/tessellate/face_verification.h) and the exporters' independent
 // measurements (converters/tessellation_deviation.h,
 // converters/cage_deviation.h).
-#ifndef SDCB_CORE_TESSELLATE_CLOSEST_SURFACE_POINTS_H_
-#define SDCB_CORE_TESSELLATE_CLOSEST_SURFACE_POINTS_H_
+#ifndef SDCB_CORE_MEASURE_CLOSEST_SURFACE_POINTS_H_
+#define SDCB_CORE_MEASURE_CLOSEST_SURFACE_POINTS_H_
 
 #include <Eigen/Core>
 #include <cstdint>
 
-#include "sdcb/core/tessellate/surface_sampler.h"
+#include "sdcb/core/measure/surface_sampler.h"
 
 namespace sdcb {
 
@@ -35,4 +35,4 @@ Eigen::VectorXd ClosestSurfacePoints(const SurfaceSampler& surface,
 
 }  // namespace sdcb
 
-#endif  // SDCB_CORE_TESSELLATE_CLOSEST_SURFACE_POINTS_H_
+#endif  // SDCB_CORE_MEASURE_CLOSEST_SURFACE_POINTS_H_
