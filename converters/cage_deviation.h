@@ -115,9 +115,11 @@ StatusOr<CageDeviation> MeasureCageDeviation(
     const CageDeviationOptions& options = {},
     const SplineImage* image = nullptr);
 
-// Newton steps toward the point of face `f` of the limit surface closest to
-// `x`, from (*u, *v), staying in the face's parameter domain; updates (*u,
-// *v) and returns the distance of the best point found.
+// Gauss-Newton steps (core/measure/closest_surface_points.h:
+// GaussNewtonClosest, steps not shortened) toward the point of face `f` of
+// the limit surface closest to `x`, from (*u, *v), staying in the face's
+// parameter domain; updates (*u, *v) and returns the distance of the best
+// point found.
 double ClosestOnLimitFace(const PreparedLimit& limit, int f,
                           const Eigen::Vector3d& x, int iterations, double* u,
                           double* v);
