@@ -189,19 +189,6 @@ CageLattices BuildLattices(const SurfaceSampler& spline,
   return l;
 }
 
-// A third of each lattice triangle's area to each of its corners.
-Eigen::VectorXd CornerWeights(const TriangleMesh& mesh) {
-  Eigen::VectorXd w = Eigen::VectorXd::Zero(mesh.vertices.rows());
-  for (Eigen::Index t = 0; t < mesh.faces.rows(); ++t) {
-    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(t, 0));
-    const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(t, 1));
-    const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(t, 2));
-    const double third = (b - a).cross(c - a).norm() / 6.0;
-    for (int k = 0; k < 3; ++k) w[mesh.faces(t, k)] += third;
-  }
-  return w;
-}
-
 // Limit -> spline (length units): searches from the sample's sphere point,
 // then, where that ends more than 1 % farther than the nearest point y of
 // the spline's image plus half the image's chord there, or farther than
@@ -257,7 +244,8 @@ Eigen::VectorXd LimitToSpline(const SurfaceSampler& spline,
 void SummarizeLimitSide(const CageLattices& l, int nf,
                         const Eigen::VectorXd& limit_distance,
                         CageDeviation* out) {
-  const Eigen::VectorXd limit_weight = CornerWeights(l.limit_mesh);
+  // A third of each lattice triangle's area to each of its corners.
+  const Eigen::VectorXd limit_weight = VertexAreas(l.limit_mesh);
   const Eigen::Index ns = limit_distance.size();
   const int np = static_cast<int>(l.lattice.uv.size());
   out->lattice_level = l.level;
@@ -342,7 +330,7 @@ Status SplineToLimit(const PreparedLimit& prepared, const CageLattices& l,
           folded[i] = du.cross(dv).dot(l.spline_normals.row(i).transpose()) < 0;
         }
       });
-  const Eigen::VectorXd weight = CornerWeights(l.spline_mesh);
+  const Eigen::VectorXd weight = VertexAreas(l.spline_mesh);
   const double area = weight.sum();
   double folded_area = 0;
   for (Eigen::Index i = 0; i < ns; ++i) {
