@@ -2,7 +2,7 @@
 // cage written by `sdcb cage` is re-read from its OBJ, refined by
 // OpenSubdiv's Far (not the Bfr stencils the converter fits and measures
 // with) LEVELS times, and its limit points measured against the spline by
-// core/fit/surface_deviation (the fit's own honest measurement: exact
+// core/measure/surface_deviation (the fit's own honest measurement: exact
 // evaluator, closest-point searches both ways); printed beside the
 // report's figures.
 //
@@ -14,7 +14,7 @@
 #include <sstream>
 #include <string>
 
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/far_refinement.h"
 

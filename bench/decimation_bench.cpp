@@ -23,7 +23,7 @@
 //     Bytes at equal error, the .sdcb side (docs/FORMAT.md, "Bytes at equal
 //     error"): the model written without sphere parameters, lossless (0) or
 //     quantized (default "0 16"), read back and measured as `sdcb compare`
-//     measures (core/fit/surface_deviation.h, 200,000 samples each way);
+//     measures (core/measure/surface_deviation.h, 200,000 samples each way);
 //     the file's bytes, its chunks' bytes and the stated bound.
 //   decimation_bench mesh MESH CANDIDATE ...
 //     Any triangle mesh (a decoded gltfpack file) against MESH, 200,000
@@ -61,7 +61,7 @@
 
 #include "bench/garland_heckbert.h"
 #include "sdcb/converters/gltf_export.h"
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/tessellate/adaptive_tessellation.h"

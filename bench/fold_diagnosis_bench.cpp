@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "sdcb/core/fit/spline_fitter.h"
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/io/mesh_reader.h"

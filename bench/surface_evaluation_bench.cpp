@@ -27,9 +27,9 @@
 #include <string>
 #include <vector>
 
+#include "sdcb/core/measure/surface_sampler.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/tessellate/optimal_triangle_count.h"
-#include "sdcb/core/tessellate/surface_sampler.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/spline_model_fixture.h"
 

@@ -7,7 +7,7 @@
 //
 // - limit -> spline: each limit point's distance to the spline by a
 //   closest-point search on the spline
-//   (core/tessellate/closest_surface_points.h) from its sphere point, and where
+//   (core/measure/closest_surface_points.h) from its sphere point, and where
 //   that ends more than 1 % farther than its nearest point on an image of the
 //   spline (SplineImage) plus half that image's chord there, or farther than
 //   the spline at that point's sphere point, again from that sphere point; the
@@ -30,9 +30,9 @@
 #include "sdcb/converters/limit_surface.h"
 #include "sdcb/core/cage/sphere_cage_topology.h"
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/measure/surface_sampler.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
-#include "sdcb/core/tessellate/surface_sampler.h"
 
 namespace sdcb {
 
@@ -115,9 +115,11 @@ StatusOr<CageDeviation> MeasureCageDeviation(
     const CageDeviationOptions& options = {},
     const SplineImage* image = nullptr);
 
-// Newton steps toward the point of face `f` of the limit surface closest to
-// `x`, from (*u, *v), staying in the face's parameter domain; updates (*u,
-// *v) and returns the distance of the best point found.
+// Gauss-Newton steps (core/measure/closest_surface_points.h:
+// GaussNewtonClosest, steps not shortened) toward the point of face `f` of
+// the limit surface closest to `x`, from (*u, *v), staying in the face's
+// parameter domain; updates (*u, *v) and returns the distance of the best
+// point found.
 double ClosestOnLimitFace(const PreparedLimit& limit, int f,
                           const Eigen::Vector3d& x, int iterations, double* u,
                           double* v);

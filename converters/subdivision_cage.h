@@ -29,8 +29,8 @@
 #include "sdcb/converters/limit_surface.h"
 #include "sdcb/core/cage/sphere_cage_topology.h"
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/measure/surface_sampler.h"
 #include "sdcb/core/spline/spherical_spline.h"
-#include "sdcb/core/tessellate/surface_sampler.h"
 
 namespace sdcb {
 

@@ -5,8 +5,8 @@
 #include <limits>
 #include <random>
 
+#include "sdcb/core/measure/closest_surface_points.h"
 #include "sdcb/core/mesh/mesh_distance.h"
-#include "sdcb/core/tessellate/closest_surface_points.h"
 
 namespace sdcb {
 namespace {

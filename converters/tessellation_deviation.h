@@ -11,8 +11,8 @@
 #ifndef SDCB_CONVERTERS_TESSELLATION_DEVIATION_H_
 #define SDCB_CONVERTERS_TESSELLATION_DEVIATION_H_
 
+#include "sdcb/core/measure/surface_sampler.h"
 #include "sdcb/core/tessellate/adaptive_tessellation.h"
-#include "sdcb/core/tessellate/surface_sampler.h"
 
 namespace sdcb {
 

@@ -1,7 +1,7 @@
 // sdcb compare MODEL.sdcb MESH [--json FILE] [--samples N] [--mesh-samples N]
 //              [--picture OUT.ply] [--quiet]
 // The two-sided distance between a model's surface and any mesh
-// (core/fit/surface_deviation.h), in percent of the mesh's largest
+// (core/measure/surface_deviation.h), in percent of the mesh's largest
 // bounding-box side; --picture writes the measured surface colored by it,
 // its folded samples blue.
 #include <algorithm>
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "sdcb/converters/color_ramp.h"
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/mesh_writer.h"
 #include "sdcb/io/sdcb_file.h"

@@ -56,7 +56,7 @@ struct FitProgress {
 struct FitOptions {
   int degree = 4;  // k, 2..5
   // Stop when the two-sided rms distance between the surface and the mesh
-  // (dense samples of both, core/fit/surface_deviation.h) is at most this,
+  // (dense samples of both, core/measure/surface_deviation.h) is at most this,
   // with no folded area; percent of the largest bounding-box side.
   double rmse_percent = 0.05;
   // ... and the two-sided Hausdorff distance (the same dense samples) at

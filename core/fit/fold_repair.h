@@ -26,7 +26,7 @@
 // D_s = sum_j |J_sj|^2 / N_jj), so a step corrects about 1 / (1 + damping)
 // of each violation. After every step the lattice is measured again where
 // the step can move the surface (RemeasureSurfaceToMesh of
-// core/fit/surface_deviation.h: surface -> mesh and the fold test); the
+// core/measure/surface_deviation.h: surface -> mesh and the fold test); the
 // step is taken if it leaves less folded area (or as much with less
 // shortfall below the floor) and the lattice's surface -> mesh distance
 // within the larger of max_distance_percent and the given spline's, and the
@@ -44,7 +44,7 @@
 #include <Eigen/SparseCore>
 
 #include "sdcb/core/common/status.h"
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/spline/dcb_basis.h"

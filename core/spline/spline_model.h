@@ -61,7 +61,7 @@ enum class ErrorMeasure {
   // |x_i - F(u_i)| at the input vertices (format version 1 models).
   kVertices = 0,
   // The two-sided distance between the surface and the input mesh, measured
-  // at dense samples of both (core/fit/surface_deviation.h).
+  // at dense samples of both (core/measure/surface_deviation.h).
   kDenseTwoSided = 1,
 };
 

@@ -32,8 +32,8 @@
 #include <string>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/measure/surface_sampler.h"
 #include "sdcb/core/tessellate/sphere_triangulation.h"
-#include "sdcb/core/tessellate/surface_sampler.h"
 
 namespace sdcb {
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "sdcb/core/measure/sample_lattice.h"
 #include "sdcb/core/tessellate/mesh_side_distance.h"
 
 namespace sdcb {
@@ -22,43 +23,36 @@ constexpr double kRecheckFraction = 0.7;
 constexpr double kMaxStretch = 1.2;
 constexpr double kRecheckRefinement = 2.5;
 
-// A face's barycentric lattice of order m: the weights (i, j, k) / m,
-// i + j + k = m, corners first (not evaluated: they are the face's
-// vertices), and the pairs of adjacent points.
+// A face's barycentric lattice of order m (TriangleLattice): the weights
+// (i, j, m - i - j) / m, corners not included (they are the face's
+// vertices, not evaluated), and the pairs of adjacent points.
 struct Lattice {
   explicit Lattice(int m) {
-    const auto index = [m](int i, int j) {
-      return i * (m + 1) - i * (i - 1) / 2 + j;  // row-major over i
-    };
-    std::vector<Eigen::Vector3d> all;
-    for (int i = 0; i <= m; ++i)
-      for (int j = 0; i + j <= m; ++j) {
-        all.emplace_back(double(i) / m, double(j) / m, double(m - i - j) / m);
-      }
+    const TriangleLattice lattice(m, LatticeOrientation::kIJ);
     // Corners (i = m), (j = m), (k = m) as -1, -2, -3; others renumbered.
-    std::vector<int> renumber(all.size());
-    for (int i = 0; i <= m; ++i)
-      for (int j = 0; i + j <= m; ++j) {
-        const int x = index(i, j);
-        if (i == m) {
-          renumber[x] = -1;
-        } else if (j == m) {
-          renumber[x] = -2;
-        } else if (i + j == 0) {
-          renumber[x] = -3;
-        } else {
-          renumber[x] = static_cast<int>(weights.size());
-          weights.push_back(all[x]);
-        }
+    std::vector<int> renumber(lattice.points.size());
+    for (size_t x = 0; x < lattice.points.size(); ++x) {
+      const int i = lattice.points[x][0], j = lattice.points[x][1];
+      if (i == m) {
+        renumber[x] = -1;
+      } else if (j == m) {
+        renumber[x] = -2;
+      } else if (i + j == 0) {
+        renumber[x] = -3;
+      } else {
+        renumber[x] = static_cast<int>(weights.size());
+        weights.emplace_back(double(i) / m, double(j) / m,
+                             double(m - i - j) / m);
       }
-    for (int i = 0; i <= m; ++i)
-      for (int j = 0; i + j < m; ++j) {
-        const int x = renumber[index(i, j)], y = renumber[index(i + 1, j)],
-                  z = renumber[index(i, j + 1)];
-        edges.push_back({x, y});
-        edges.push_back({x, z});
-        edges.push_back({y, z});
-      }
+    }
+    for (size_t t = 0; t < lattice.triangles.size(); ++t) {
+      if (!lattice.upward[t]) continue;
+      const Eigen::Vector3i& c = lattice.triangles[t];
+      const int x = renumber[c[0]], y = renumber[c[1]], z = renumber[c[2]];
+      edges.push_back({x, y});
+      edges.push_back({x, z});
+      edges.push_back({y, z});
+    }
   }
   std::vector<Eigen::Vector3d> weights;   // points other than corners
   std::vector<std::array<int, 2>> edges;  // corner c as -1 - c
@@ -384,6 +378,232 @@ double ShortestDomainEdge(const SphereTriangulation& pattern, int f) {
   return s;
 }
 
+// Per face slot, what the verification keeps between rounds.
+struct FaceState {
+  std::vector<double> lattice_error;
+  std::vector<double> angle;
+  std::vector<char> settled;  // too small
+  std::vector<char> was_flipped;
+  // How many splits for the angle its domain triangle went through
+  // (kMaxAngleSplits ends them).
+  std::vector<char> angle_splits;
+
+  explicit FaceState(int slots)
+      : lattice_error(slots, 0.0),
+        angle(slots, 0.0),
+        settled(slots, 0),
+        was_flipped(slots, 0),
+        angle_splits(slots, 0) {}
+};
+
+// Measures faces `pending` on their lattices of order options.lattice and,
+// where the lattice may miss the maximum (near the threshold, or a
+// stretched image), again finer; then the ascents from the lattice peaks.
+std::vector<LatticeMeasure> MeasurePending(const SurfaceSampler& surface,
+                                           const SampledFaces& faces,
+                                           const std::vector<int>& pending,
+                                           const VerificationOptions& options,
+                                           int64_t* evaluations) {
+  const Eigen::Index n = static_cast<Eigen::Index>(pending.size());
+  std::vector<LatticeMeasure> measured =
+      MeasureLattices(surface, faces, pending,
+                      std::vector<int>(pending.size(), options.lattice),
+                      options.threshold, evaluations);
+  std::vector<int> again, orders;
+  std::vector<size_t> again_index;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const LatticeMeasure& m = measured[i];
+    const double distance = std::max(m.distance, m.mesh_sampled);
+    if (!m.angle_ok || !(distance <= options.threshold)) continue;
+    if (distance > kRecheckFraction * options.threshold ||
+        m.stretch > kMaxStretch) {
+      again.push_back(pending[i]);
+      again_index.push_back(i);
+      orders.push_back(std::min<int>(
+          kMaxOrder,
+          static_cast<int>(std::ceil(
+              options.lattice *
+              std::min(10.0, std::max(kRecheckRefinement, m.stretch))))));
+    }
+  }
+  if (!again.empty()) {
+    const std::vector<LatticeMeasure> finer = MeasureLattices(
+        surface, faces, again, orders, options.threshold, evaluations);
+    for (size_t j = 0; j < again.size(); ++j) {
+      LatticeMeasure& m = measured[again_index[j]];
+      if (finer[j].distance > m.distance || !finer[j].peaks.empty()) {
+        m.peaks = finer[j].peaks;
+        m.order = finer[j].order;
+      }
+      m.distance = std::max(m.distance, finer[j].distance);
+      m.mesh_distance = std::max(m.mesh_sampled, finer[j].mesh_distance);
+      m.mesh_sampled = std::max(m.mesh_sampled, finer[j].mesh_sampled);
+      m.angle = std::max(m.angle, finer[j].angle);
+      m.angle_ok = m.angle_ok && finer[j].angle_ok;
+    }
+  }
+  Ascend(surface, faces, pending, options.threshold, &measured, evaluations);
+  return measured;
+}
+
+// Records each measured face's error and angle in `state` and returns per
+// face whether it passed, failed the distance or failed the angle.
+std::vector<char> Judge(const SampledFaces& faces,
+                        const std::vector<int>& pending,
+                        const std::vector<LatticeMeasure>& measured,
+                        double threshold, FaceState* state) {
+  std::vector<char> failed(pending.size(), kPassed);
+  for (size_t i = 0; i < pending.size(); ++i) {
+    const int f = pending[i];
+    state->lattice_error[f] =
+        std::max(measured[i].distance, measured[i].mesh_distance);
+    state->angle[f] = measured[i].angle;
+    if (!(state->lattice_error[f] <= threshold) ||
+        !(faces.error(f) <= threshold)) {
+      failed[i] = kDistanceFailed;
+    } else if (!measured[i].angle_ok &&
+               (state->angle_splits[f] < kMaxAngleSplits ||
+                measured[i].angle > kRightAngle)) {
+      failed[i] = kAngleFailed;
+    }
+  }
+  return failed;
+}
+
+// The flips: one of a failing face's edges whose two new faces pass (their
+// samples and lattices) repairs it without new faces. Once per face: a flip
+// that passed on the base lattice may fail the finer one, and flipping back
+// would never end. They run before any split of the round, whose midpoints
+// are not evaluated yet. Marks the faces in `touched` and appends them to
+// `changed`.
+void FlipFailing(const std::vector<int>& pending,
+                 const std::vector<char>& failed, double threshold,
+                 SampledFaces* faces, FaceState* state,
+                 std::vector<char>* touched, std::vector<int>* changed) {
+  SphereTriangulation& pattern = faces->samples().pattern;
+  std::vector<char>& was_flipped = state->was_flipped;
+  for (size_t i = 0; i < pending.size(); ++i) {
+    const int f = pending[i];
+    if (!failed[i] || (*touched)[f] || was_flipped[f]) continue;
+    for (int e = 0; e < 3; ++e) {
+      const int h = 3 * f + e;
+      const int g = pattern.Twin(h) / 3;
+      std::array<SphereTriangulation::Face, 2> two;
+      if ((*touched)[g] || was_flipped[g] || !pattern.PreviewFlip(h, &two)) {
+        continue;
+      }
+      FaceChange change;
+      change.faces.assign(two.begin(), two.end());
+      change.slots = {f, g};
+      change.old_faces = {f, g};
+      ChangeResult checked;
+      if (!faces->Evaluate(change, threshold, &checked)) continue;
+      pattern.Flip(h);
+      faces->Apply(change, &checked);
+      (*touched)[f] = (*touched)[g] = 1;
+      was_flipped[f] = was_flipped[g] = 1;
+      changed->push_back(f);
+      changed->push_back(g);
+      break;
+    }
+  }
+}
+
+// The splits of the faces still failing: each (SplitEdgeOf) at the edge's
+// domain midpoint, with the face across it (each face at most once per
+// round). Appends the new midpoints to `midpoints`, the changes to
+// `changes` (their new faces not yet filled in), the changed slots to
+// `changed` and the faces to measure again that could not be split this
+// round to `next`. Returns the number of splits.
+int64_t SplitFailing(const std::vector<int>& pending,
+                     const std::vector<char>& failed, double min_edge_radians,
+                     SurfaceSamples* samples, FaceState* state,
+                     std::vector<char>* touched, std::vector<int>* next,
+                     std::vector<int>* changed, std::vector<int>* midpoints,
+                     std::vector<FaceChange>* changes) {
+  SphereTriangulation& pattern = samples->pattern;
+  int64_t splits = 0;
+  for (size_t i = 0; i < pending.size(); ++i) {
+    const int f = pending[i];
+    if (!failed[i] || !pattern.alive(f)) continue;
+    if ((*touched)[f]) {
+      next->push_back(f);
+      continue;
+    }
+    if (ShortestDomainEdge(pattern, f) < min_edge_radians) {
+      state->settled[f] = 1;
+      continue;
+    }
+    const int edge = SplitEdgeOf(*samples, f, failed[i] == kAngleFailed);
+    const int g = pattern.Twin(edge) / 3;
+    if ((*touched)[g]) {
+      next->push_back(f);
+      continue;
+    }
+    const int a = pattern.Origin(edge), b = pattern.Target(edge);
+    const int m = pattern.SplitEdge(
+        edge, (pattern.vertex(a) + pattern.vertex(b)).normalized());
+    midpoints->push_back(m);
+    FaceChange change;
+    change.old_faces = {f, g};
+    change.slots = {f, g, pattern.num_face_slots() - 2,
+                    pattern.num_face_slots() - 1};
+    ++splits;
+    touched->resize(pattern.num_face_slots(), 0);
+    state->was_flipped.resize(pattern.num_face_slots(), 0);
+    state->angle_splits.resize(pattern.num_face_slots(), 0);
+    const char depth = static_cast<char>(
+        std::max(state->angle_splits[f], state->angle_splits[g]) +
+        (failed[i] == kAngleFailed ? 1 : 0));
+    for (int x : change.slots) {
+      (*touched)[x] = 1;
+      state->was_flipped[x] = 0;
+      state->angle_splits[x] = depth;
+      changed->push_back(x);
+    }
+    changes->push_back(std::move(change));
+  }
+  return splits;
+}
+
+// After a round's splits: the midpoints evaluated (the newest vertices, one
+// batch), the samples of the split faces redistributed, and the faces to
+// measure next: the changed ones and their neighbours (whose triangles
+// across changed), with `next`, alive and not settled, ascending.
+std::vector<int> FinishRound(const SurfaceSampler& surface,
+                             const std::vector<int>& midpoints,
+                             const std::vector<int>& changed,
+                             std::vector<FaceChange>* changes,
+                             std::vector<int> next, SampledFaces* faces,
+                             FaceState* state) {
+  SurfaceSamples& samples = faces->samples();
+  SphereTriangulation& pattern = samples.pattern;
+  if (!midpoints.empty()) {
+    EvaluateNewVertices(surface, midpoints.front(), &samples);
+  }
+  faces->Resize();
+  state->lattice_error.resize(pattern.num_face_slots(), 0.0);
+  state->angle.resize(pattern.num_face_slots(), 0.0);
+  state->settled.resize(pattern.num_face_slots(), 0);
+  state->was_flipped.resize(pattern.num_face_slots(), 0);
+  for (FaceChange& change : *changes) {
+    for (int x : change.slots) change.faces.push_back(pattern.face(x));
+    faces->Reassign(change);
+  }
+  for (int x : changed) {
+    state->settled[x] = 0;
+    next.push_back(x);
+    for (int e = 0; e < 3; ++e) next.push_back(pattern.Twin(3 * x + e) / 3);
+  }
+  std::sort(next.begin(), next.end());
+  next.erase(std::unique(next.begin(), next.end()), next.end());
+  next.erase(std::remove_if(
+                 next.begin(), next.end(),
+                 [&](int f) { return !pattern.alive(f) || state->settled[f]; }),
+             next.end());
+  return next;
+}
+
 }  // namespace
 
 Status VerifyFaces(const SurfaceSampler& surface,
@@ -394,13 +614,7 @@ Status VerifyFaces(const SurfaceSampler& surface,
   }
   SurfaceSamples& samples = faces->samples();
   SphereTriangulation& pattern = samples.pattern;
-  std::vector<double> lattice_error(pattern.num_face_slots(), 0.0);
-  std::vector<double> face_angle(pattern.num_face_slots(), 0.0);
-  std::vector<char> settled(pattern.num_face_slots(), 0);  // too small
-  std::vector<char> was_flipped(pattern.num_face_slots(), 0);
-  // Per face slot: how many splits for the angle its domain triangle went
-  // through (kMaxAngleSplits ends them).
-  std::vector<char> angle_splits(pattern.num_face_slots(), 0);
+  FaceState state(pattern.num_face_slots());
   std::vector<int> pending;
   for (int f = 0; f < pattern.num_face_slots(); ++f) {
     if (pattern.alive(f)) pending.push_back(f);
@@ -412,175 +626,31 @@ Status VerifyFaces(const SurfaceSampler& surface,
     ~NoLattice() { faces->SetLattice(nullptr, 0); }
   } no_lattice{faces};
   while (!pending.empty()) {
-    const Eigen::Index n = static_cast<Eigen::Index>(pending.size());
-    std::vector<LatticeMeasure> measured =
-        MeasureLattices(surface, *faces, pending,
-                        std::vector<int>(pending.size(), options.lattice),
-                        options.threshold, &result->evaluations);
-    // Where the lattice may miss the maximum: measured again, finer.
-    std::vector<int> again, orders;
-    std::vector<size_t> again_index;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const LatticeMeasure& m = measured[i];
-      const double distance = std::max(m.distance, m.mesh_sampled);
-      if (!m.angle_ok || !(distance <= options.threshold)) continue;
-      if (distance > kRecheckFraction * options.threshold ||
-          m.stretch > kMaxStretch) {
-        again.push_back(pending[i]);
-        again_index.push_back(i);
-        orders.push_back(std::min<int>(
-            kMaxOrder,
-            static_cast<int>(std::ceil(
-                options.lattice *
-                std::min(10.0, std::max(kRecheckRefinement, m.stretch))))));
-      }
-    }
-    if (!again.empty()) {
-      const std::vector<LatticeMeasure> finer =
-          MeasureLattices(surface, *faces, again, orders, options.threshold,
-                          &result->evaluations);
-      for (size_t j = 0; j < again.size(); ++j) {
-        LatticeMeasure& m = measured[again_index[j]];
-        if (finer[j].distance > m.distance || !finer[j].peaks.empty()) {
-          m.peaks = finer[j].peaks;
-          m.order = finer[j].order;
-        }
-        m.distance = std::max(m.distance, finer[j].distance);
-        m.mesh_distance = std::max(m.mesh_sampled, finer[j].mesh_distance);
-        m.mesh_sampled = std::max(m.mesh_sampled, finer[j].mesh_sampled);
-        m.angle = std::max(m.angle, finer[j].angle);
-        m.angle_ok = m.angle_ok && finer[j].angle_ok;
-      }
-    }
-    Ascend(surface, *faces, pending, options.threshold, &measured,
-           &result->evaluations);
-    std::vector<char> failed(n, kPassed);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const int f = pending[i];
-      lattice_error[f] =
-          std::max(measured[i].distance, measured[i].mesh_distance);
-      face_angle[f] = measured[i].angle;
-      if (!(lattice_error[f] <= options.threshold) ||
-          !(faces->error(f) <= options.threshold)) {
-        failed[i] = kDistanceFailed;
-      } else if (!measured[i].angle_ok && (angle_splits[f] < kMaxAngleSplits ||
-                                           measured[i].angle > kRightAngle)) {
-        failed[i] = kAngleFailed;
-      }
-    }
-
-    // Each failing face is split (SplitEdgeOf) at the edge's domain midpoint,
-    // with the face across it (each face at most once per round); the
-    // midpoints are evaluated in one batch and the two faces' samples
-    // redistributed among the four.
+    const std::vector<LatticeMeasure> measured =
+        MeasurePending(surface, *faces, pending, options, &result->evaluations);
+    const std::vector<char> failed =
+        Judge(*faces, pending, measured, options.threshold, &state);
+    // Each failing face is repaired by a flip or split (SplitEdgeOf) at the
+    // edge's domain midpoint, with the face across it; the midpoints are
+    // evaluated in one batch and the two faces' samples redistributed among
+    // the four.
     std::vector<char> touched(pattern.num_face_slots(), 0);
     std::vector<int> next, changed, midpoints;
     std::vector<FaceChange> changes;
-    int64_t splits = 0;
-    // First the flips: one of a failing face's edges whose two new faces
-    // pass (their samples and lattices) repairs it without new faces. Once
-    // per face: a flip that passed on the base lattice may fail the finer
-    // one, and flipping back would never end. They run before any split of
-    // the round, whose midpoints are not evaluated yet.
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const int f = pending[i];
-      if (!failed[i] || touched[f] || was_flipped[f]) continue;
-      for (int e = 0; e < 3; ++e) {
-        const int h = 3 * f + e;
-        const int g = pattern.Twin(h) / 3;
-        std::array<SphereTriangulation::Face, 2> two;
-        if (touched[g] || was_flipped[g] || !pattern.PreviewFlip(h, &two)) {
-          continue;
-        }
-        FaceChange change;
-        change.faces.assign(two.begin(), two.end());
-        change.slots = {f, g};
-        change.old_faces = {f, g};
-        ChangeResult checked;
-        if (!faces->Evaluate(change, options.threshold, &checked)) continue;
-        pattern.Flip(h);
-        faces->Apply(change, &checked);
-        touched[f] = touched[g] = 1;
-        was_flipped[f] = was_flipped[g] = 1;
-        changed.push_back(f);
-        changed.push_back(g);
-        break;
-      }
-    }
-    // Then the splits of the faces still failing.
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const int f = pending[i];
-      if (!failed[i] || !pattern.alive(f)) continue;
-      if (touched[f]) {
-        next.push_back(f);
-        continue;
-      }
-      if (ShortestDomainEdge(pattern, f) < options.min_edge_radians) {
-        settled[f] = 1;
-        continue;
-      }
-      const int edge = SplitEdgeOf(samples, f, failed[i] == kAngleFailed);
-      const int g = pattern.Twin(edge) / 3;
-      if (touched[g]) {
-        next.push_back(f);
-        continue;
-      }
-      const int a = pattern.Origin(edge), b = pattern.Target(edge);
-      const int m = pattern.SplitEdge(
-          edge, (pattern.vertex(a) + pattern.vertex(b)).normalized());
-      midpoints.push_back(m);
-      FaceChange change;
-      change.old_faces = {f, g};
-      change.slots = {f, g, pattern.num_face_slots() - 2,
-                      pattern.num_face_slots() - 1};
-      ++splits;
-      touched.resize(pattern.num_face_slots(), 0);
-      was_flipped.resize(pattern.num_face_slots(), 0);
-      angle_splits.resize(pattern.num_face_slots(), 0);
-      const char depth =
-          static_cast<char>(std::max(angle_splits[f], angle_splits[g]) +
-                            (failed[i] == kAngleFailed ? 1 : 0));
-      for (int x : change.slots) {
-        touched[x] = 1;
-        was_flipped[x] = 0;
-        angle_splits[x] = depth;
-        changed.push_back(x);
-      }
-      changes.push_back(std::move(change));
-    }
+    FlipFailing(pending, failed, options.threshold, faces, &state, &touched,
+                &changed);
+    const int64_t splits =
+        SplitFailing(pending, failed, options.min_edge_radians, &samples,
+                     &state, &touched, &next, &changed, &midpoints, &changes);
     if (pattern.num_faces() > options.max_faces) {
       return InvalidInputError("the tolerance needs more than " +
                                std::to_string(options.max_faces) +
                                " triangles");
     }
-    // The midpoints are the newest vertices: one batch.
-    if (!midpoints.empty()) {
-      EvaluateNewVertices(surface, midpoints.front(), &samples);
-    }
-    faces->Resize();
-    lattice_error.resize(pattern.num_face_slots(), 0.0);
-    face_angle.resize(pattern.num_face_slots(), 0.0);
-    settled.resize(pattern.num_face_slots(), 0);
-    was_flipped.resize(pattern.num_face_slots(), 0);
-    for (FaceChange& change : changes) {
-      for (int x : change.slots) change.faces.push_back(pattern.face(x));
-      faces->Reassign(change);
-    }
-    // The split faces and their neighbours (whose triangles across changed)
-    // are measured again.
-    for (int x : changed) {
-      settled[x] = 0;
-      next.push_back(x);
-      for (int e = 0; e < 3; ++e) next.push_back(pattern.Twin(3 * x + e) / 3);
-    }
-    std::sort(next.begin(), next.end());
-    next.erase(std::unique(next.begin(), next.end()), next.end());
-    next.erase(
-        std::remove_if(next.begin(), next.end(),
-                       [&](int f) { return !pattern.alive(f) || settled[f]; }),
-        next.end());
+    next = FinishRound(surface, midpoints, changed, &changes, std::move(next),
+                       faces, &state);
     result->splits += splits;
-    if (options.progress) options.progress(n, splits);
+    if (options.progress) options.progress(pending.size(), splits);
     pending = std::move(next);
   }
   result->max_distance = 0.0;
@@ -588,10 +658,10 @@ Status VerifyFaces(const SurfaceSampler& surface,
   result->uncertified_faces = 0;
   for (int f = 0; f < pattern.num_face_slots(); ++f) {
     if (!pattern.alive(f)) continue;
-    result->max_distance =
-        std::max({result->max_distance, lattice_error[f], faces->error(f)});
-    result->max_angle = std::max(result->max_angle, face_angle[f]);
-    if (settled[f]) ++result->uncertified_faces;
+    result->max_distance = std::max(
+        {result->max_distance, state.lattice_error[f], faces->error(f)});
+    result->max_angle = std::max(result->max_angle, state.angle[f]);
+    if (state.settled[f]) ++result->uncertified_faces;
   }
   return Status::Ok();
 }

@@ -6,7 +6,7 @@
 // the angular test applies), and the mesh's side: the distance from the
 // flat triangle's lattice points to the surface (to S at the domain point
 // of the same weights, or nearer, by a closest-point search from there,
-// core/tessellate/closest_surface_points.h, where that is above the
+// core/measure/closest_surface_points.h, where that is above the
 // threshold). Faces above `threshold` either way are split at the
 // domain midpoint of their longest image edge (with the face across it),
 // their samples redistributed, and the faces this made are measured the
@@ -23,8 +23,8 @@
 #include <functional>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/measure/surface_sampler.h"
 #include "sdcb/core/tessellate/sampled_certificate.h"
-#include "sdcb/core/tessellate/surface_sampler.h"
 
 namespace sdcb {
 

@@ -5,7 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 
-#include "sdcb/core/tessellate/closest_surface_points.h"
+#include "sdcb/core/measure/closest_surface_points.h"
 
 namespace sdcb {
 namespace {

@@ -7,7 +7,7 @@
 // the flat triangle's least-squares inverse of S(u(w)) - x: the surface's
 // Jacobian in the weights is the flat triangle's to first order), and what
 // is still above gets a closest-point search from u(w)
-// (core/tessellate/closest_surface_points.h). Every distance is to a point
+// (core/measure/closest_surface_points.h). Every distance is to a point
 // of the surface found, never below the true one. Used by the tessellator's
 // verification (core/tessellate/face_verification.h).
 #ifndef SDCB_CORE_TESSELLATE_MESH_SIDE_DISTANCE_H_
@@ -17,7 +17,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sdcb/core/tessellate/surface_sampler.h"
+#include "sdcb/core/measure/surface_sampler.h"
 #include "sdcb/core/tessellate/surface_samples.h"
 
 namespace sdcb {

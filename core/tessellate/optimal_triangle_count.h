@@ -15,7 +15,7 @@
 #include <Eigen/Core>
 
 #include "sdcb/core/common/status.h"
-#include "sdcb/core/tessellate/surface_sampler.h"
+#include "sdcb/core/measure/surface_sampler.h"
 
 namespace sdcb {
 

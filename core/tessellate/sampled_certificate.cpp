@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "sdcb/core/tessellate/triangle_distance.h"
+#include "sdcb/core/measure/triangle_distance.h"
 
 namespace sdcb {
 namespace {

@@ -6,7 +6,7 @@
 // triangulation stays closed, manifold, genus 0 and without T-junctions.
 //
 // It holds directions and faces only; the surface is evaluated elsewhere
-// (core/tessellate/surface_sampler.h), as OpenSubdiv keeps Bfr::Tessellation
+// (core/measure/surface_sampler.h), as OpenSubdiv keeps Bfr::Tessellation
 // apart from Bfr::Surface.
 //
 // Half-edge h = 3 f + e runs from face(f)[e] to face(f)[(e + 1) % 3].

@@ -160,6 +160,184 @@ void EvaluateNewVertices(const SurfaceSampler& surface, int first,
   samples->evaluations += n - first;
 }
 
+namespace {
+
+// The refinement of SampleSurface: the samples, the criteria and the
+// bisections.
+class Refiner {
+ public:
+  Refiner(const SurfaceSampler& surface, const SurfaceSampleOptions& options,
+          SurfaceSamples* s)
+      : surface_(surface),
+        options_(options),
+        s_(*s),
+        test_angle_(options.angle_degrees < 180.0),
+        angle_length_(options.angle_length_factor * options.tolerance) {}
+
+  // The criteria, `scale` times looser than the options' (errors times it,
+  // lengths and angles times its square root, angles at most the final one).
+  void SetCriteria(double scale) {
+    max_length_ = options_.length_factor *
+                  std::sqrt(scale * options_.tolerance * s_.size);
+    max_error_ = scale * options_.error_fraction * options_.tolerance;
+    min_cos_ = std::cos(std::min(options_.angle_degrees,
+                                 options_.angle_degrees * std::sqrt(scale) /
+                                     options_.angle_divisions) *
+                        kPi / 180.0);
+  }
+
+  // Bisects the failing faces of `pending` and then the faces that made,
+  // round after round, until none fails.
+  Status Refine(std::vector<int> pending) {
+    std::vector<char> failing;
+    while (!pending.empty()) {
+      failing.assign(pending.size(), 0);
+      tbb::parallel_for(size_t{0}, pending.size(), [&](size_t i) {
+        failing[i] = s_.pattern.alive(pending[i]) && Fails(pending[i]);
+      });
+      const int first_vertex = s_.pattern.num_vertices();
+      const int first_face = s_.pattern.num_face_slots();
+      std::vector<int> touched;
+      for (size_t i = 0; i < pending.size(); ++i) {
+        // A split earlier in this round may have split this face already.
+        const SphereTriangulation::Face& t = s_.pattern.face(pending[i]);
+        if (failing[i] && s_.pattern.alive(pending[i]) &&
+            std::max({t[0], t[1], t[2]}) < first_vertex) {
+          Bisect(pending[i], &touched);
+        }
+      }
+      if (s_.pattern.num_vertices() > options_.max_vertices) {
+        return InvalidInputError(
+            "the surface needs more than " +
+            std::to_string(options_.max_vertices) +
+            " samples for this tolerance (it bends or tears faster than "
+            "its domain can be refined): use a larger tolerance");
+      }
+      EvaluateNewVertices(surface_, first_vertex, &s_);
+      for (int f = first_face; f < s_.pattern.num_face_slots(); ++f) {
+        touched.push_back(f);
+      }
+      std::sort(touched.begin(), touched.end());
+      touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+      pending = std::move(touched);
+      if (options_.progress) options_.progress(s_.pattern.num_vertices());
+    }
+    return Status::Ok();
+  }
+
+  // The coarse pattern is done: its faces are recorded as the coarse faces,
+  // and every face of a later split belongs to its ancestor.
+  void RecordCoarseFaces() {
+    ancestor_.assign(s_.pattern.num_face_slots(), -1);
+    for (int f = 0; f < s_.pattern.num_face_slots(); ++f) {
+      if (!s_.pattern.alive(f)) continue;
+      ancestor_[f] = static_cast<int>(s_.coarse_faces.size());
+      s_.coarse_faces.push_back(s_.pattern.face(f));
+    }
+    s_.coarse_face_of.assign(s_.pattern.num_vertices(), -1);
+  }
+
+ private:
+  // Whether face f fails (see the header). Faces whose image is within the
+  // error share of a point are left: at a singular point of the surface
+  // (its normals turning over within any neighbourhood) no split would make
+  // them pass.
+  bool Fails(int f) const {
+    const SphereTriangulation::Face& t = s_.pattern.face(f);
+    double longest2 = 0.0, q = 0.0, least_cos = 1.0;
+    for (int e = 0; e < 3; ++e) {
+      const int a = t[e], b = t[(e + 1) % 3];
+      const Eigen::Vector3d d = s_.positions[b] - s_.positions[a];
+      longest2 = std::max(longest2, d.squaredNorm());
+      if (s_.normals[a].isZero(0.0) || s_.normals[b].isZero(0.0)) continue;
+      const double c = s_.normals[a].dot(s_.normals[b]);
+      least_cos = std::min(least_cos, c);
+      // Across a fold or a cusp (normals turned over) the quadratic
+      // prediction means nothing; the size criterion still holds there.
+      if (c > 0.0)
+        q = std::max(q, std::abs((s_.normals[b] - s_.normals[a]).dot(d)));
+    }
+    if (longest2 > max_length_ * max_length_) return true;
+    if (longest2 <= max_error_ * max_error_) return false;
+    // The angular test applies to faces larger than the tolerance only.
+    return q > 6.0 * max_error_ || (test_angle_ && least_cos < min_cos_ &&
+                                    longest2 > angle_length_ * angle_length_);
+  }
+
+  // Domain edges order the bisections (longest first, ties by vertex
+  // index): Rivara's longest-edge bisection, which keeps the domain faces
+  // well shaped and ends. (Image lengths would not: near a singular point
+  // of the surface they drive the domain faces into needles.)
+  bool Longer(int a, int b, int c, int d) const {
+    const double lab =
+        (s_.pattern.vertex(a) - s_.pattern.vertex(b)).squaredNorm();
+    const double lcd =
+        (s_.pattern.vertex(c) - s_.pattern.vertex(d)).squaredNorm();
+    if (lab != lcd) return lab > lcd;
+    return std::make_pair(std::min(a, b), std::max(a, b)) >
+           std::make_pair(std::min(c, d), std::max(c, d));
+  }
+
+  int LongestHalfEdge(int f) const {
+    const SphereTriangulation::Face& t = s_.pattern.face(f);
+    int best = 0;
+    for (int e = 1; e < 3; ++e) {
+      if (Longer(t[e], t[(e + 1) % 3], t[best], t[(best + 1) % 3])) best = e;
+    }
+    return 3 * f + best;
+  }
+
+  void Split(int h, std::vector<int>* touched) {
+    const int a = s_.pattern.Origin(h), b = s_.pattern.Target(h);
+    touched->push_back(h / 3);
+    touched->push_back(s_.pattern.Twin(h) / 3);
+    const int f = h / 3, g = s_.pattern.Twin(h) / 3;
+    s_.pattern.SplitEdge(
+        h, (s_.pattern.vertex(a) + s_.pattern.vertex(b)).normalized());
+    if (!ancestor_.empty()) {
+      const int slots = s_.pattern.num_face_slots();
+      ancestor_.resize(slots);
+      ancestor_[slots - 2] = ancestor_[f];
+      ancestor_[slots - 1] = ancestor_[g];
+      s_.coarse_face_of.push_back(ancestor_[f]);
+    }
+  }
+
+  // LEPP: walks from f across longest edges until two faces share their
+  // longest edge, splits it, and starts again until f itself is split.
+  void Bisect(int f0, std::vector<int>* touched) {
+    constexpr int kMaxPath = 64;
+    const SphereTriangulation::Face original = s_.pattern.face(f0);
+    while (s_.pattern.alive(f0) && s_.pattern.face(f0) == original) {
+      int h = LongestHalfEdge(f0);
+      for (int depth = 0; depth < kMaxPath; ++depth) {
+        const int t = s_.pattern.Twin(h);
+        const int next = LongestHalfEdge(t / 3);
+        if (next == t) break;
+        h = next;
+      }
+      const int a = s_.pattern.Origin(h), b = s_.pattern.Target(h);
+      if (DomainAngle(s_.pattern.vertex(a), s_.pattern.vertex(b)) <
+          options_.min_edge_radians) {
+        return;
+      }
+      Split(h, touched);
+    }
+  }
+
+  const SurfaceSampler& surface_;
+  const SurfaceSampleOptions& options_;
+  SurfaceSamples& s_;
+  const bool test_angle_;
+  const double angle_length_;
+  double max_length_ = 0.0, max_error_ = 0.0, min_cos_ = 1.0;
+  // Once the coarse pattern is done: per face slot, the coarse face it
+  // belongs to (empty before).
+  std::vector<int> ancestor_;
+};
+
+}  // namespace
+
 StatusOr<SurfaceSamples> SampleSurface(const SurfaceSampler& surface,
                                        const SurfaceSampleOptions& options) {
   if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance)) {
@@ -179,157 +357,19 @@ StatusOr<SurfaceSamples> SampleSurface(const SurfaceSampler& surface,
   if (!std::isfinite(s.size)) {
     return InvalidInputError("the surface has a non-finite point");
   }
+  Refiner refiner(surface, options, &s);
   const bool coarse_first = options.coarse_scale > 1.0;
-  const bool test_angle = options.angle_degrees < 180.0;
-  const double angle_length = options.angle_length_factor * options.tolerance;
-  // The criteria, `scale` times looser than the options' (errors times it,
-  // lengths and angles times its square root, angles at most the final one).
-  double max_length = 0.0, max_error = 0.0, min_cos = 1.0;
-  const auto set_criteria = [&](double scale) {
-    max_length =
-        options.length_factor * std::sqrt(scale * options.tolerance * s.size);
-    max_error = scale * options.error_fraction * options.tolerance;
-    min_cos = std::cos(std::min(options.angle_degrees,
-                                options.angle_degrees * std::sqrt(scale) /
-                                    options.angle_divisions) *
-                       kPi / 180.0);
-  };
-  set_criteria(coarse_first ? options.coarse_scale : 1.0);
-  // Once the coarse pattern is done: per face slot, the coarse face it
-  // belongs to (empty before).
-  std::vector<int> ancestor;
-
-  // Whether face f fails (see the header). Faces whose image is within the
-  // error share of a point are left: at a singular point of the surface
-  // (its normals turning over within any neighbourhood) no split would make
-  // them pass.
-  const auto fails = [&](int f) {
-    const SphereTriangulation::Face& t = s.pattern.face(f);
-    double longest2 = 0.0, q = 0.0, least_cos = 1.0;
-    for (int e = 0; e < 3; ++e) {
-      const int a = t[e], b = t[(e + 1) % 3];
-      const Eigen::Vector3d d = s.positions[b] - s.positions[a];
-      longest2 = std::max(longest2, d.squaredNorm());
-      if (s.normals[a].isZero(0.0) || s.normals[b].isZero(0.0)) continue;
-      const double c = s.normals[a].dot(s.normals[b]);
-      least_cos = std::min(least_cos, c);
-      // Across a fold or a cusp (normals turned over) the quadratic
-      // prediction means nothing; the size criterion still holds there.
-      if (c > 0.0)
-        q = std::max(q, std::abs((s.normals[b] - s.normals[a]).dot(d)));
-    }
-    if (longest2 > max_length * max_length) return true;
-    if (longest2 <= max_error * max_error) return false;
-    // The angular test applies to faces larger than the tolerance only.
-    return q > 6.0 * max_error || (test_angle && least_cos < min_cos &&
-                                   longest2 > angle_length * angle_length);
-  };
-  // Domain edges order the bisections (longest first, ties by vertex
-  // index): Rivara's longest-edge bisection, which keeps the domain faces
-  // well shaped and ends. (Image lengths would not: near a singular point
-  // of the surface they drive the domain faces into needles.)
-  const auto longer = [&](int a, int b, int c, int d) {
-    const double lab =
-        (s.pattern.vertex(a) - s.pattern.vertex(b)).squaredNorm();
-    const double lcd =
-        (s.pattern.vertex(c) - s.pattern.vertex(d)).squaredNorm();
-    if (lab != lcd) return lab > lcd;
-    return std::make_pair(std::min(a, b), std::max(a, b)) >
-           std::make_pair(std::min(c, d), std::max(c, d));
-  };
-  const auto longest_half_edge = [&](int f) {
-    const SphereTriangulation::Face& t = s.pattern.face(f);
-    int best = 0;
-    for (int e = 1; e < 3; ++e) {
-      if (longer(t[e], t[(e + 1) % 3], t[best], t[(best + 1) % 3])) best = e;
-    }
-    return 3 * f + best;
-  };
-  const auto split = [&](int h, std::vector<int>* touched) {
-    const int a = s.pattern.Origin(h), b = s.pattern.Target(h);
-    touched->push_back(h / 3);
-    touched->push_back(s.pattern.Twin(h) / 3);
-    const int f = h / 3, g = s.pattern.Twin(h) / 3;
-    s.pattern.SplitEdge(
-        h, (s.pattern.vertex(a) + s.pattern.vertex(b)).normalized());
-    if (!ancestor.empty()) {
-      const int slots = s.pattern.num_face_slots();
-      ancestor.resize(slots);
-      ancestor[slots - 2] = ancestor[f];
-      ancestor[slots - 1] = ancestor[g];
-      s.coarse_face_of.push_back(ancestor[f]);
-    }
-  };
-  // LEPP: walks from f across longest edges until two faces share their
-  // longest edge, splits it, and starts again until f itself is split.
-  constexpr int kMaxPath = 64;
-  const auto bisect = [&](int f0, std::vector<int>* touched) {
-    const SphereTriangulation::Face original = s.pattern.face(f0);
-    while (s.pattern.alive(f0) && s.pattern.face(f0) == original) {
-      int h = longest_half_edge(f0);
-      for (int depth = 0; depth < kMaxPath; ++depth) {
-        const int t = s.pattern.Twin(h);
-        const int next = longest_half_edge(t / 3);
-        if (next == t) break;
-        h = next;
-      }
-      const int a = s.pattern.Origin(h), b = s.pattern.Target(h);
-      if (DomainAngle(s.pattern.vertex(a), s.pattern.vertex(b)) <
-          options.min_edge_radians) {
-        return;
-      }
-      split(h, touched);
-    }
-  };
-
-  std::vector<int> pending(s.pattern.num_face_slots());
-  for (int f = 0; f < s.pattern.num_face_slots(); ++f) pending[f] = f;
-  std::vector<char> failing;
-  for (bool coarse = coarse_first;; coarse = false) {
-    while (!pending.empty()) {
-      failing.assign(pending.size(), 0);
-      tbb::parallel_for(size_t{0}, pending.size(), [&](size_t i) {
-        failing[i] = s.pattern.alive(pending[i]) && fails(pending[i]);
-      });
-      const int first_vertex = s.pattern.num_vertices();
-      const int first_face = s.pattern.num_face_slots();
-      std::vector<int> touched;
-      for (size_t i = 0; i < pending.size(); ++i) {
-        // A split earlier in this round may have split this face already.
-        const SphereTriangulation::Face& t = s.pattern.face(pending[i]);
-        if (failing[i] && s.pattern.alive(pending[i]) &&
-            std::max({t[0], t[1], t[2]}) < first_vertex) {
-          bisect(pending[i], &touched);
-        }
-      }
-      if (s.pattern.num_vertices() > options.max_vertices) {
-        return InvalidInputError(
-            "the surface needs more than " +
-            std::to_string(options.max_vertices) +
-            " samples for this tolerance (it bends or tears faster than "
-            "its domain can be refined): use a larger tolerance");
-      }
-      EvaluateNewVertices(surface, first_vertex, &s);
-      for (int f = first_face; f < s.pattern.num_face_slots(); ++f) {
-        touched.push_back(f);
-      }
-      std::sort(touched.begin(), touched.end());
-      touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-      pending = std::move(touched);
-      if (options.progress) options.progress(s.pattern.num_vertices());
-    }
-    if (!coarse) break;
+  refiner.SetCriteria(coarse_first ? options.coarse_scale : 1.0);
+  std::vector<int> all(s.pattern.num_face_slots());
+  std::iota(all.begin(), all.end(), 0);
+  SDCB_RETURN_IF_ERROR(refiner.Refine(all));
+  if (coarse_first) {
     // The coarse pattern is done: its faces, then the dense criteria.
-    ancestor.assign(s.pattern.num_face_slots(), -1);
-    for (int f = 0; f < s.pattern.num_face_slots(); ++f) {
-      if (!s.pattern.alive(f)) continue;
-      ancestor[f] = static_cast<int>(s.coarse_faces.size());
-      s.coarse_faces.push_back(s.pattern.face(f));
-    }
-    s.coarse_face_of.assign(s.pattern.num_vertices(), -1);
-    set_criteria(1.0);
-    pending.resize(s.pattern.num_face_slots());
-    std::iota(pending.begin(), pending.end(), 0);
+    refiner.RecordCoarseFaces();
+    refiner.SetCriteria(1.0);
+    all.resize(s.pattern.num_face_slots());
+    std::iota(all.begin(), all.end(), 0);
+    SDCB_RETURN_IF_ERROR(refiner.Refine(all));
   }
   return SpatiallyOrdered(s);
 }

@@ -125,7 +125,7 @@ TEST(CageDeviationTest, AgreesWithBruteForceBothWays) {
     sum_oracle += oracle * oracle;
     // Both are distances to points of the spline (upper bounds of the true
     // distance); ours is at most slightly farther than what the search finds
-    // (core/fit/surface_deviation stops refining once within 1 % of its
+    // (core/measure/surface_deviation stops refining once within 1 % of its
     // lattice image: pessimistic by design, by up to ~0.02 % here).
     EXPECT_LE(ours, 1.05 * oracle + 0.02) << "sample " << i;
   }

@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sdcb/core/fit/spline_fitter.h"
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/io/mesh_reader.h"
 #include "sdcb/io/sdcb_file.h"
@@ -114,7 +114,7 @@ TEST_F(SurfaceMeshExportTest, LibraryMakesWhatTheCommandLineWrites) {
 }
 
 // The tolerance holds both ways, measured as `sdcb compare` measures
-// (core/fit/surface_deviation.h: CGAL's AABB tree over a lattice of the
+// (core/measure/surface_deviation.h: CGAL's AABB tree over a lattice of the
 // surface, closest points on the exact spline), 40 points per triangle on
 // each side, not by the tessellator's certificate: the mesh's side too
 // (the flat triangles' points to the surface), which the certificate's

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "sdcb/core/tessellate/surface_sampler.h"
+#include "sdcb/core/measure/surface_sampler.h"
 
 namespace sdcb::testing {
 

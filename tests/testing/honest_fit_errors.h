@@ -108,7 +108,7 @@ void ForRandomSurfacePoints(const FitResult& fit, int points, unsigned seed,
   }
 }
 
-// The fold test of core/fit/surface_deviation.h by brute force at `points`
+// The fold test of core/measure/surface_deviation.h by brute force at `points`
 // random sphere points: the spline's normal there against the normals of
 // every mesh triangle at the closest distance (within 1e-9 of the
 // bounding box's side: all triangles holding the closest point); a point is

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/io/sdcb_file.h"
 #include "testing/far_refinement.h"
 #include "testing/fbx_binary_reader.h"

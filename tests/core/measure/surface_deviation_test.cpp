@@ -1,9 +1,9 @@
-// The honest error measure (core/fit/surface_deviation.h) and its distance
+// The honest error measure (core/measure/surface_deviation.h) and its distance
 // oracle (core/mesh/mesh_distance.h) against brute force: point-to-triangle
 // distances computed here over every triangle, closest spline points found
 // by exhaustive evaluation on ever finer grids, and the orientation
 // identities of the fold detector.
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 
 #include <gtest/gtest.h>
 

@@ -52,8 +52,8 @@
 //
 // Distances are in percent of DeviationOptions::length_unit (the largest
 // side of the mesh's bounding box, in the frame of both objects).
-#ifndef SDCB_CORE_FIT_SURFACE_DEVIATION_H_
-#define SDCB_CORE_FIT_SURFACE_DEVIATION_H_
+#ifndef SDCB_CORE_MEASURE_SURFACE_DEVIATION_H_
+#define SDCB_CORE_MEASURE_SURFACE_DEVIATION_H_
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -209,4 +209,4 @@ Status RemeasureSurfaceToMesh(const SphericalSpline& surface,
 
 }  // namespace sdcb
 
-#endif  // SDCB_CORE_FIT_SURFACE_DEVIATION_H_
+#endif  // SDCB_CORE_MEASURE_SURFACE_DEVIATION_H_

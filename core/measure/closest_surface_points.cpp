@@ -1,7 +1,8 @@
-#include "sdcb/core/tessellate/closest_surface_points.h"
+#include "sdcb/core/measure/closest_surface_points.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "sdcb/core/sphere/sphere_geometry.h"
@@ -18,7 +19,77 @@ constexpr int kHalvings = 4;
 // next step would change its distance by about the square of it.
 constexpr double kConverged = 1e-7;
 
+// The longest step of ClosestSurfacePoint, radians.
+constexpr double kMaxJetStep = 0.2;
+
+ChartPoint ToChartPoint(const SurfacePoint& s) {
+  ChartPoint out;
+  out.position = s.position;
+  out.du = s.du;
+  out.dv = s.dv;
+  return out;
+}
+
 }  // namespace
+
+double GaussNewtonClosest(
+    const Eigen::Vector3d& x, ChartPoint current, int iterations,
+    double max_step,
+    const std::function<void(const Eigen::Vector2d&, ChartPoint*)>& try_step,
+    const std::function<void()>& accept) {
+  double best = (current.position - x).norm();
+  for (int it = 0; it < iterations && best > 0; ++it) {
+    const Eigen::Vector3d r = current.position - x;
+    const Eigen::Vector3d& du = current.du;
+    const Eigen::Vector3d& dv = current.dv;
+    Eigen::Matrix2d jtj;
+    jtj << du.dot(du), du.dot(dv), du.dot(dv), dv.dot(dv);
+    const Eigen::Vector2d jtr(du.dot(r), dv.dot(r));
+    const double det = jtj.determinant();
+    if (!(std::abs(det) > 1e-300)) break;
+    Eigen::Vector2d step = -jtj.inverse() * jtr;
+    if (max_step > 0) {
+      const double length = step.norm();
+      if (length > max_step) step *= max_step / length;
+    }
+    bool improved = false;
+    for (int halving = 0; halving < 4; ++halving, step *= 0.5) {
+      ChartPoint candidate;
+      try_step(step, &candidate);
+      const double d = (candidate.position - x).norm();
+      if (d < best) {
+        best = d;
+        current = candidate;
+        accept();
+        improved = true;
+        break;
+      }
+    }
+    if (!improved) break;
+  }
+  return best;
+}
+
+double ClosestSurfacePoint(const SurfaceSampler& surface,
+                           const Eigen::Vector3d& x,
+                           const Eigen::Vector3d& start, int iterations,
+                           Eigen::Vector3d* found) {
+  Eigen::Vector3d p = start, q;
+  SurfacePoint s = surface.EvaluateJet(p), t;
+  const double best = GaussNewtonClosest(
+      x, ToChartPoint(s), iterations, kMaxJetStep,
+      [&](const Eigen::Vector2d& step, ChartPoint* point) {
+        q = (p + step[0] * s.frame_u + step[1] * s.frame_v).normalized();
+        t = surface.EvaluateJet(q);
+        *point = ToChartPoint(t);
+      },
+      [&] {
+        p = q;
+        s = t;
+      });
+  if (found) *found = p;
+  return best;
+}
 
 Eigen::VectorXd ClosestSurfacePoints(const SurfaceSampler& surface,
                                      const Eigen::MatrixX3d& points,

@@ -1,4 +1,4 @@
-#include "sdcb/core/fit/surface_deviation.h"
+#include "sdcb/core/measure/surface_deviation.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -7,23 +7,26 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
 
+#include "sdcb/core/measure/closest_surface_points.h"
+#include "sdcb/core/measure/sample_lattice.h"
+#include "sdcb/core/measure/surface_sampler.h"
+#include "sdcb/core/measure/triangle_distance.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/core/spline/design_matrix.h"
-#include "sdcb/core/spline/piecewise_surface.h"
 
 namespace sdcb {
 namespace {
 
-// The lattice of level L over every knot triangle: sphere points (one row
-// per lattice vertex; vertices on shared edges appear once per triangle) and
-// its triangles (three rows of `points` each).
+// Lattice points are pulled toward their knot triangle's centroid by this
+// (relative): see BuildLattice.
 constexpr double kInset = 1e-6;
 // A spline point farther than this times the distance to the lattice's image
 // starts a closest-point search on the spline.
@@ -31,7 +34,8 @@ constexpr double kRefineRatio = 1.01;
 // Points at or above this share of the largest distance are searched too.
 constexpr double kSearchedShareOfMax = 0.5;
 // The measurement evaluates the spline through its polynomials when it has
-// at least this many points to evaluate per control point (SplineEvaluator).
+// at least this many points to evaluate per control point
+// (MakeSplineSampler).
 constexpr double kPolynomialPointsPerControlPoint = 32;
 // The mesh's side is split for at most this many times the samples asked.
 constexpr int64_t kMaxSampleRatio = 8;
@@ -44,7 +48,13 @@ constexpr int kMaxBoundRounds = 40;
 constexpr int64_t kMinBoundSamples = 10000;
 constexpr int64_t kBoundSampleDivisor = 5;
 
+// The lattice of level L over every knot triangle (TriangleLattice,
+// counter-clockwise in (i, j), weights i / L of the second corner and j / L
+// of the third): sphere points (one row per lattice vertex; vertices on
+// shared edges appear once per triangle) and its triangles (three rows of
+// `points` each).
 struct Lattice {
+  int level = 0;
   Eigen::MatrixX3d points;
   Eigen::MatrixX3i triangles;
   std::vector<int> knot_triangle;  // per point
@@ -52,14 +62,15 @@ struct Lattice {
 
 Lattice BuildLattice(const Eigen::MatrixX3d& knots,
                      const DelaunayConfigurations& triangles, int level) {
-  const int per_triangle_points = (level + 1) * (level + 2) / 2;
-  const int per_triangle_faces = level * level;
+  const TriangleLattice lattice(level, LatticeOrientation::kIJ);
+  const int per_triangle_points = static_cast<int>(lattice.points.size());
+  const int per_triangle_faces = static_cast<int>(lattice.triangles.size());
   const int n = static_cast<int>(triangles.sets.size());
   Lattice out;
+  out.level = level;
   out.points.resize(static_cast<Eigen::Index>(n) * per_triangle_points, 3);
   out.triangles.resize(static_cast<Eigen::Index>(n) * per_triangle_faces, 3);
   out.knot_triangle.resize(out.points.rows());
-  Eigen::Index point = 0, face = 0;
   for (int t = 0; t < n; ++t) {
     const ConfigurationSet& set = triangles.sets[t];
     // Counter-clockwise seen from outside, as the sphere's orientation.
@@ -67,103 +78,30 @@ Lattice BuildLattice(const Eigen::MatrixX3d& knots,
     Eigen::Vector3d b = knots.row(set.knots[1]);
     Eigen::Vector3d c = knots.row(set.knots[2]);
     if (Det3Sign(a, b, c) < 0) std::swap(b, c);
-    const Eigen::Index base = point;
-    // Row i (0..L) holds L - i + 1 points: index of (i, j).
-    std::vector<Eigen::Index> row_start(level + 2);
-    for (int i = 0; i <= level; ++i) {
-      row_start[i] = point - base;
-      for (int j = 0; j <= level - i; ++j, ++point) {
-        // Pulled toward the centroid by kInset (relative): no sample lies
-        // exactly on a knot or on the great circle through two knots, where
-        // the basis's exact predicates would need exact arithmetic; the
-        // images of neighbouring knot triangles still meet within ~1e-6.
-        const double wb = kInset + (1.0 - 3.0 * kInset) * i / level;
-        const double wc = kInset + (1.0 - 3.0 * kInset) * j / level;
-        out.points.row(point) =
-            ((1.0 - wb - wc) * a + wb * b + wc * c).normalized().transpose();
-        out.knot_triangle[point] = t;
-      }
+    const Eigen::Index base =
+        static_cast<Eigen::Index>(t) * per_triangle_points;
+    for (int k = 0; k < per_triangle_points; ++k) {
+      const int i = lattice.points[k][0], j = lattice.points[k][1];
+      // Pulled toward the centroid by kInset (relative): no sample lies
+      // exactly on a knot or on the great circle through two knots, where
+      // the basis's exact predicates would need exact arithmetic; the
+      // images of neighbouring knot triangles still meet within ~1e-6.
+      const double wb = kInset + (1.0 - 3.0 * kInset) * i / level;
+      const double wc = kInset + (1.0 - 3.0 * kInset) * j / level;
+      out.points.row(base + k) =
+          ((1.0 - wb - wc) * a + wb * b + wc * c).normalized().transpose();
+      out.knot_triangle[base + k] = t;
     }
-    auto at = [&](int i, int j) {
-      return static_cast<int>(base + row_start[i] + j);
-    };
-    for (int i = 0; i < level; ++i) {
-      for (int j = 0; j < level - i; ++j) {
-        out.triangles.row(face++) << at(i, j), at(i + 1, j), at(i, j + 1);
-        if (j + 1 < level - i) {
-          out.triangles.row(face++) << at(i + 1, j), at(i + 1, j + 1),
-              at(i, j + 1);
-        }
-      }
+    const Eigen::Index face = static_cast<Eigen::Index>(t) * per_triangle_faces;
+    for (int f = 0; f < per_triangle_faces; ++f) {
+      out.triangles.row(face + f) =
+          (lattice.triangles[f].array() + static_cast<int>(base))
+              .matrix()
+              .transpose();
     }
   }
-  out.points.conservativeResize(point, 3);
-  out.triangles.conservativeResize(face, 3);
   return out;
 }
-
-// Barycentric coordinates of q's projection onto the plane of (a, b, c),
-// clamped into the triangle (q is the closest point of the triangle).
-Eigen::Vector3d Barycentric(const Eigen::Vector3d& q, const Eigen::Vector3d& a,
-                            const Eigen::Vector3d& b,
-                            const Eigen::Vector3d& c) {
-  const Eigen::Vector3d e0 = b - a, e1 = c - a, d = q - a;
-  const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1);
-  const double d20 = d.dot(e0), d21 = d.dot(e1);
-  const double det = d00 * d11 - d01 * d01;
-  if (!(det > 0)) return Eigen::Vector3d(1.0 / 3, 1.0 / 3, 1.0 / 3);
-  double v = (d11 * d20 - d01 * d21) / det;
-  double w = (d00 * d21 - d01 * d20) / det;
-  v = std::clamp(v, 0.0, 1.0);
-  w = std::clamp(w, 0.0, 1.0 - v);
-  return Eigen::Vector3d(1.0 - v - w, v, w);
-}
-
-// The spline's values for the measurement: through its polynomials
-// (PiecewiseSurface, ~1e-13 relative from the basis's values; several times
-// faster per point once a region is built) or through the basis.
-class SplineEvaluator {
- public:
-  SplineEvaluator(const SphericalSpline& spline, bool polynomials)
-      : spline_(spline) {
-    if (polynomials) polynomials_.emplace(spline);
-  }
-
-  Eigen::Vector3d Evaluate(const Eigen::Vector3d& p) const {
-    return polynomials_ ? polynomials_->Evaluate(p) : spline_.Evaluate(p);
-  }
-  Eigen::MatrixX3d EvaluateMany(const Eigen::MatrixX3d& points) const {
-    if (!polynomials_) return spline_.EvaluateMany(points);
-    Eigen::MatrixX3d positions;
-    polynomials_->EvaluateMany(points, &positions, nullptr);
-    return positions;
-  }
-  // F(p) with its first derivatives in the chart phi(u, v) = F(p + u e_u +
-  // v e_v) of SurfacePoint, and the unit normal.
-  SurfacePoint Jet(const Eigen::Vector3d& p) const {
-    if (!polynomials_) {
-      return spline_.EvaluateDifferential(p, JetOrder::kGradient);
-    }
-    const SurfaceShape shape = polynomials_->EvaluateShape(p);
-    SurfacePoint out;
-    out.position = shape.position;
-    TangentFrame(p.normalized(), &out.frame_u, &out.frame_v);
-    out.du = shape.du;
-    out.dv = shape.dv;
-    out.normal = shape.normal;
-    return out;
-  }
-  Eigen::Vector3d Normal(const Eigen::Vector3d& p) const {
-    if (!polynomials_) return Jet(p).normal;
-    Eigen::Vector3d position, normal;
-    polynomials_->EvaluateWithNormal(p, &position, &normal);
-    return normal;
-  }
-
- private:
-  const SphericalSpline& spline_;
-  std::optional<PiecewiseSurface> polynomials_;
-};
 
 // Fails where F is not finite at the points [begin, end): where I = sum B_i
 // is 0 (outside every basis support: a hole the basis's sampled coverage
@@ -207,7 +145,7 @@ void AddImageAreasAndNormals(const Eigen::MatrixX3d& image,
 // whether it is folded. The lattice's normal (`lattice_normal`) is only a
 // hint where it is coarse: a suspected fold is confirmed with the spline's
 // own normal.
-bool MeasureSurfaceSample(const SplineEvaluator& evaluator,
+bool MeasureSurfaceSample(const SurfaceSampler& evaluator,
                           const MeshDistance& to_mesh, double to_percent,
                           const Eigen::Vector3d& lattice_normal, Eigen::Index i,
                           SurfaceDeviation* out) {
@@ -217,7 +155,7 @@ bool MeasureSurfaceSample(const SplineEvaluator& evaluator,
   out->surface_sample_mesh_face[i] = c.face;
   out->surface_sample_mesh_point.row(i) = c.point.transpose();
   return to_mesh.Opposes(c, lattice_normal) &&
-         to_mesh.Opposes(c, evaluator.Normal(
+         to_mesh.Opposes(c, evaluator.EvaluateNormal(
                                 out->surface_sample_points.row(i).transpose()));
 }
 
@@ -240,48 +178,11 @@ void SummarizeSurfaceToMesh(SurfaceDeviation* out) {
   out->folded_area_percent = area > 0 ? 100.0 * folded_area / area : 0;
 }
 
-// The distance from x to the spline, searched from the sphere point p by
-// Gauss-Newton steps in the tangent chart with step halving. Returns the
-// smallest |F(p) - x| seen (an upper bound of the true distance).
-double ClosestOnSpline(const SplineEvaluator& surface, const Eigen::Vector3d& x,
-                       Eigen::Vector3d p, int iterations) {
-  SurfacePoint s = surface.Jet(p);
-  double best = (s.position - x).norm();
-  for (int it = 0; it < iterations && best > 0; ++it) {
-    const Eigen::Vector3d r = s.position - x;
-    Eigen::Matrix2d jtj;
-    jtj << s.du.dot(s.du), s.du.dot(s.dv), s.du.dot(s.dv), s.dv.dot(s.dv);
-    const Eigen::Vector2d jtr(s.du.dot(r), s.dv.dot(r));
-    const double det = jtj.determinant();
-    if (!(std::abs(det) > 1e-300)) break;
-    Eigen::Vector2d step = -jtj.inverse() * jtr;
-    // At most ~0.2 rad per step: the chart is only good near p.
-    const double length = step.norm();
-    if (length > 0.2) step *= 0.2 / length;
-    bool improved = false;
-    for (int halving = 0; halving < 4; ++halving, step *= 0.5) {
-      const Eigen::Vector3d q =
-          (p + step[0] * s.frame_u + step[1] * s.frame_v).normalized();
-      const SurfacePoint t = surface.Jet(q);
-      const double d = (t.position - x).norm();
-      if (d < best) {
-        best = d;
-        p = q;
-        s = t;
-        improved = true;
-        break;
-      }
-    }
-    if (!improved) break;
-  }
-  return best;
-}
-
 // The distance from points of the mesh to the spline (length units), each
 // the distance to a point of the spline found (never below the true one).
 struct SplineDistance {
-  const SphericalSpline& surface;    // its basis orders the points
-  const SplineEvaluator& evaluator;  // evaluates
+  const SphericalSpline& surface;   // its basis orders the points
+  const SurfaceSampler& evaluator;  // evaluates
   const Lattice& lattice;
   const TriangleMesh& image;  // F at the lattice's points
   const MeshDistance& to_image;
@@ -308,7 +209,7 @@ struct SplineDistance {
         [&](const tbb::blocked_range<Eigen::Index>& range) {
           for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
             const MeshDistance::Closest c = to_image.Find(points[first + i]);
-            const Eigen::Vector3d bary = Barycentric(
+            const Eigen::Vector3d bary = ClampedTriangleCoordinates(
                 c.point, image.vertices.row(lattice.triangles(c.face, 0)),
                 image.vertices.row(lattice.triangles(c.face, 1)),
                 image.vertices.row(lattice.triangles(c.face, 2)));
@@ -342,10 +243,10 @@ struct SplineDistance {
     // lies on the spline.
     std::vector<char> refined(n, 0);
     const auto search = [&](Eigen::Index i) {
-      distance[i] = std::min(distance[i],
-                             ClosestOnSpline(evaluator, points[first + i],
-                                             start.row(i).transpose(),
-                                             options.closest_point_iterations));
+      distance[i] = std::min(
+          distance[i], ClosestSurfacePoint(evaluator, points[first + i],
+                                           start.row(i).transpose(),
+                                           options.closest_point_iterations));
       refined[i] = 1;
     };
     surface.basis().ParallelForEachPoint(start, [&](Eigen::Index i) {
@@ -481,6 +382,195 @@ void CombineHalves(SurfaceDeviation* d) {
       std::max(d->surface_to_mesh_max_percent, d->mesh_to_surface_max_percent);
 }
 
+// kInvalidArgument for options and candidates that do not fit together.
+Status CheckOptions(const TriangleMesh& mesh, const DeviationOptions& options,
+                    const Eigen::MatrixX3d* vertex_candidates) {
+  if (!(options.length_unit > 0) || !std::isfinite(options.length_unit) ||
+      options.min_surface_samples < 1 || options.closest_point_iterations < 0 ||
+      options.mesh_samples < 0) {
+    return InvalidArgumentError(
+        "surface deviation: the length unit must be > 0, the sample counts "
+        ">= 1 (mesh samples >= 0) and the iterations >= 0");
+  }
+  if (!options.closest_points && options.mesh_to_surface &&
+      options.mesh_samples > 0) {
+    return InvalidArgumentError(
+        "surface deviation: without closest points the mesh side is measured "
+        "at the vertices' candidates only");
+  }
+  if ((vertex_candidates &&
+       vertex_candidates->rows() != mesh.vertices.rows()) ||
+      (!vertex_candidates && !options.closest_points &&
+       options.mesh_to_surface)) {
+    return InvalidArgumentError(
+        "surface deviation: one candidate point per mesh vertex is needed");
+  }
+  return Status::Ok();
+}
+
+// The lattice level L: (L + 1)(L + 2) / 2 points per knot triangle >=
+// samples / triangles.
+int LatticeLevel(const DelaunayConfigurations& knot_triangles,
+                 const DeviationOptions& options) {
+  const double triangles = static_cast<double>(knot_triangles.sets.size());
+  int level = 1;
+  while (TriangleLattice::NumPoints(level) * triangles <
+         options.min_surface_samples) {
+    ++level;
+  }
+  return level;
+}
+
+// Whether the measurement evaluates the spline through its polynomials:
+// when the points to evaluate (the `lattice_points`, and a Gauss-Newton
+// search: ~8 per mesh point) are many per control point, each region is
+// built once for several points. Whole measurements on 2 cores, through the
+// basis / the polynomials: bunny00's final one in its fit (~84 per control
+// point) 1.94 / 1.18 s; `sdcb compare` on CGAL's dino (16K control points,
+// every mesh point searched, ~61) 3.2 / 2.4 s; the dino fit's measurements
+// (its final one ~13, a round's lattice ~2) 3.7 / 10.0 s.
+bool ThroughPolynomials(const SphericalSpline& surface,
+                        const TriangleMesh& mesh,
+                        const DeviationOptions& options,
+                        Eigen::Index lattice_points) {
+  const double mesh_points =
+      options.mesh_to_surface && options.closest_points
+          ? static_cast<double>(
+                std::max<int64_t>(mesh.vertices.rows(), options.mesh_samples))
+          : 0.0;
+  const double points = static_cast<double>(lattice_points) +
+                        mesh_points * (options.search_all_vertices ? 8 : 1);
+  return points >= kPolynomialPointsPerControlPoint *
+                       static_cast<double>(surface.basis().size());
+}
+
+// Surface -> mesh at the lattice vertices (their images `image`), with
+// folds: the surface sample fields and figures of `out`.
+void MeasureSurfaceSide(const SurfaceSampler& evaluator,
+                        const MeshDistance& to_mesh,
+                        const DeviationOptions& options, const Lattice& lattice,
+                        const TriangleMesh& image, SurfaceDeviation* out) {
+  const Eigen::Index ns = lattice.points.rows();
+  const double to_percent = 100.0 / options.length_unit;
+  // Area and normal of the image around each lattice vertex: a third of the
+  // area of each of its lattice triangles, the area-weighted normals summed.
+  Eigen::VectorXd weight = Eigen::VectorXd::Zero(ns);
+  Eigen::MatrixX3d normal = Eigen::MatrixX3d::Zero(ns, 3);
+  AddImageAreasAndNormals(image.vertices, lattice.triangles, 0,
+                          lattice.triangles.rows(), &weight, &normal);
+  out->lattice_level = lattice.level;
+  out->surface_samples = ns;
+  out->surface_sample_points = lattice.points;
+  out->surface_sample_positions = image.vertices;
+  out->surface_sample_triangles = lattice.triangles;
+  out->surface_sample_knot_triangle = lattice.knot_triangle;
+  out->surface_sample_distance_percent.resize(ns);
+  out->surface_sample_mesh_face.resize(ns);
+  out->surface_sample_mesh_point.resize(ns, 3);
+  out->surface_sample_weight = std::move(weight);
+  std::vector<char> folded(ns, 0);
+  tbb::parallel_for(
+      tbb::blocked_range<Eigen::Index>(0, ns, 256),
+      [&](const tbb::blocked_range<Eigen::Index>& range) {
+        for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
+          folded[i] = MeasureSurfaceSample(evaluator, to_mesh, to_percent,
+                                           normal.row(i).transpose(), i, out);
+        }
+      });
+  out->surface_sample_folded.assign(folded.begin(), folded.end());
+  SummarizeSurfaceToMesh(out);
+}
+
+// With mesh_samples: the mesh split until its edges are no longer than the
+// spacing of that many points spread evenly over it (its first rows are the
+// mesh's vertices); a mesh of long needles would ask for many more: then the
+// spacing doubles until it has at most kMaxSampleRatio times as many. Sets
+// `*spacing_percent`. Without: nothing (the mesh's vertices are the
+// samples).
+std::optional<TriangleMesh> SplitForSamples(const TriangleMesh& mesh,
+                                            const DeviationOptions& options,
+                                            double* spacing_percent) {
+  std::optional<TriangleMesh> split;
+  if (options.mesh_samples <= 0) return split;
+  const double area = VertexAreas(mesh).sum();
+  double spacing = SplitEdgeLengthFor(area, options.mesh_samples);
+  while (!(split = SplitToEdgeLength(
+               mesh, spacing,
+               std::max<int64_t>(mesh.vertices.rows(),
+                                 kMaxSampleRatio * options.mesh_samples)))) {
+    spacing *= 2;
+  }
+  *spacing_percent = 100.0 / options.length_unit * spacing;
+  return split;
+}
+
+// Mesh -> surface at the points of `samples` (the vertices of
+// `sample_mesh`), by closest points on the spline; with mesh_samples, pieces
+// are then halved where their bound asks for it (see the header).
+void MeasureMeshSide(const SplineDistance& to_spline,
+                     const TriangleMesh& sample_mesh,
+                     const DeviationOptions& options,
+                     const Eigen::MatrixX3d* vertex_candidates,
+                     MeshSamples* samples, SurfaceDeviation* out) {
+  // Unless all are searched, a search on the spline only from a point at
+  // or above the mesh -> surface rms of the first distances (below it a
+  // point barely moves the rms and cannot hold the maximum).
+  const Eigen::VectorXd first_weights = VertexAreas(sample_mesh);
+  samples->distance = to_spline.Distances(
+      samples->points, 0, vertex_candidates,
+      options.search_all_vertices ? nullptr : &first_weights,
+      &out->refined_vertices);
+  // Where the bound of a piece exceeds the largest distance found by more
+  // than kBoundTolerance, the piece is halved and its new point measured,
+  // until none does (or the budget of points is spent): the maximum then
+  // holds within that of an upper bound of the true one.
+  if (options.mesh_samples <= 0) return;
+  const int64_t budget = std::max<int64_t>(
+      kMinBoundSamples, options.mesh_samples / kBoundSampleDivisor);
+  for (int round = 0; round < kMaxBoundRounds; ++round) {
+    const double goal =
+        (1.0 + kBoundTolerance) *
+        *std::max_element(samples->distance.begin(), samples->distance.end());
+    const Eigen::Index before = samples->num_points();
+    if (!samples->HalvePiecesAbove(goal,
+                                   before + budget - out->mesh_bound_samples)) {
+      break;
+    }
+    out->mesh_bound_samples += samples->num_points() - before;
+    const std::vector<double> added = to_spline.Distances(
+        samples->points, before, nullptr, nullptr, &out->refined_vertices);
+    samples->distance.insert(samples->distance.end(), added.begin(),
+                             added.end());
+  }
+}
+
+// The mesh -> surface fields and figures of `out` from the measured
+// `samples` (the first `mesh_vertices` the mesh's vertices), and the
+// two-sided ones.
+void SummarizeMeshToSurface(const MeshSamples& samples,
+                            Eigen::Index mesh_vertices, double to_percent,
+                            SurfaceDeviation* out) {
+  const TriangleMesh pieces = samples.AsMesh();
+  const Eigen::VectorXd weights = VertexAreas(pieces);
+  const Eigen::Map<const Eigen::VectorXd> distance(
+      samples.distance.data(),
+      static_cast<Eigen::Index>(samples.distance.size()));
+  out->mesh_samples = samples.num_points();
+  out->vertex_distance_percent = to_percent * distance.head(mesh_vertices);
+  out->mesh_sample_points = pieces.vertices;
+  out->mesh_sample_distance_percent = to_percent * distance;
+  out->mesh_sample_weight = weights;
+  const double mesh_area = weights.sum();
+  out->mesh_to_surface_rms_percent =
+      mesh_area > 0 ? to_percent * std::sqrt(weights.dot(distance.cwiseAbs2()) /
+                                             mesh_area)
+                    : 0;
+  out->mesh_to_surface_max_percent =
+      out->mesh_samples > 0 ? to_percent * distance.maxCoeff() : 0;
+  out->mesh_to_surface_max_bound_percent = to_percent * samples.MaxBound();
+  CombineHalves(out);
+}
+
 }  // namespace
 
 void SetMeshToSurface(const Eigen::VectorXd& distance_percent,
@@ -505,76 +595,25 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     const SphericalSpline& surface, const TriangleMesh& mesh,
     const DeviationOptions& options, const Eigen::MatrixX3d* vertex_candidates,
     const MeshDistance* mesh_distance) {
-  if (!(options.length_unit > 0) || !std::isfinite(options.length_unit) ||
-      options.min_surface_samples < 1 || options.closest_point_iterations < 0 ||
-      options.mesh_samples < 0) {
-    return InvalidArgumentError(
-        "surface deviation: the length unit must be > 0, the sample counts "
-        ">= 1 (mesh samples >= 0) and the iterations >= 0");
-  }
-  if (!options.closest_points && options.mesh_to_surface &&
-      options.mesh_samples > 0) {
-    return InvalidArgumentError(
-        "surface deviation: without closest points the mesh side is measured "
-        "at the vertices' candidates only");
-  }
-  if ((vertex_candidates &&
-       vertex_candidates->rows() != mesh.vertices.rows()) ||
-      (!vertex_candidates && !options.closest_points &&
-       options.mesh_to_surface)) {
-    return InvalidArgumentError(
-        "surface deviation: one candidate point per mesh vertex is needed");
-  }
+  SDCB_RETURN_IF_ERROR(CheckOptions(mesh, options, vertex_candidates));
   std::optional<MeshDistance> own_distance;
   if (mesh_distance == nullptr) {
     SDCB_ASSIGN_OR_RETURN(own_distance, MeshDistance::Create(mesh));
     mesh_distance = &*own_distance;
   }
-  const MeshDistance& to_mesh = *mesh_distance;
   SDCB_ASSIGN_OR_RETURN(const DelaunayConfigurations knot_triangles,
                         ComputeDelaunayConfigurations(surface.knots(), 0));
-  const double triangles = static_cast<double>(knot_triangles.sets.size());
-  // (L + 1)(L + 2) / 2 points per triangle >= samples / triangles.
-  int level = 1;
-  while ((level + 1) * (level + 2) / 2 * triangles <
-         options.min_surface_samples) {
-    ++level;
-  }
+  const int level = LatticeLevel(knot_triangles, options);
   const Lattice lattice = BuildLattice(surface.knots(), knot_triangles, level);
   const Eigen::Index ns = lattice.points.rows();
-  const Eigen::Index nt = lattice.triangles.rows();
-  const double to_percent = 100.0 / options.length_unit;
+  const std::unique_ptr<SurfaceSampler> evaluator = MakeSplineSampler(
+      surface, ThroughPolynomials(surface, mesh, options, ns));
 
   // The lattice's image: F at every lattice vertex.
-  // Through the polynomials when the points to evaluate (a Gauss-Newton
-  // search: ~8 per mesh point) are many per control point: each region is
-  // built once for several points. Whole measurements on 2 cores, through
-  // the basis / the polynomials: bunny00's final one in its fit (~84 per
-  // control point) 1.94 / 1.18 s; `sdcb compare` on CGAL's dino (16K
-  // control points, every mesh point searched, ~61) 3.2 / 2.4 s; the dino
-  // fit's measurements (its final one ~13, a round's lattice ~2) 3.7 /
-  // 10.0 s.
-  const double mesh_points =
-      options.mesh_to_surface && options.closest_points
-          ? static_cast<double>(
-                std::max<int64_t>(mesh.vertices.rows(), options.mesh_samples))
-          : 0.0;
-  const double points = static_cast<double>(lattice.points.rows()) +
-                        mesh_points * (options.search_all_vertices ? 8 : 1);
-  const SplineEvaluator evaluator(
-      surface, points >= kPolynomialPointsPerControlPoint *
-                             static_cast<double>(surface.basis().size()));
   TriangleMesh image;
-  image.vertices = evaluator.EvaluateMany(lattice.points);
+  evaluator->Sample(lattice.points, &image.vertices, nullptr);
   image.faces = lattice.triangles;
   SDCB_RETURN_IF_ERROR(CheckDefined(lattice.points, image.vertices, 0, ns));
-
-  // Area and normal of the image around each lattice vertex: a third of the
-  // area of each of its lattice triangles, the area-weighted normals summed.
-  Eigen::VectorXd weight = Eigen::VectorXd::Zero(ns);
-  Eigen::MatrixX3d normal = Eigen::MatrixX3d::Zero(ns, 3);
-  AddImageAreasAndNormals(image.vertices, lattice.triangles, 0, nt, &weight,
-                          &normal);
 
   // The image's own AABB tree (for mesh -> surface) is built meanwhile: its
   // construction is sequential.
@@ -584,30 +623,8 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     image_tree.run(
         [&] { image_distance_or.emplace(MeshDistance::Create(image)); });
   }
-
-  // Surface -> mesh at the lattice vertices, with folds.
   SurfaceDeviation out;
-  out.lattice_level = level;
-  out.surface_samples = ns;
-  out.surface_sample_points = lattice.points;
-  out.surface_sample_positions = image.vertices;
-  out.surface_sample_triangles = lattice.triangles;
-  out.surface_sample_knot_triangle = lattice.knot_triangle;
-  out.surface_sample_distance_percent.resize(ns);
-  out.surface_sample_mesh_face.resize(ns);
-  out.surface_sample_mesh_point.resize(ns, 3);
-  out.surface_sample_weight = std::move(weight);
-  std::vector<char> folded(ns, 0);
-  tbb::parallel_for(
-      tbb::blocked_range<Eigen::Index>(0, ns, 256),
-      [&](const tbb::blocked_range<Eigen::Index>& range) {
-        for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
-          folded[i] = MeasureSurfaceSample(evaluator, to_mesh, to_percent,
-                                           normal.row(i).transpose(), i, &out);
-        }
-      });
-  out.surface_sample_folded.assign(folded.begin(), folded.end());
-  SummarizeSurfaceToMesh(&out);
+  MeasureSurfaceSide(*evaluator, *mesh_distance, options, lattice, image, &out);
   image_tree.wait();
   if (!options.mesh_to_surface) {
     out.rms_percent = out.surface_to_mesh_rms_percent;
@@ -615,27 +632,9 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     return out;
   }
 
-  // Mesh -> surface at the vertices, and with mesh_samples at those of
-  // the mesh split until its edges are no longer than the spacing of that
-  // many points spread evenly over it (its first rows are the mesh's
-  // vertices); a mesh of long needles would ask for many more: then the
-  // spacing doubles until it has at most kMaxSampleRatio times as many.
-  std::optional<TriangleMesh> split;
-  const TriangleMesh* sample_mesh = &mesh;
-  if (options.mesh_samples > 0) {
-    const double area = VertexAreas(mesh).sum();
-    double spacing = SplitEdgeLengthFor(area, options.mesh_samples);
-    while (!(split = SplitToEdgeLength(
-                 mesh, spacing,
-                 std::max<int64_t>(mesh.vertices.rows(),
-                                   kMaxSampleRatio * options.mesh_samples)))) {
-      spacing *= 2;
-    }
-    out.mesh_sample_spacing_percent = to_percent * spacing;
-    sample_mesh = &*split;
-  }
-  MeshSamples samples(*sample_mesh);
-  const Eigen::Index mesh_vertices = mesh.vertices.rows();
+  const std::optional<TriangleMesh> split =
+      SplitForSamples(mesh, options, &out.mesh_sample_spacing_percent);
+  MeshSamples samples(split ? *split : mesh);
   if (!options.closest_points) {
     for (Eigen::Index i = 0; i < samples.num_points(); ++i) {
       samples.distance[i] =
@@ -644,59 +643,13 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
   } else {
     SDCB_ASSIGN_OR_RETURN(const MeshDistance to_image,
                           std::move(*image_distance_or));
-    const SplineDistance to_spline{surface, evaluator, lattice,
-                                   image,   to_image,  options};
-    // Unless all are searched, a search on the spline only from a point at
-    // or above the mesh -> surface rms of the first distances (below it a
-    // point barely moves the rms and cannot hold the maximum).
-    const Eigen::VectorXd first_weights = VertexAreas(*sample_mesh);
-    samples.distance = to_spline.Distances(
-        samples.points, 0, vertex_candidates,
-        options.search_all_vertices ? nullptr : &first_weights,
-        &out.refined_vertices);
-    // Where the bound of a piece exceeds the largest distance found by more
-    // than kBoundTolerance, the piece is halved and its new point measured,
-    // until none does (or the budget of points is spent): the maximum then
-    // holds within that of an upper bound of the true one.
-    if (options.mesh_samples > 0) {
-      const int64_t budget = std::max<int64_t>(
-          kMinBoundSamples, options.mesh_samples / kBoundSampleDivisor);
-      for (int round = 0; round < kMaxBoundRounds; ++round) {
-        const double goal =
-            (1.0 + kBoundTolerance) *
-            *std::max_element(samples.distance.begin(), samples.distance.end());
-        const Eigen::Index before = samples.num_points();
-        if (!samples.HalvePiecesAbove(
-                goal, before + budget - out.mesh_bound_samples)) {
-          break;
-        }
-        out.mesh_bound_samples += samples.num_points() - before;
-        const std::vector<double> added = to_spline.Distances(
-            samples.points, before, nullptr, nullptr, &out.refined_vertices);
-        samples.distance.insert(samples.distance.end(), added.begin(),
-                                added.end());
-      }
-    }
+    const SplineDistance to_spline{surface, *evaluator, lattice,
+                                   image,   to_image,   options};
+    MeasureMeshSide(to_spline, split ? *split : mesh, options,
+                    vertex_candidates, &samples, &out);
   }
-  const TriangleMesh pieces = samples.AsMesh();
-  const Eigen::VectorXd weights = VertexAreas(pieces);
-  const Eigen::Map<const Eigen::VectorXd> distance(
-      samples.distance.data(),
-      static_cast<Eigen::Index>(samples.distance.size()));
-  out.mesh_samples = samples.num_points();
-  out.vertex_distance_percent = to_percent * distance.head(mesh_vertices);
-  out.mesh_sample_points = pieces.vertices;
-  out.mesh_sample_distance_percent = to_percent * distance;
-  out.mesh_sample_weight = weights;
-  const double mesh_area = weights.sum();
-  out.mesh_to_surface_rms_percent =
-      mesh_area > 0 ? to_percent * std::sqrt(weights.dot(distance.cwiseAbs2()) /
-                                             mesh_area)
-                    : 0;
-  out.mesh_to_surface_max_percent =
-      out.mesh_samples > 0 ? to_percent * distance.maxCoeff() : 0;
-  out.mesh_to_surface_max_bound_percent = to_percent * samples.MaxBound();
-  CombineHalves(&out);
+  SummarizeMeshToSurface(samples, mesh.vertices.rows(),
+                         100.0 / options.length_unit, &out);
   return out;
 }
 
@@ -708,7 +661,7 @@ Status RemeasureSurfaceToMesh(const SphericalSpline& surface,
                               SurfaceDeviation* deviation) {
   SurfaceDeviation& d = *deviation;
   const int level = d.lattice_level;
-  const Eigen::Index per_triangle_points = (level + 1) * (level + 2) / 2;
+  const Eigen::Index per_triangle_points = TriangleLattice::NumPoints(level);
   const Eigen::Index per_triangle_faces = level * level;
   const Eigen::Index ns = d.surface_sample_points.rows();
   if (options.mesh_to_surface || level < 1 || ns == 0 ||
@@ -752,7 +705,7 @@ Status RemeasureSurfaceToMesh(const SphericalSpline& surface,
     if (reached) touched.push_back(t);
   }
 
-  const SplineEvaluator evaluator(surface, false);
+  const SplineSampler evaluator(surface);
   const double to_percent = 100.0 / options.length_unit;
   std::vector<char> folded(ns, 0);
   Eigen::MatrixX3d normal = Eigen::MatrixX3d::Zero(ns, 3);
