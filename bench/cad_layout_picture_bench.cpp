@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "bench/picture.h"
-#include "sdcb/converters/cad_network.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/converters/cad/cad_network.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 
 int main(int argc, char** argv) {
   if (argc < 3) {

@@ -18,7 +18,7 @@
 
 #include "converters/cad_reread_oracle.h"
 #include "sdcb/core/spline/spherical_spline.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/occt_reread.h"
 
 int main(int argc, char** argv) {

@@ -4,18 +4,18 @@
 // the cage vertices are
 //   pulled: the spline at the vertices' sphere points (an interpolating
 //           cage, what remeshing the surface and using it as a cage gives),
-//   fitted: the least-squares fit of converters/subdivision_cage,
+//   fitted: the least-squares fit of converters/cage/subdivision_cage,
 // then the adaptive fit for the same face counts (--faces). Measured at
-// >= 100K points each way (converters/cage_deviation).
+// >= 100K points each way (converters/cage/cage_deviation).
 //   cage_bench MODEL.sdcb [--scheme catmark|loop] [--levels MAX]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
-#include "sdcb/converters/subdivision_cage.h"
+#include "sdcb/converters/cage/subdivision_cage.h"
 #include "sdcb/core/spline/piecewise_surface.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 
 int main(int argc, char** argv) {
   if (argc < 2) {

@@ -15,7 +15,7 @@
 #include <string>
 
 #include "sdcb/core/measure/surface_deviation.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/far_refinement.h"
 
 int main(int argc, char** argv) {

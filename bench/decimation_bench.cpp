@@ -60,13 +60,13 @@
 #include <vector>
 
 #include "bench/garland_heckbert.h"
-#include "sdcb/converters/gltf_export.h"
+#include "sdcb/converters/gltf/gltf_export.h"
 #include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/tessellate/adaptive_tessellation.h"
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 
 namespace {
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "sdcb/core/fit/spline_fitter.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 #include "testing/feature_normals.h"
 
 int main(int argc, char** argv) {

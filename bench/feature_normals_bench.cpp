@@ -15,8 +15,8 @@
 
 #include "sdcb/core/mesh/feature_curves.h"
 #include "sdcb/core/spline/spherical_spline.h"
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/feature_normals.h"
 
 int main(int argc, char** argv) {

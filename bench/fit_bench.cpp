@@ -10,8 +10,8 @@
 #include <string>
 
 #include "sdcb/core/fit/spline_fitter.h"
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "tools/allocator_tuning.h"
 
 int main(int argc, char** argv) {

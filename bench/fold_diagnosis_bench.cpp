@@ -35,11 +35,12 @@
 #include <utility>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/spherical_spline.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 
 namespace {
 
@@ -315,7 +316,7 @@ int main(int argc, char** argv) {
       if (s.normal.dot(smooth) < 0) real_smooth += w;
       real_dist.emplace_back(to_x, w);
       real_angle.emplace_back(
-          std::acos(std::clamp(s.normal.dot(n), -1.0, 1.0)) * 180 / M_PI, w);
+          std::acos(std::clamp(s.normal.dot(n), -1.0, 1.0)) * 180 / kPi, w);
       if (!std::isnan(th)) real_thickness.emplace_back(th, w);
       continue;
     }

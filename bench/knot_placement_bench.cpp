@@ -17,7 +17,7 @@
 #include "sdcb/core/mesh/curvature.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/sphere/point_kd_tree.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 
 namespace {
 

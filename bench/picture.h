@@ -14,7 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "sdcb/io/crc32.h"
+#include "sdcb/core/common/constants.h"
+#include "sdcb/io/sdcb/crc32.h"
 
 namespace sdcb::bench {
 
@@ -71,7 +72,7 @@ inline View ViewFromArgs(int argc, char** argv, int first) {
   View view;
   if (argc > first) view.size = std::atoi(argv[first]);
   const auto radians = [&](int i) {
-    return argc > i ? std::atof(argv[i]) * M_PI / 180.0 : 0.0;
+    return argc > i ? std::atof(argv[i]) * kPi / 180.0 : 0.0;
   };
   view.rotation =
       (Eigen::AngleAxisd(radians(first + 2), Eigen::Vector3d::UnitX()) *

@@ -28,7 +28,7 @@
 
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/mesh_topology.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 #include "tools/allocator_tuning.h"
 
 namespace {

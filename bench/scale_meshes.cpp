@@ -24,7 +24,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 
 namespace {
 

@@ -21,8 +21,8 @@
 
 #include "sdcb/core/spline/delaunay_configurations.h"
 #include "sdcb/core/spline/spline_model.h"
-#include "sdcb/io/model_json.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/report/model_json.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 
 namespace {
 

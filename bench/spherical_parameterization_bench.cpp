@@ -15,7 +15,7 @@
 
 #include "sdcb/core/param/parameterization_distortion.h"
 #include "sdcb/core/param/spherical_parameterization.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 
 int main(int argc, char** argv) {
   std::vector<std::string> meshes;

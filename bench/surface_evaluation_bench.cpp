@@ -30,7 +30,7 @@
 #include "sdcb/core/measure/surface_sampler.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/tessellate/optimal_triangle_count.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/spline_model_fixture.h"
 
 namespace {

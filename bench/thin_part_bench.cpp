@@ -25,7 +25,7 @@
 
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/param/spherical_parameterization.h"
-#include "sdcb/io/mesh_writer.h"
+#include "sdcb/io/mesh/mesh_writer.h"
 #include "testing/finger_mesh.h"
 
 namespace {

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <string>
 
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/spline_model_fixture.h"
 
 int main(int argc, char** argv) {

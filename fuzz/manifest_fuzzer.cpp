@@ -1,9 +1,10 @@
-// libFuzzer harness: the `sdcb batch` manifest parser (io/batch_manifest.h).
-// Invariants: rows come in increasing line order, within the text's lines.
+// libFuzzer harness: the `sdcb batch` manifest parser
+// (io/batch/batch_manifest.h). Invariants: rows come in increasing line order,
+// within the text's lines.
 #include <cstdint>
 #include <string_view>
 
-#include "sdcb/io/batch_manifest.h"
+#include "sdcb/io/batch/batch_manifest.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

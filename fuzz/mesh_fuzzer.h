@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include "sdcb/core/mesh/mesh_topology.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 
 inline int FuzzMeshFormat(const uint8_t* data, size_t size,
                           sdcb::MeshFileFormat format) {

@@ -3,7 +3,7 @@
 //   fit_surface MESH [RMSE_PERCENT]
 #include <sdcb/core/fit/spline_fitter.h>
 #include <sdcb/core/spline/spherical_spline.h>
-#include <sdcb/io/mesh_reader.h>
+#include <sdcb/io/mesh/mesh_reader.h>
 
 #include <cstdio>
 #include <cstdlib>

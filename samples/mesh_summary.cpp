@@ -1,7 +1,7 @@
 // Sample: read a mesh with the installed sdcb package and print its topology.
 //   mesh_summary MESH
 #include <sdcb/core/mesh/mesh_topology.h>
-#include <sdcb/io/mesh_reader.h>
+#include <sdcb/io/mesh/mesh_reader.h>
 
 #include <cstdio>
 

@@ -18,16 +18,16 @@ where = sys.argv[1] == "--where"
 table_file = "core/fit/fit_options.cpp"
 files = sorted(glob.glob("core/fit/*.h") + glob.glob("core/fit/*.cpp"))
 files = [f for f in files if f != table_file] + [
-    "io/fit_statistics_json.h", "io/fit_statistics_json.cpp",
+    "io/report/fit_statistics_json.h", "io/report/fit_statistics_json.cpp",
     "tools/fit_command.cpp", "tools/batch_command.cpp", "tools/main.cpp"]
 # Literals of an option's name that name something else: (file, literal).
 OTHER = {
-    ("io/fit_statistics_json.cpp", '"rmse_percent"'): "a round's error",
-    ("io/fit_statistics_json.cpp", '"max_error_percent"'): "a round's error",
+    ("io/report/fit_statistics_json.cpp", '"rmse_percent"'): "a round's error",
+    ("io/report/fit_statistics_json.cpp", '"max_error_percent"'): "a round's error",
     ("tools/batch_command.cpp", '"rmse_percent"'): "the result's error",
     ("tools/batch_command.cpp", '"max_error_percent"'): "the result's error",
-    ("io/fit_statistics_json.cpp", '"lambda"'): "the returned map's lambda",
-    ("io/fit_statistics_json.cpp", '"basis_form"'): "the model's basis",
+    ("io/report/fit_statistics_json.cpp", '"lambda"'): "the returned map's lambda",
+    ("io/report/fit_statistics_json.cpp", '"basis_form"'): "the model's basis",
     ("tools/fit_command.cpp", '"knot_grid_bits"'): "the file's knot grid",
     ("tools/main.cpp", "--lambda"): "sdcb param's --lambda",
     ("tools/main.cpp", "--threads"): "another command's --threads",

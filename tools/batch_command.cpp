@@ -1,7 +1,7 @@
 // sdcb batch MANIFEST [--jobs N] [--shard I/N] [--json-lines FILE]
 //            [--timeout SECONDS] [--force] [--quiet]
 //
-// Converts every asset of a manifest (io/batch_manifest.h): each row runs
+// Converts every asset of a manifest (io/batch/batch_manifest.h): each row runs
 // as child processes of this same executable (`sdcb fit`, then `sdcb
 // export` when the row's output is not a .sdcb model), so a crash, a kill
 // by the out-of-memory killer or a hang (--timeout) ends that row only.
@@ -32,10 +32,10 @@
 #include <sstream>
 #include <thread>
 
-#include "sdcb/io/atomic_file.h"
-#include "sdcb/io/batch_manifest.h"
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/batch/batch_manifest.h"
+#include "sdcb/io/common/atomic_file.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/interrupts.h"

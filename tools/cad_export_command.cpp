@@ -2,15 +2,15 @@
 //   [--smoothness-degrees DEG] [--max-faces N] [--max-control-points M]
 //   [--json FILE] [--quiet]
 //
-// Parses the flags and calls WriteCadExport (converters/cad_export.h;
+// Parses the flags and calls WriteCadExport (converters/cad/cad_export.h;
 // docs/CAD.md).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "sdcb/converters/cad_export.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/converters/cad/cad_export.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/progress.h"

@@ -1,19 +1,19 @@
 // sdcb cage MODEL.sdcb -o CAGE.{obj,fbx} [--scheme catmark|loop] [--faces N]
 //           [--tolerance PCT] [--json FILE] [--quiet]
 // A subdivision cage whose limit surface follows the model's surface
-// (converters/subdivision_cage.h, docs/CAGE.md): OBJ with OpenSubdiv's
+// (converters/cage/subdivision_cage.h, docs/CAGE.md): OBJ with OpenSubdiv's
 // crease tags, or binary FBX with an edge-crease layer (what Blender reads
-// creases from, converters/cage_fbx.h).
+// creases from, converters/cage/cage_fbx.h).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "sdcb/converters/cage_fbx.h"
-#include "sdcb/converters/subdivision_cage.h"
-#include "sdcb/io/atomic_file.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/converters/cage/cage_fbx.h"
+#include "sdcb/converters/cage/subdivision_cage.h"
+#include "sdcb/io/common/atomic_file.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/progress.h"

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sdcb/core/mesh/mesh_topology.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 

@@ -15,7 +15,7 @@
 #include "sdcb/core/mesh/mesh_repair.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/mesh/self_intersections.h"
-#include "sdcb/io/atomic_file.h"
+#include "sdcb/io/common/atomic_file.h"
 #include "tools/commands.h"
 #include "tools/interrupts.h"
 

@@ -12,7 +12,7 @@
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 
 namespace sdcb::cli {
 
@@ -62,9 +62,10 @@ Status WriteTextOutput(const std::string& path, const std::string& text);
 // The extension of `path` in lower case, with its dot (".obj"), or "".
 std::string LowercaseExtension(const std::string& path);
 
-// Before any work: checks that each output can be written (io/atomic_file.h
-// CheckWritableDestination; "" and "-" are skipped) and registers it so
-// that an interrupted run leaves no temporary file (tools/interrupts.h).
+// Before any work: checks that each output can be written
+// (io/common/atomic_file.h CheckWritableDestination; "" and "-" are skipped)
+// and registers it so that an interrupted run leaves no temporary file
+// (tools/interrupts.h).
 Status PrepareOutputs(const std::vector<std::string>& paths);
 
 // The options of every command that reads a MESH: "--max-file-mb N",

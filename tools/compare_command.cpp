@@ -10,11 +10,11 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "sdcb/converters/color_ramp.h"
+#include "sdcb/converters/mesh/color_ramp.h"
 #include "sdcb/core/measure/surface_deviation.h"
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/mesh_writer.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_writer.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 

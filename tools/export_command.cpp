@@ -3,17 +3,17 @@
 //   [--meshopt] [--colors none|error|curvature|gaussian] [--mesh MESH]
 //   [--json FILE] [--quiet]
 // Parses the flags and calls ExportSurfaceMesh
-// (converters/surface_mesh_export.h), which does the work.
+// (converters/mesh/surface_mesh_export.h), which does the work.
 #include <OpenMesh/Core/System/omstream.hh>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "sdcb/converters/surface_mesh_export.h"
-#include "sdcb/io/atomic_file.h"
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/converters/mesh/surface_mesh_export.h"
+#include "sdcb/io/common/atomic_file.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
@@ -103,11 +103,11 @@ int RunExport(const std::vector<std::string>& argv) {
   if (args.Has("cl") && !draco) throw UsageError{"--cl goes with --draco"};
   const std::string colors = args.Get("colors", "none");
   if (colors == "curvature") {
-    options.colors = VertexColors::kMeanCurvature;
+    options.colors = VertexColoring::kMeanCurvature;
   } else if (colors == "gaussian") {
-    options.colors = VertexColors::kGaussianCurvature;
+    options.colors = VertexColoring::kGaussianCurvature;
   } else if (colors == "error") {
-    options.colors = VertexColors::kDistanceToMesh;
+    options.colors = VertexColoring::kDistanceToMesh;
   } else if (colors != "none") {
     throw UsageError{"--colors must be none, error, curvature or gaussian"};
   }
@@ -135,7 +135,7 @@ int RunExport(const std::vector<std::string>& argv) {
   StatusOr<SplineModel> model = ReadSdcbFile(model_path);
   if (!model.ok()) return ReportError(model.status());
   StatusOr<TriangleMesh> reference = TriangleMesh();
-  if (options.colors == VertexColors::kDistanceToMesh) {
+  if (options.colors == VertexColoring::kDistanceToMesh) {
     options.mesh_name = args.Get("mesh");
     reference = ReadMesh(options.mesh_name);
     if (!reference.ok()) return ReportError(reference.status());

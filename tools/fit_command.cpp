@@ -11,14 +11,14 @@
 #include <variant>
 #include <vector>
 
-#include "sdcb/converters/convergence_plot.h"
 #include "sdcb/core/fit/fit_options.h"
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/sphere/unit_vector_grid.h"
-#include "sdcb/io/fit_statistics_json.h"
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/report/convergence_plot.h"
+#include "sdcb/io/report/fit_statistics_json.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 #include "tools/progress.h"
@@ -249,7 +249,7 @@ int RunFit(const std::vector<std::string>& argv) {
     report["output_bytes"] = file_info.file_bytes;
     if (!quantization.lossless()) {
       // The stored surface is within this of the fitted one everywhere
-      // (io/control_point_quantization.h); the errors below are the fit's.
+      // (io/sdcb/control_point_quantization.h); the errors below are the fit's.
       report["quantization_bits"] = quantization.bits;
       report["quantization_error_bound_percent"] =
           quantization.surface_error_bound_percent();

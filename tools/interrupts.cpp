@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-#include "sdcb/io/atomic_file.h"
+#include "sdcb/io/common/atomic_file.h"
 
 namespace sdcb::cli {
 namespace {

@@ -1,7 +1,7 @@
 // What the CLI does when it is interrupted (SIGINT, SIGTERM, SIGHUP): the
-// temporary files of outputs being written (io/atomic_file.h) are removed,
-// then the process ends by the signal as it would have without this. The
-// libraries change no process-wide settings; this lives in the CLI.
+// temporary files of outputs being written (io/common/atomic_file.h) are
+// removed, then the process ends by the signal as it would have without this.
+// The libraries change no process-wide settings; this lives in the CLI.
 #ifndef SDCB_TOOLS_INTERRUPTS_H_
 #define SDCB_TOOLS_INTERRUPTS_H_
 
@@ -26,7 +26,7 @@ void EndRunBeforeAnyInterrupt();
 void RemoveTemporariesOnInterrupt(const std::string& output_path);
 
 // Removes the files of `prefix`'s folder whose names start with `prefix`'s
-// file name (e.g. a TemporaryFilePrefix, io/atomic_file.h).
+// file name (e.g. a TemporaryFilePrefix, io/common/atomic_file.h).
 void RemoveFilesStartingWith(const std::string& prefix);
 
 }  // namespace sdcb::cli

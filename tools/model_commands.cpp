@@ -6,9 +6,9 @@
 #include <sstream>
 
 #include "sdcb/core/spline/spherical_spline.h"
-#include "sdcb/io/fit_statistics_json.h"
-#include "sdcb/io/model_json.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/report/fit_statistics_json.h"
+#include "sdcb/io/report/model_json.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 

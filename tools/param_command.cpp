@@ -14,8 +14,8 @@
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/param/parameterization_distortion.h"
 #include "sdcb/core/param/spherical_parameterization.h"
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/mesh_writer.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_writer.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 

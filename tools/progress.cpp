@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "sdcb/core/common/progress.h"
+
 namespace sdcb::cli {
 
 ProgressBar::ProgressBar(std::string command, bool quiet)
@@ -52,7 +54,7 @@ void ProgressBar::Finish() {
   enabled_ = false;
 }
 
-std::function<void(const std::string&, double)> ProgressBar::Callback() {
+ProgressCallback ProgressBar::Callback() {
   return [this](const std::string& stage, double fraction) {
     Update(stage, fraction);
   };

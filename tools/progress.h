@@ -8,6 +8,8 @@
 #include <functional>
 #include <string>
 
+#include "sdcb/core/common/progress.h"
+
 namespace sdcb::cli {
 
 class ProgressBar {
@@ -25,7 +27,7 @@ class ProgressBar {
   // Ends the line (before printing anything else to stderr).
   void Finish();
   // A callback for library options structs.
-  std::function<void(const std::string&, double)> Callback();
+  ProgressCallback Callback();
 
  private:
   std::string command_;

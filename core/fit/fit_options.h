@@ -176,8 +176,8 @@ struct FitOptions {
 // key that names it in the model's record and JSON, its valid range, whether
 // the model records it, and its `sdcb fit` flag with the flag's range and
 // help sentence. CheckFitOptions, RecordFitOptions, the record's JSON
-// (io/fit_statistics_json.h), the flags of `sdcb fit` and their usage text
-// (tools/fit_command.cpp) all iterate it; docs/CLI.md documents every flag
+// (io/report/fit_statistics_json.h), the flags of `sdcb fit` and their usage
+// text (tools/fit_command.cpp) all iterate it; docs/CLI.md documents every flag
 // (tests/core/fit/fit_options_test.cpp checks).
 //
 // The one field out of it is `progress` (a callback, no value).

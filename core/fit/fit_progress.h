@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "sdcb/core/common/stopwatch.h"
 #include "sdcb/core/fit/fit_options.h"
 #include "sdcb/core/fit/fit_result.h"
 
@@ -17,19 +18,6 @@ namespace sdcb {
 // Adds the seconds of the stages a round runs (knot placement to measure)
 // of `from` to `to`; the parameterization and the total are the caller's.
 void AddRoundStages(const StageTimings& from, StageTimings* to);
-
-class Stopwatch {
- public:
-  Stopwatch() : start_(std::chrono::steady_clock::now()) {}
-  double Seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                         start_)
-        .count();
-  }
-
- private:
-  std::chrono::steady_clock::time_point start_;
-};
 
 // Progress model (FitProgress::fraction). The parameterization takes about
 // this share of a typical fit (bunny00: 1.9 s of 4.4 s; smaller meshes less).

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/fit/feature_round.h"
 #include "sdcb/core/fit/least_squares.h"
 #include "sdcb/core/knots/feature_knots.h"
@@ -229,7 +230,7 @@ DesignMatrix StackedDesign(const FitOptions& options, const FitMesh& fit,
       {&p.data, &data_scale}};
   Eigen::VectorXd bend_scale, bend_scale_uv;
   if (o.fairness > 0) {
-    bend_scale = (o.fairness * fit.mesh_area / (4.0 * M_PI) * p.bending.weights)
+    bend_scale = (o.fairness * fit.mesh_area / (4.0 * kPi) * p.bending.weights)
                      .cwiseSqrt();
     bend_scale_uv = std::sqrt(2.0) * bend_scale;
     parts.push_back({&p.hessian.uu, &bend_scale});

@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
+
 namespace sdcb {
 
 bool FeatureCurvesJoinCorners(const MeshFeatures& features) {
@@ -150,7 +152,7 @@ KnotFeatureArcs FeatureArcsOfKnots(const Eigen::MatrixX3d& knots, double gap) {
         return std::atan2(x.dot(along), x.dot(pa));
       };
       const double tk = phase(pk), tl = phase(pl), tb = phase(pb);
-      if (!(tk > 0 && tk < tl && tl < tb && tb < 3.14159265358979)) continue;
+      if (!(tk > 0 && tk < tl && tl < tb && tb < kPi)) continue;
       // No corner between the two: the arc is one feature curve (the
       // knots between are the clusters' further knots along it).
       bool between = false;

@@ -13,6 +13,7 @@
 #include <string>
 #include <utility>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/sphere/point_kd_tree.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 
@@ -20,7 +21,6 @@ namespace sdcb {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.14159265358979323846;
 // Samples per parallel block. Fixed (not derived from the thread count) so
 // that the per-block partial sums, added in block order, are the same for
 // any number of threads.

@@ -5,7 +5,7 @@
 // - GaussNewtonClosest: the step kernel over any chart with first
 //   derivatives (the chart and its parameters live with the caller): the
 //   spline's tangent chart (ClosestSurfacePoint) and the cage's limit-surface
-//   faces (converters/cage_deviation.h: ClosestOnLimitFace).
+//   faces (converters/cage/cage_deviation.h: ClosestOnLimitFace).
 // - ClosestSurfacePoint: one point, from one sphere point, with the
 //   sampler's own derivatives (SurfaceSampler::EvaluateJet); the fit's and
 //   compare's measurement (core/measure/surface_deviation.h).
@@ -13,8 +13,9 @@
 //   differences (step 1e-6 along a tangent frame) so that every evaluation
 //   is a batch of SurfaceSampler::Sample; the tessellator's verification (the
 //   mesh's side of each face, core/tessellate/mesh_side_distance.h) and the
-//   exporters' independent measurements (converters/tessellation_deviation.h,
-//   converters/cage_deviation.h).
+//   exporters' independent measurements
+//   (converters/mesh/tessellation_deviation.h,
+//   converters/cage/cage_deviation.h).
 //
 // Every distance returned is to a point of the surface found, so never below
 // the true distance.

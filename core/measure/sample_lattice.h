@@ -4,8 +4,8 @@
 // (a lattice in every knot triangle, core/measure/surface_deviation.h), the
 // tessellator's verification (a lattice in every face,
 // core/tessellate/face_verification.h) and the cage's deviation (a lattice in
-// every cage face, converters/cage_deviation.h) map the coordinates to their
-// own weights or parameters.
+// every cage face, converters/cage/cage_deviation.h) map the coordinates to
+// their own weights or parameters.
 #ifndef SDCB_CORE_MEASURE_SAMPLE_LATTICE_H_
 #define SDCB_CORE_MEASURE_SAMPLE_LATTICE_H_
 

@@ -1,5 +1,6 @@
 #include "sdcb/core/measure/surface_sampler.h"
 
+#include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "sdcb/core/spline/spherical_spline.h"
 

@@ -7,10 +7,10 @@
 #include <string>
 #include <utility>
 
+#include "sdcb/core/common/constants.h"
+
 namespace sdcb {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 uint64_t EdgeKey(int a, int b) {
   return (uint64_t(std::min(a, b)) << 32) | uint32_t(std::max(a, b));

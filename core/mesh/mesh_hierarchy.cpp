@@ -11,6 +11,8 @@
 #include <queue>
 #include <tuple>
 
+#include "sdcb/core/common/constants.h"
+
 namespace sdcb {
 namespace {
 
@@ -25,7 +27,7 @@ class Collapser {
         vertex_faces_(mesh.num_vertices()),
         dead_incidences_(mesh.num_vertices(), 0),
         alive_vertices_(mesh.num_vertices()),
-        cos_max_turn_(std::cos(options.max_normal_turn_degrees * M_PI / 180.0)),
+        cos_max_turn_(std::cos(options.max_normal_turn_degrees * kPi / 180.0)),
         min_quality_(options.min_triangle_quality),
         max_removed_valence_(options.max_removed_valence) {
     for (int v = 0; v < mesh.num_vertices(); ++v) {

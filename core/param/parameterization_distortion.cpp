@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 
 namespace sdcb {
@@ -84,7 +85,7 @@ StatusOr<double> AreaScaleToUnitSphere(const TriangleMesh& mesh) {
   if (!(total > 0.0) || !std::isfinite(total)) {
     return InvalidInputError("mesh has zero or non-finite total area");
   }
-  return 4.0 * M_PI / total;
+  return 4.0 * kPi / total;
 }
 
 StatusOr<ParameterizationDistortion> MeasureParameterizationDistortion(

@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/mesh_hierarchy.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/param/parameterization_distortion.h"
@@ -118,7 +119,7 @@ class LevelOptimizer {
                       });
     double total_area = 0.0;
     for (const MeshTriangleShape& shape : shapes) total_area += shape.area;
-    const double scale = 4.0 * M_PI / total_area;
+    const double scale = 4.0 * kPi / total_area;
     // Incidences in CSR order: vertex v owns [offset_[v], offset_[v + 1]).
     offset_.assign(nv + 1, 0);
     for (int f : alive_faces) {
@@ -481,7 +482,7 @@ Status EmbedBaseMeshFrom(const LevelState& level, const FaceRings& ring,
   std::vector<int> index(nv, -1);          // unknown index, -2 for fixed
   std::vector<Eigen::Vector2d> plane(nv, Eigen::Vector2d::Zero());
   for (size_t i = 0; i < link.size(); ++i) {
-    const double angle = -2.0 * M_PI * static_cast<double>(i) / link.size();
+    const double angle = -2.0 * kPi * static_cast<double>(i) / link.size();
     plane[link[i]] =
         kBoundaryRadius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
     index[link[i]] = -2;
@@ -786,9 +787,9 @@ Status CheckSphericalBijection(const TriangleMesh& mesh,
   }
   double total = 0.0;
   for (double x : area) total += x;
-  if (std::abs(total - 4.0 * M_PI) > 1e-6) {
+  if (std::abs(total - 4.0 * kPi) > 1e-6) {
     return InternalError("sphere triangles cover S^2 " +
-                         std::to_string(total / (4.0 * M_PI)) +
+                         std::to_string(total / (4.0 * kPi)) +
                          " times, not once");
   }
   return Status::Ok();

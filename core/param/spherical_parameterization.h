@@ -34,6 +34,7 @@
 #include <functional>
 #include <string>
 
+#include "sdcb/core/common/progress.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 
@@ -101,7 +102,7 @@ struct SphericalParameterizationOptions {
   int global_iterations = 0;
   double global_tolerance = 1e-7;
   // Called with a stage name and the finished fraction in [0, 1].
-  std::function<void(const std::string& stage, double fraction)> progress;
+  ProgressCallback progress;
 };
 
 struct SphericalParameterization {

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sdcb/core/common/constants.h"
+
 namespace sdcb {
 
 // The one tolerance on | |t| - 1 | for every unit vector the library accepts
@@ -26,7 +28,7 @@ Eigen::Index FirstNonUnitRow(const Eigen::MatrixX3d& points);
 // The chord |a - b| of unit vectors at `angle` radians apart (angles past
 // pi count as pi), and back.
 inline double ChordFromAngle(double angle) {
-  return 2 * std::sin(std::min(angle, 3.14159265358979323846) / 2);
+  return 2 * std::sin(std::min(angle, kPi) / 2);
 }
 inline double AngleFromChord(double chord) {
   return 2 * std::asin(std::min(1.0, chord / 2));

@@ -10,13 +10,13 @@
 #include <string>
 #include <utility>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/sphere/perturbed_predicates.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 
 namespace sdcb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Slack so that rounding never drops a point of the support from its cap.
 constexpr double kCapSlack = 1e-10;
 

@@ -9,13 +9,13 @@
 #include <cmath>
 #include <mutex>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/spline/piecewise_surface_cells.h"
 #include "sdcb/core/spline/simplex_spline.h"
 
 namespace sdcb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxLines = 64;    // bits of a region key
 constexpr int kSplitLines = 40;  // cells with more lines are split
 constexpr int kMaxDepth = 8;

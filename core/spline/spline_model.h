@@ -1,7 +1,7 @@
 // The fitted spherical DCB-spline as plain data: everything the `.sdcb` file
-// stores (io/sdcb_file.h) and everything an evaluator needs, without any file
-// I/O, so that core/ code (the fitting driver, the surface type) and io/ share
-// one definition.
+// stores (io/sdcb/sdcb_file.h) and everything an evaluator needs, without any
+// file I/O, so that core/ code (the fitting driver, the surface type) and io/
+// share one definition.
 //
 // Frames: the fit works in a NORMALIZED frame in which the input mesh's
 // bounding box is centred at the origin and its largest side is 1 (the

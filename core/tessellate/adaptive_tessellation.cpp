@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/tessellate/face_verification.h"
 #include "sdcb/core/tessellate/sampled_certificate.h"
@@ -18,7 +19,6 @@
 namespace sdcb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 using Clock = std::chrono::steady_clock;
 double Since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();

@@ -31,6 +31,7 @@
 #include <functional>
 #include <string>
 
+#include "sdcb/core/common/progress.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/measure/surface_sampler.h"
 #include "sdcb/core/tessellate/sphere_triangulation.h"
@@ -66,7 +67,7 @@ struct TessellationOptions {
   // Called with the stage ("samples", "simplify", "verify") and the
   // fraction of the whole tessellation done (an estimate that never goes
   // back: the stages hold [0, 0.2), [0.2, 0.9) and [0.9, 1]).
-  std::function<void(const std::string& stage, double fraction)> progress;
+  ProgressCallback progress;
 };
 
 struct Tessellation {

@@ -6,10 +6,10 @@
 #include <map>
 #include <string>
 
+#include "sdcb/core/common/constants.h"
+
 namespace sdcb {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // A right-handed tangent basis (e1, e2) at unit vector n: e1 x e2 = n.
 void Basis(const Eigen::Vector3d& n, Eigen::Vector3d* e1, Eigen::Vector3d* e2) {

@@ -7,12 +7,12 @@
 #include <cmath>
 #include <limits>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/measure/triangle_distance.h"
 
 namespace sdcb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // A sample may be measured against a neighbour's triangle only within this
 // fraction of the face's longest edge from its own triangle (farther, it is
 // not a sideways shear but a face that does not fit).

@@ -11,6 +11,8 @@
 #include <string>
 #include <utility>
 
+#include "sdcb/core/common/constants.h"
+
 namespace sdcb {
 namespace {
 
@@ -123,8 +125,6 @@ SurfaceSamples SpatiallyOrdered(const SurfaceSamples& s) {
   }
   return out;
 }
-
-constexpr double kPi = 3.14159265358979323846;
 
 double DomainAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));

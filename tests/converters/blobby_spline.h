@@ -9,7 +9,7 @@
 
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/spline/spherical_spline.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 #include "testing/temp_dir.h"
 
 namespace sdcb::testing {

@@ -11,8 +11,8 @@
 #include <map>
 
 #include "sdcb/core/spline/spherical_spline.h"
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/temp_dir.h"
 
 namespace sdcb {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "sdcb/core/mesh/curvature.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 #include "testing/temp_dir.h"
 
 namespace sdcb {

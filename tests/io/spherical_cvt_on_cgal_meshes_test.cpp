@@ -6,8 +6,9 @@
 
 #include <cmath>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/knots/spherical_cvt.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 #include "testing/temp_dir.h"
 
 namespace sdcb {
@@ -31,11 +32,11 @@ TEST(SphericalCvtOnCgalMeshesTest, OneKnotEnergyMatchesClosedForm) {
   const Eigen::MatrixX3d knot = t;
   auto placed = PlaceKnots(density, knot, 0);
   ASSERT_TRUE(placed.ok()) << placed.status().message();
-  EXPECT_NEAR(placed->final_energy, 8 * M_PI, 1e-3 * 8 * M_PI);
+  EXPECT_NEAR(placed->final_energy, 8 * kPi, 1e-3 * 8 * kPi);
   density.values = (density.sphere_vertices * t.transpose()).array() + 1;
   placed = PlaceKnots(density, knot, 0);
   ASSERT_TRUE(placed.ok());
-  EXPECT_NEAR(placed->final_energy, 16 * M_PI / 3, 5e-3 * 16 * M_PI / 3);
+  EXPECT_NEAR(placed->final_energy, 16 * kPi / 3, 5e-3 * 16 * kPi / 3);
 }
 
 TEST(SphericalCvtOnCgalMeshesTest, PlacesKnotsOnAnIrregularMesh) {
@@ -46,7 +47,7 @@ TEST(SphericalCvtOnCgalMeshesTest, PlacesKnotsOnAnIrregularMesh) {
   for (size_t i = 1; i < e.size(); ++i) ASSERT_LE(e[i], e[i - 1] * (1 + 1e-12));
   // Within 6% of the hexagonal-quantizer energy 2 G (4 pi)^2 / N.
   const double hexagonal =
-      2 * 5 / (36 * std::sqrt(3.0)) * std::pow(4 * M_PI, 2) / 50;
+      2 * 5 / (36 * std::sqrt(3.0)) * std::pow(4 * kPi, 2) / 50;
   EXPECT_NEAR(placed->final_energy, hexagonal, 0.06 * hexagonal);
 }
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <utility>
 
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 #include "testing/temp_dir.h"
 
 namespace sdcb::testing {

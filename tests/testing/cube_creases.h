@@ -13,6 +13,7 @@
 #include <cmath>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/fit/least_squares.h"
 #include "sdcb/core/spline/dcb_basis.h"
@@ -178,7 +179,7 @@ inline CubeMeasures MeasureCube(const SphericalSpline& spline) {
                     .normal;
             const double angle =
                 std::atan2(n.cross(face_normal).norm(), n.dot(face_normal)) *
-                180.0 / M_PI;
+                180.0 / kPi;
             m.max_normal_degrees = std::max(m.max_normal_degrees, angle);
             if (t >= 14 && t <= 26) {
               m.middle_normal_degrees =

@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 
 namespace sdcb::testing {
@@ -30,7 +31,7 @@ inline TriangleMesh DoubleCone(int n) {
   m.vertices.row(0) << 0, 0, 1;
   m.vertices.row(1) << 0, 0, -1;
   for (int i = 0; i < n; ++i) {
-    const double a = 2 * M_PI * i / n;
+    const double a = 2 * kPi * i / n;
     m.vertices.row(2 + i) << std::cos(a), std::sin(a), 0;
   }
   m.faces.resize(2 * n, 3);

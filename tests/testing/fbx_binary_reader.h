@@ -1,6 +1,6 @@
 // A test-side reader of binary FBX files (node records with their
 // properties), written from the format's description and sharing no code
-// with converters/cage_fbx: what the cage tests read the written .fbx back
+// with converters/cage/cage_fbx: what the cage tests read the written .fbx back
 // with. Reads versions 7100 to 7700 (32-bit record offsets below 7500,
 // 64-bit from 7500); arrays must be stored uncompressed (encoding 0), which
 // is all sdcb writes.

@@ -17,6 +17,7 @@
 #include <map>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/feature_curves.h"
 #include "sdcb/core/sphere/point_kd_tree.h"
 #include "sdcb/core/spline/spherical_spline.h"
@@ -79,7 +80,7 @@ inline FeatureNormals MeasureFeatureNormals(const SphericalSpline& spline,
         const PointKdTree::Neighbor n = tree.Nearest(x);
         const Eigen::Vector3d m = surface[n.index].normal;
         const double angle =
-            std::atan2(m.cross(normal).norm(), m.dot(normal)) * 180.0 / M_PI;
+            std::atan2(m.cross(normal).norm(), m.dot(normal)) * 180.0 / kPi;
         out.angles_degrees.push_back(angle);
         out.max_degrees = std::max(out.max_degrees, angle);
         out.max_sample_gap =

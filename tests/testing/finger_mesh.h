@@ -12,6 +12,7 @@
 #include <cmath>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 
 namespace sdcb::testing {
@@ -52,12 +53,12 @@ inline TriangleMesh FingerMesh(double r, double length, double h) {
     const double z = zs[at] + t * (zs[at + 1] - zs[at]);
     const double radius = rs[at] + t * (rs[at + 1] - rs[at]);
     const int n =
-        std::max(3, static_cast<int>(std::lround(2 * M_PI * radius / h)));
+        std::max(3, static_cast<int>(std::lround(2 * kPi * radius / h)));
     const double offset = 0.5 * (k % 2);
     std::vector<int> ids;
     std::vector<double> angles;
     for (int j = 0; j < n; ++j) {
-      const double a = 2 * M_PI * (j + offset) / n;
+      const double a = 2 * kPi * (j + offset) / n;
       ids.push_back(static_cast<int>(v.size()));
       angles.push_back(a);
       v.emplace_back(radius * std::cos(a), radius * std::sin(a), z);
@@ -79,7 +80,7 @@ inline TriangleMesh FingerMesh(double r, double length, double h) {
     const int na = static_cast<int>(a.size()), nb = static_cast<int>(b.size());
     auto angle = [](const std::vector<double>& angles, int i) {
       const int n = static_cast<int>(angles.size());
-      return angles[i % n] + 2 * M_PI * (i / n);
+      return angles[i % n] + 2 * kPi * (i / n);
     };
     int i = 0, j = 0;
     while (i < na || j < nb) {

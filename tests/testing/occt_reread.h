@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/spline/piecewise_surface.h"
@@ -214,7 +215,7 @@ inline NormalJumps MeasureNormalJumps(const RereadShape& r, int per_edge) {
       }
       const double angle = std::atan2(normal[0].cross(normal[1]).norm(),
                                       normal[0].dot(normal[1])) *
-                           180.0 / 3.14159265358979323846;
+                           180.0 / kPi;
       j.max_degrees = std::max(j.max_degrees, angle);
       j.min_degrees = std::min(j.min_degrees, angle);
       ++j.points;

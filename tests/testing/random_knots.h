@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "sdcb/core/common/constants.h"
 #include "testing/random_sphere_points.h"
 
 namespace sdcb {
@@ -24,8 +25,8 @@ inline Eigen::Vector3d PointInCap(const Eigen::Vector3d& axis,
                                   double radius_deg, std::mt19937* rng) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const double z =
-      1.0 - uniform(*rng) * (1.0 - std::cos(radius_deg * M_PI / 180));
-  const double phi = 2 * M_PI * uniform(*rng);
+      1.0 - uniform(*rng) * (1.0 - std::cos(radius_deg * kPi / 180));
+  const double phi = 2 * kPi * uniform(*rng);
   const double r = std::sqrt(std::max(0.0, 1 - z * z));
   const Eigen::Vector3d u = axis.unitOrthogonal();
   const Eigen::Vector3d v = axis.cross(u);

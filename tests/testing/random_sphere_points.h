@@ -7,6 +7,8 @@
 #include <cmath>
 #include <random>
 
+#include "sdcb/core/common/constants.h"
+
 namespace sdcb {
 namespace testing {
 
@@ -28,8 +30,8 @@ inline Eigen::MatrixX3d RandomUnitVectors(int n, unsigned seed) {
 inline Eigen::MatrixX3d FibonacciPoints(int n, unsigned seed,
                                         double jitter = 0.05) {
   const Eigen::MatrixX3d noise = RandomUnitVectors(n, seed);
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  const double spacing = std::sqrt(4 * M_PI / n);
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  const double spacing = std::sqrt(4 * kPi / n);
   Eigen::MatrixX3d out(n, 3);
   for (int i = 0; i < n; ++i) {
     const double z = 1.0 - (2.0 * i + 1.0) / n;

@@ -1,5 +1,5 @@
 // A test-side `.sdcb` codec written from docs/FORMAT.md, independent of
-// io/sdcb_file*.cpp: chunk framing, packed payloads (zlib called directly,
+// io/sdcb/sdcb_file*.cpp: chunk framing, packed payloads (zlib called directly,
 // byte planes re-implemented), the version 1 writer this code no longer has,
 // and a bit-for-bit model comparison.
 #ifndef SDCB_TESTS_TESTING_SDCB_TEST_CODEC_H_
@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "sdcb/core/spline/spline_model.h"
-#include "sdcb/io/crc32.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/sdcb/crc32.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/allocation_tracker.h"
 
 namespace sdcb::testing {

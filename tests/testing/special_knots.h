@@ -8,6 +8,8 @@
 #include <random>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
+
 namespace sdcb::testing {
 
 inline Eigen::MatrixX3d FromRows(const std::vector<Eigen::Vector3d>& rows) {
@@ -43,7 +45,7 @@ inline Eigen::MatrixX3d CubeKnots() {
 inline Eigen::MatrixX3d GreatCirclePlusPoles(int m) {
   std::vector<Eigen::Vector3d> rows;
   for (int i = 0; i < m; ++i) {
-    const double a = 2 * M_PI * i / m;
+    const double a = 2 * kPi * i / m;
     rows.emplace_back(std::cos(a), std::sin(a), 0.0);
   }
   rows.emplace_back(0, 0, 1);
@@ -56,9 +58,9 @@ inline Eigen::MatrixX3d GreatCirclePlusPoles(int m) {
 inline Eigen::MatrixX3d LatLongGrid(int rings, int per_ring) {
   std::vector<Eigen::Vector3d> rows;
   for (int r = 1; r <= rings; ++r) {
-    const double theta = M_PI * r / (rings + 1);
+    const double theta = kPi * r / (rings + 1);
     for (int j = 0; j < per_ring; ++j) {
-      const double a = 2 * M_PI * j / per_ring;
+      const double a = 2 * kPi * j / per_ring;
       rows.emplace_back(std::sin(theta) * std::cos(a),
                         std::sin(theta) * std::sin(a), std::cos(theta));
     }
@@ -77,10 +79,10 @@ inline Eigen::MatrixX3d StaggeredRings(const std::vector<double>& latitudes_deg,
                                        int per_ring) {
   std::vector<Eigen::Vector3d> rows;
   for (size_t r = 0; r < latitudes_deg.size(); ++r) {
-    const double lat = latitudes_deg[r] * M_PI / 180;
+    const double lat = latitudes_deg[r] * kPi / 180;
     const double offset = std::sqrt(2.0) * static_cast<double>(r + 1);
     for (int j = 0; j < per_ring; ++j) {
-      const double a = offset + 2 * M_PI * j / per_ring;
+      const double a = offset + 2 * kPi * j / per_ring;
       rows.emplace_back(std::cos(lat) * std::cos(a),
                         std::cos(lat) * std::sin(a), std::sin(lat));
     }

@@ -11,8 +11,8 @@
 #include <set>
 #include <sstream>
 
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/run_sdcb.h"
 
 namespace sdcb {

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/occt_reread.h"
 #include "testing/run_sdcb.h"
 #include "testing/temp_dir.h"

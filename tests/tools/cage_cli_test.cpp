@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "sdcb/core/measure/surface_deviation.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/far_refinement.h"
 #include "testing/fbx_binary_reader.h"
 #include "testing/run_sdcb.h"
@@ -142,7 +142,7 @@ TEST_P(CageCliTest, FarRefinementOfTheWrittenCageAgreesWithTheReport) {
 INSTANTIATE_TEST_SUITE_P(Schemes, CageCliTest,
                          ::testing::Values("catmark", "loop"));
 
-// -o CAGE.fbx: the kept cube's cage as binary FBX (converters/cage_fbx.h),
+// -o CAGE.fbx: the kept cube's cage as binary FBX (converters/cage/cage_fbx.h),
 // read back with the test-side reader: the OBJ's vertices, 6 quads, 12 of
 // its edges with crease 1.0 (the report's `creases`), the same report.
 TEST(CageCliTest, FbxOutputCarriesTheKeptCubesCreases) {

@@ -10,9 +10,9 @@
 #include <random>
 #include <sstream>
 
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/mesh_writer.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_writer.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/brute_force_configurations.h"
 #include "testing/honest_fit_errors.h"
 #include "testing/run_sdcb.h"

@@ -15,9 +15,9 @@
 #include <sstream>
 
 #include "sdcb/core/mesh/icosphere.h"
-#include "sdcb/io/mesh_reader.h"
-#include "sdcb/io/mesh_writer.h"
-#include "sdcb/io/sdcb_file.h"
+#include "sdcb/io/mesh/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_writer.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 #include "testing/run_sdcb.h"
 
 namespace sdcb {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "sdcb/core/sphere/sphere_geometry.h"
-#include "sdcb/io/mesh_reader.h"
+#include "sdcb/io/mesh/mesh_reader.h"
 
 namespace {
 

@@ -13,6 +13,8 @@
 #include <set>
 #include <utility>
 
+#include "sdcb/core/common/constants.h"
+
 namespace sdcb {
 namespace {
 
@@ -82,14 +84,14 @@ TEST(SphereCageTopologyTest, UniformCubeSphereAndIcosphereCounts) {
     EXPECT_EQ(quads.cage().face_size, 4);
     EXPECT_EQ(quads.cage().num_faces(), f);
     EXPECT_EQ(quads.cage().num_vertices(), f + 2);  // V = F + 2 for quads
-    EXPECT_NEAR(CheckCage(quads.cage()), 4 * M_PI, 1e-9);
+    EXPECT_NEAR(CheckCage(quads.cage()), 4 * kPi, 1e-9);
 
     const auto tris =
         SphereCageTopology::Create(CageCellShape::kTriangle, levels);
     const int t = 20 << (2 * levels);
     EXPECT_EQ(tris.cage().num_faces(), t);
     EXPECT_EQ(tris.cage().num_vertices(), t / 2 + 2);
-    EXPECT_NEAR(CheckCage(tris.cage()), 4 * M_PI, 1e-9);
+    EXPECT_NEAR(CheckCage(tris.cage()), 4 * kPi, 1e-9);
   }
 }
 
@@ -143,7 +145,7 @@ TEST(SphereCageTopologyTest, AdaptiveRefinementStaysConforming) {
       topology.Refine(cells);
       SCOPED_TRACE(::testing::Message() << "round " << round);
       EXPECT_GT(topology.cage().num_faces(), before);
-      EXPECT_NEAR(CheckCage(topology.cage()), 4 * M_PI, 1e-9);
+      EXPECT_NEAR(CheckCage(topology.cage()), 4 * kPi, 1e-9);
       if (shape == CageCellShape::kQuad) {
         EXPECT_EQ(topology.cage().face_size, 4);
       }
@@ -169,7 +171,7 @@ TEST(SphereCageTopologyTest, RefinementIsLocal) {
       }
       topology.Refine({cage.face_cell[best]});
     }
-    EXPECT_NEAR(CheckCage(topology.cage()), 4 * M_PI, 1e-9);
+    EXPECT_NEAR(CheckCage(topology.cage()), 4 * kPi, 1e-9);
     int deepest = 0;
     for (int c : topology.cage().face_cell) {
       deepest = std::max(deepest, topology.level(c));
@@ -204,7 +206,7 @@ TEST(SphereCageTopologyTest, OneRefinedQuadIsClosedWithQuads) {
   auto topology = SphereCageTopology::Create(CageCellShape::kQuad, 2);
   topology.Refine({topology.cage().face_cell[0]});
   EXPECT_EQ(topology.cage().face_size, 4);
-  EXPECT_NEAR(CheckCage(topology.cage()), 4 * M_PI, 1e-9);
+  EXPECT_NEAR(CheckCage(topology.cage()), 4 * kPi, 1e-9);
   // 96 faces, one split into 4, four neighbours closed: more than 99, far
   // fewer than the next uniform level.
   EXPECT_GT(topology.cage().num_faces(), 99);

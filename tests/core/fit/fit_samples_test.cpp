@@ -10,6 +10,7 @@
 #include <map>
 #include <tuple>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "testing/fan_mesh.h"
 #include "testing/make_mesh.h"
@@ -20,7 +21,7 @@ namespace {
 // n points spread over the unit sphere (a Fibonacci lattice).
 Eigen::MatrixX3d FibonacciPoints(int n) {
   Eigen::MatrixX3d p(n, 3);
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
   for (int i = 0; i < n; ++i) {
     const double z = 1.0 - (2.0 * i + 1.0) / n;
     const double r = std::sqrt(1.0 - z * z);
@@ -32,8 +33,8 @@ Eigen::MatrixX3d FibonacciPoints(int n) {
 // The double cone's area in closed form: 2n triangles with base
 // 2 sin(pi / n) and height sqrt(1 + cos^2(pi / n)).
 double DoubleConeArea(int n) {
-  const double c = std::cos(M_PI / n);
-  return 2 * n * 0.5 * 2 * std::sin(M_PI / n) * std::sqrt(1 + c * c);
+  const double c = std::cos(kPi / n);
+  return 2 * n * 0.5 * 2 * std::sin(kPi / n) * std::sqrt(1 + c * c);
 }
 
 TEST(FitSamplesTest, CappedPiecesStillIntegrateTheWholeSurface) {

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <random>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/icosphere.h"
 
 namespace sdcb {
@@ -52,12 +53,12 @@ TEST(SphericalCvtTest, EnergyOfOneKnotMatchesClosedForm) {
   SphericalDensity density = Uniform(5);
   auto placed = PlaceKnots(density, north, 0);
   ASSERT_TRUE(placed.ok()) << placed.status().message();
-  EXPECT_NEAR(placed->final_energy, 8 * M_PI, 1e-3 * 8 * M_PI);
+  EXPECT_NEAR(placed->final_energy, 8 * kPi, 1e-3 * 8 * kPi);
   density.values = Eigen::VectorXd::Ones(density.values.size()) +
                    density.sphere_vertices.col(2);
   placed = PlaceKnots(density, north, 0);
   ASSERT_TRUE(placed.ok());
-  EXPECT_NEAR(placed->final_energy, 16 * M_PI / 3, 2e-3 * 16 * M_PI / 3);
+  EXPECT_NEAR(placed->final_energy, 16 * kPi / 3, 2e-3 * 16 * kPi / 3);
   EXPECT_EQ(placed->knots, north);
 }
 
@@ -94,7 +95,7 @@ TEST(SphericalCvtTest, UniformDensitySpreadsKnotsEvenly) {
   // Gersho / Fejes Toth: an optimal quantizer of area A with N cells tends
   // to regular hexagons, E ~ 2 G A^2 / N with G = 5 / (36 sqrt 3).
   const double hexagonal =
-      2 * 5 / (36 * std::sqrt(3.0)) * std::pow(4 * M_PI, 2) / n;
+      2 * 5 / (36 * std::sqrt(3.0)) * std::pow(4 * kPi, 2) / n;
   EXPECT_NEAR(placed->final_energy, hexagonal, 0.05 * hexagonal);
 }
 

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <random>
 
+#include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/piecewise_surface.h"
 #include "testing/analytic_surfaces.h"
 #include "testing/random_spline.h"

@@ -13,6 +13,7 @@
 #include <random>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_distance.h"
@@ -76,7 +77,7 @@ TriangleMesh Ellipsoid(int subdivisions) {
 
 Eigen::MatrixX3d FibonacciSphere(int n) {
   Eigen::MatrixX3d p(n, 3);
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
   for (int i = 0; i < n; ++i) {
     const double z = 1.0 - 2.0 * (i + 0.5) / n, r = std::sqrt(1 - z * z);
     p.row(i) << r * std::cos(golden * i), r * std::sin(golden * i), z;
@@ -185,7 +186,7 @@ class BruteForceSpline {
       : surface_(surface),
         directions_(FibonacciSphere(n)),
         cloud_(surface.EvaluateMany(directions_)),
-        spacing_(std::sqrt(4 * M_PI / n)) {}
+        spacing_(std::sqrt(4 * kPi / n)) {}
 
   double Distance(const Eigen::Vector3d& x, int passes, int half) const {
     const int side = 2 * half + 1;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <random>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/icosphere.h"
 
 namespace sdcb {
@@ -22,7 +23,7 @@ TriangleMesh Cylinder(double r, double height, int n_theta, int n_z) {
   m.vertices.resize((n_z + 1) * n_theta, 3);
   for (int i = 0; i <= n_z; ++i) {
     for (int j = 0; j < n_theta; ++j) {
-      const double phi = 2 * M_PI * j / n_theta;
+      const double phi = 2 * kPi * j / n_theta;
       m.vertices.row(i * n_theta + j) << r * std::cos(phi), r * std::sin(phi),
           height * i / n_z;
     }

@@ -6,13 +6,12 @@
 #include <set>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "testing/make_mesh.h"
 
 namespace sdcb {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The unit cube, two triangles a side, counter-clockwise from outside.
 TriangleMesh Cube() {

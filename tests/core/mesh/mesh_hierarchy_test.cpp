@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "testing/fan_mesh.h"
 #include "testing/off_test_mesh.h"
@@ -171,7 +172,7 @@ std::vector<std::pair<int, int>> BruteForceCollapses(
                           : 2.0 * std::sqrt(3.0) * normal(t).norm() / squares;
   };
   const double cos_turn =
-      std::cos(options.max_normal_turn_degrees * M_PI / 180.0);
+      std::cos(options.max_normal_turn_degrees * kPi / 180.0);
   auto allowed = [&](int v, int u) {
     const std::set<int> nv = neighbors(v), nu = neighbors(u);
     if (static_cast<int>(nv.size()) > options.max_removed_valence) return false;

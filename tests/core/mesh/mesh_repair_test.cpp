@@ -10,6 +10,7 @@
 #include <cmath>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 
@@ -123,7 +124,7 @@ TEST(MeshRepair, RefusesWhatCannotBecomeGenusZero) {
   torus.faces.resize(2 * nu * nv, 3);
   for (int i = 0; i < nu; ++i) {
     for (int j = 0; j < nv; ++j) {
-      const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
+      const double u = 2 * kPi * i / nu, v = 2 * kPi * j / nv;
       torus.vertices.row(i * nv + j) << (2 + std::cos(v)) * std::cos(u),
           (2 + std::cos(v)) * std::sin(u), std::sin(v);
       const int a = i * nv + j, b = ((i + 1) % nu) * nv + j,

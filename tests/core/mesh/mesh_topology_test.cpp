@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "sdcb/core/common/constants.h"
 #include "testing/fan_mesh.h"
 
 namespace sdcb {
@@ -19,7 +20,7 @@ TriangleMesh Torus(int nu, int nv) {
   m.vertices.resize(nu * nv, 3);
   for (int i = 0; i < nu; ++i) {
     for (int j = 0; j < nv; ++j) {
-      const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
+      const double u = 2 * kPi * i / nu, v = 2 * kPi * j / nv;
       m.vertices.row(i * nv + j) << (2 + std::cos(v)) * std::cos(u),
           (2 + std::cos(v)) * std::sin(u), std::sin(v);
     }

@@ -7,6 +7,7 @@
 #include <map>
 #include <random>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 
 namespace sdcb {
@@ -136,11 +137,11 @@ TEST(ParameterizationDistortion, SphericalAreaSumsToFourPi) {
         sphere.vertices.row(sphere.faces(f, 1)).transpose(),
         sphere.vertices.row(sphere.faces(f, 2)).transpose());
   }
-  EXPECT_NEAR(total, 4.0 * M_PI, 1e-10);
+  EXPECT_NEAR(total, 4.0 * kPi, 1e-10);
   // Octant triangle: area pi/2 (Girard: 3 right angles - pi).
   EXPECT_NEAR(SphericalTriangleArea(Vector3d::UnitX(), Vector3d::UnitY(),
                                     Vector3d::UnitZ()),
-              M_PI / 2, 1e-14);
+              kPi / 2, 1e-14);
 }
 
 TEST(ParameterizationDistortion, FlippedTrianglesAreCounted) {
@@ -248,7 +249,7 @@ TEST(ParameterizationDistortion, SeriesAreaMatchesAtan2AndGirard) {
       if (Det3(s[0], s[1], s[2]) < 0) std::swap(s[1], s[2]);
       // Girard: the angle of the spherical triangle at corner i is the
       // angle between the tangents of the great circles to the others.
-      double excess = -M_PI;
+      double excess = -kPi;
       for (int i = 0; i < 3; ++i) {
         const Vector3d& p = s[i];
         const Vector3d da = s[(i + 1) % 3] - p, db = s[(i + 2) % 3] - p;

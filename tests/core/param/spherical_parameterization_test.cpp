@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/param/parameterization_distortion.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 #include "testing/finger_mesh.h"
@@ -36,7 +37,7 @@ void ExpectBijection(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere) {
     total += SphericalTriangleArea(a, b, c);
   }
   EXPECT_EQ(flipped, 0);
-  EXPECT_NEAR(total, 4.0 * M_PI, 1e-8);
+  EXPECT_NEAR(total, 4.0 * kPi, 1e-8);
 }
 
 struct Case {
@@ -132,8 +133,8 @@ TEST(SphericalParameterization, OptimizationLowersTheEnergy) {
   EXPECT_NEAR(param->energy, energy, 1e-6 * energy);
   // Lower bound of eq. (12): E_angle, E_area >= 2 (up to O(h^2)) on a mesh
   // of area 4*pi gives 16*pi; a good map is within a small factor of it.
-  EXPECT_GT(energy, 0.95 * 16.0 * M_PI);
-  EXPECT_LT(energy, 1.6 * 16.0 * M_PI);
+  EXPECT_GT(energy, 0.95 * 16.0 * kPi);
+  EXPECT_LT(energy, 1.6 * 16.0 * kPi);
 }
 
 // Eq. (12) recomputed from the per-face distortions of `sphere`.

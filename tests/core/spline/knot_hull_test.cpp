@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/sphere/perturbed_predicates.h"
 #include "testing/random_knots.h"
 
@@ -76,7 +77,7 @@ TEST(KnotHullTest, CoCircularKnotsAreTriangulatedUnderThePerturbation) {
   // whose base plane passes through the origin.
   Eigen::MatrixX3d cone(13, 3);
   for (int i = 0; i < 12; ++i) {
-    const double a = 2 * M_PI * i / 12;
+    const double a = 2 * kPi * i / 12;
     cone.row(i) << std::cos(a), std::sin(a), 0.0;
   }
   cone.row(12) << 0, 0, 1;

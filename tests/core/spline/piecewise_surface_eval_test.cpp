@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/delaunay_configurations.h"
@@ -119,11 +120,11 @@ TEST(PiecewiseSurfaceShapeTest, GaussBonnet) {
   const SphericalSpline spline = SmoothSpline(80, 3);
   const PiecewiseSurface fast(spline);
   const Integrals coarse = Integrate(fast, 5), fine = Integrate(fast, 6);
-  EXPECT_NEAR((4 * fine.gaussian - coarse.gaussian) / 3, 4 * M_PI,
-              3e-4 * 4 * M_PI);
+  EXPECT_NEAR((4 * fine.gaussian - coarse.gaussian) / 3, 4 * kPi,
+              3e-4 * 4 * kPi);
   // The mean curvature of a surface close to a sphere: close to 1 / R for
   // the sphere of the same area.
-  const double radius = std::sqrt(fine.area / (4 * M_PI));
+  const double radius = std::sqrt(fine.area / (4 * kPi));
   EXPECT_NEAR(fine.mean / fine.area, 1.0 / radius, 0.05 / radius);
 }
 

@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "testing/random_spline.h"
 #include "testing/spline_model_fixture.h"
 
@@ -109,7 +110,7 @@ TEST(PiecewiseSurfaceTest, AgreesOnKnotsSegmentsAndCellBoundaries) {
       points.push_back(-knots.row(r).transpose());
     }
     for (int i = 0; i < 720; ++i) {
-      const double angle = 2.0 * 3.14159265358979323846 * i / 720.0;
+      const double angle = 2.0 * kPi * i / 720.0;
       const double c = std::cos(angle), s = std::sin(angle);
       points.emplace_back(c, s, 0.0);
       points.emplace_back(0.0, c, s);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/sphere/spherical_barycentric.h"
 #include "sdcb/core/spline/simplex_spline_forest.h"
 #include "testing/random_sphere_points.h"
@@ -70,7 +71,7 @@ TEST(HalfOpenTriangle, FanAroundAKnotCountsEveryPointOnce) {
   Eigen::Vector3d e_v = c.cross(e_u);
   std::vector<Eigen::Vector3d> ring;
   for (int i = 0; i < 7; ++i) {
-    const double a = 2 * M_PI * i / 7 + 0.1 * std::sin(3.0 * i);
+    const double a = 2 * kPi * i / 7 + 0.1 * std::sin(3.0 * i);
     ring.push_back(
         (c + 0.3 * (std::cos(a) * e_u + std::sin(a) * e_v)).normalized());
   }

@@ -12,6 +12,7 @@
 #include <map>
 #include <random>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/tessellate/optimal_triangle_count.h"
@@ -127,7 +128,7 @@ TEST(AdaptiveTessellationTest, SphereIsClosedWithinToleranceNearOptimum) {
   EXPECT_GE(worst, 0.5 * eps);  // not grossly over-refined
   EXPECT_EQ(t->uncertified_faces, 0);
   // N_opt(eps) = 8 pi r / (3 sqrt(3) eps) for a sphere.
-  const double optimum = 8.0 * M_PI * r / (3.0 * std::sqrt(3.0) * eps);
+  const double optimum = 8.0 * kPi * r / (3.0 * std::sqrt(3.0) * eps);
   const double ratio = t->faces.rows() / optimum;
   std::cout << "sphere: " << t->faces.rows() << " faces, " << ratio
             << " x N_opt, measured " << worst << "\n";
@@ -188,7 +189,7 @@ TEST(AdaptiveTessellationTest, AngleToleranceHolds) {
     ellipsoid.Sample(d, &p, &normals);
     for (int k = 0; k < 66; ++k) {
       // The lattice of order 6 misses a little between its points.
-      EXPECT_GE(normals.row(k).dot(n), std::cos(10.5 * M_PI / 180.0));
+      EXPECT_GE(normals.row(k).dot(n), std::cos(10.5 * kPi / 180.0));
     }
   }
 }
@@ -255,7 +256,7 @@ void ExpectDomainIsASphere(const Tessellation& t) {
     area += 2.0 *
             std::atan2(a.dot(b.cross(c)), 1.0 + a.dot(b) + b.dot(c) + c.dot(a));
   }
-  EXPECT_NEAR(area, 4.0 * M_PI, 1e-8);
+  EXPECT_NEAR(area, 4.0 * kPi, 1e-8);
   std::map<std::pair<int, int>, int> edges;
   for (Eigen::Index f = 0; f < t.faces.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
@@ -472,8 +473,8 @@ TEST(OptimalTriangleCountTest, SphereClosedForm) {
       IntegrateCurvature(sphere, coarse.directions, coarse.faces, 1);
   ASSERT_TRUE(k.ok());
   // Inscribed flat triangles: the area converges to 4 pi r^2 from below.
-  EXPECT_NEAR(k->area, 4 * M_PI * r * r, 2e-3 * 4 * M_PI * r * r);
-  EXPECT_NEAR(k->convex, 4 * M_PI * r, 2e-3 * 4 * M_PI * r);
+  EXPECT_NEAR(k->area, 4 * kPi * r * r, 2e-3 * 4 * kPi * r * r);
+  EXPECT_NEAR(k->convex, 4 * kPi * r, 2e-3 * 4 * kPi * r);
   EXPECT_EQ(k->saddle, 0.0);
   EXPECT_NEAR(OptimalTriangleCount(*k, 1e-3), 4.8368 * r / 1e-3,
               3e-3 * 4.8368 * r / 1e-3);

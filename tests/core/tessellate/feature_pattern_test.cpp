@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/knots/feature_knots.h"
 #include "sdcb/core/spline/piecewise_surface.h"
@@ -119,7 +120,7 @@ TEST(FeatureQuads, FacesAsQuadsOrCutIntoQuadsTileTheSphere) {
       EXPECT_GT(a, 0.0);
       area += a;
     }
-    EXPECT_NEAR(area, 4.0 * 3.14159265358979323846, 1e-12);
+    EXPECT_NEAR(area, 4.0 * kPi, 1e-12);
     ASSERT_EQ(q->creases.size(), c.arcs->size() * (c.split_result ? 2 : 1));
     for (const auto& [a, b] : q->creases) {
       // On an arc: both ends on one arc's great circle, between its ends.

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "sdcb/core/common/constants.h"
 #include "testing/analytic_surfaces.h"
 
 namespace sdcb {
@@ -79,16 +80,16 @@ TEST(OptimalTriangleCountTest, WholeSurfaceQuadratureMatchesAProfileIntegral) {
   const int steps = 200000;
   double area = 0, convex = 0, saddle = 0, total_k = 0;
   for (int i = 0; i < steps; ++i) {
-    const double t = (i + 0.5) * M_PI / steps;
+    const double t = (i + 0.5) * kPi / steps;
     const Profile p = PeanutProfile(t);
     const double da =
-        2 * M_PI * p.rho * std::hypot(p.d_rho, p.d_z) * (M_PI / steps);
+        2 * kPi * p.rho * std::hypot(p.d_rho, p.d_z) * (kPi / steps);
     const double k = PeanutGaussian(p);
     area += da;
     total_k += k * da;
     (k > 0 ? convex : saddle) += std::sqrt(std::abs(k)) * da;
   }
-  ASSERT_NEAR(total_k, 4 * M_PI, 1e-6);
+  ASSERT_NEAR(total_k, 4 * kPi, 1e-6);
   ASSERT_GT(saddle, 0.1 * convex);  // the waist is a real saddle band
 
   const StatusOr<CurvatureIntegrals> k =
@@ -110,7 +111,7 @@ TEST(OptimalTriangleCountTest, WholeSurfaceQuadratureOnAnEllipsoid) {
   // K = 1 / (a b c sum x_i^2 / a_i^4)^2, midpoint rule on 1000 x 2000.
   const Eigen::Vector3d axes(1.0, 0.7, 0.4);
   const int nt = 1000, np = 2000;
-  const double dt = M_PI / nt, dp = 2 * M_PI / np;
+  const double dt = kPi / nt, dp = 2 * kPi / np;
   double area = 0, convex = 0;
   for (int i = 0; i < nt; ++i) {
     const double t = (i + 0.5) * dt;

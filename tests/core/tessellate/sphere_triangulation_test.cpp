@@ -8,6 +8,8 @@
 #include <random>
 #include <set>
 
+#include "sdcb/core/common/constants.h"
+
 namespace sdcb {
 namespace {
 
@@ -45,7 +47,7 @@ void ExpectSphereTriangulation(const SphereTriangulation& t) {
     area += 2.0 *
             std::atan2(a.dot(b.cross(c)), 1.0 + a.dot(b) + b.dot(c) + c.dot(a));
   }
-  EXPECT_NEAR(area, 4.0 * M_PI, 1e-9);
+  EXPECT_NEAR(area, 4.0 * kPi, 1e-9);
 }
 
 // The corner table against a brute-force scan of the faces: every alive
@@ -137,8 +139,7 @@ TEST(SphereTriangulationTest, RandomSplitsCollapsesAndFlipsStayASphere) {
     const int kind = step < 600 ? 0 : int(rng() % 3);
     if (kind == 0) {
       const int a = t.Origin(h), b = t.Target(h);
-      const int m =
-          t.SplitEdge(h, (t.vertex(a) + t.vertex(b)).normalized());
+      const int m = t.SplitEdge(h, (t.vertex(a) + t.vertex(b)).normalized());
       EXPECT_EQ(m, vertices);
       EXPECT_LT(t.HalfEdge(a, b), 0);
       EXPECT_GE(t.HalfEdge(a, m), 0);

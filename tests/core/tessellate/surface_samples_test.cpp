@@ -7,14 +7,13 @@
 #include <cmath>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/tessellate/face_verification.h"
 #include "sdcb/core/tessellate/sampled_certificate.h"
 #include "testing/analytic_surfaces.h"
 
 namespace sdcb {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Area of the spherical triangle (a, b, c) (Van Oosterom and Strackee).
 double SphericalArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b,

@@ -1,0 +1,569 @@
+#include "sdcb/converters/gltf/gltf_export.h"
+
+#include <draco/io/gltf_encoder.h>
+#include <draco/mesh/mesh.h>
+#include <meshoptimizer.h>
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <vector>
+
+#include "sdcb/io/common/atomic_file.h"
+
+namespace sdcb {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
+constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122,
+              kUnsignedShort = 5123, kUnsignedInt = 5125, kFloat = 5126;
+
+std::string LowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+void Pad4(std::string* s, char fill) {
+  while (s->size() % 4 != 0) s->push_back(fill);
+}
+
+void AppendU32(std::string* s, uint32_t v) {
+  for (int i = 0; i < 4; ++i) s->push_back(static_cast<char>(v >> (8 * i)));
+}
+
+// The GLB container (glTF 2.0 spec, "Binary glTF Layout").
+std::string PackGlb(const Json& json, std::string bin) {
+  std::string text = json.dump();
+  Pad4(&text, ' ');
+  Pad4(&bin, '\0');
+  std::string out;
+  AppendU32(&out, 0x46546C67u);  // "glTF"
+  AppendU32(&out, 2);
+  AppendU32(&out, static_cast<uint32_t>(12 + 8 + text.size() +
+                                        (bin.empty() ? 0 : 8 + bin.size())));
+  AppendU32(&out, static_cast<uint32_t>(text.size()));
+  AppendU32(&out, 0x4E4F534Au);  // "JSON"
+  out += text;
+  if (!bin.empty()) {
+    AppendU32(&out, static_cast<uint32_t>(bin.size()));
+    AppendU32(&out, 0x004E4942u);  // "BIN\0"
+    out += bin;
+  }
+  return out;
+}
+
+uint32_t ReadU32(const std::string& s, size_t at) {
+  uint32_t v = 0;
+  for (int i = 0; i < 4; ++i) {
+    v |= static_cast<uint32_t>(static_cast<unsigned char>(s[at + i]))
+         << (8 * i);
+  }
+  return v;
+}
+
+// Splits a GLB into its JSON and BIN chunks.
+Status UnpackGlb(const std::string& glb, Json* json, std::string* bin) {
+  if (glb.size() < 20 || ReadU32(glb, 0) != 0x46546C67u) {
+    return InternalError("the encoder did not produce a GLB");
+  }
+  const uint32_t json_length = ReadU32(glb, 12);
+  if (20 + size_t{json_length} > glb.size()) {
+    return InternalError("the encoder produced a truncated GLB");
+  }
+  *json = Json::parse(glb.substr(20, json_length));
+  size_t at = 20 + json_length;
+  bin->clear();
+  if (at + 8 <= glb.size()) {
+    const uint32_t bin_length = ReadU32(glb, at);
+    if (at + 8 + bin_length > glb.size()) {
+      return InternalError("the encoder produced a truncated GLB");
+    }
+    *bin = glb.substr(at + 8, bin_length);
+  }
+  return Status::Ok();
+}
+
+std::string Base64(const std::string& data) {
+  static const char* kAlphabet =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((data.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < data.size(); i += 3) {
+    uint32_t v = static_cast<unsigned char>(data[i]) << 16;
+    if (i + 1 < data.size()) v |= static_cast<unsigned char>(data[i + 1]) << 8;
+    if (i + 2 < data.size()) v |= static_cast<unsigned char>(data[i + 2]);
+    out.push_back(kAlphabet[(v >> 18) & 63]);
+    out.push_back(kAlphabet[(v >> 12) & 63]);
+    out.push_back(i + 1 < data.size() ? kAlphabet[(v >> 6) & 63] : '=');
+    out.push_back(i + 2 < data.size() ? kAlphabet[v & 63] : '=');
+  }
+  return out;
+}
+
+// The file bytes for `json` + `bin` (buffer 0): a GLB, or a .gltf with the
+// buffer as a data URI.
+std::string Container(Json json, const std::string& bin, bool glb) {
+  if (glb) return PackGlb(json, bin);
+  if (!bin.empty()) {
+    json["buffers"][0]["uri"] =
+        "data:application/octet-stream;base64," + Base64(bin);
+  }
+  return json.dump(1) + "\n";
+}
+
+// Draco's encoder names itself; the contract says "sdcb".
+void SetGenerator(Json* json) {
+  (*json)["asset"]["generator"] = "sdcb";
+  (*json)["asset"]["version"] = "2.0";
+}
+
+template <typename T>
+void Append(std::string* bin, const T* data, size_t count) {
+  bin->append(reinterpret_cast<const char*>(data), count * sizeof(T));
+}
+
+// --- plain: float32 through tinygltf ---------------------------------------
+
+StatusOr<std::string> EncodePlain(const SurfaceMesh& mesh, bool glb) {
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = "sdcb";
+  const size_t nv = mesh.positions.rows(), nf = mesh.faces.rows();
+  const bool normals = mesh.normals.rows() > 0;
+  const bool colors = mesh.colors.rows() > 0;
+  std::string bin;
+  tinygltf::Primitive primitive;
+  primitive.mode = TINYGLTF_MODE_TRIANGLES;
+  auto add_view = [&](size_t offset, size_t length, int target, int stride) {
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = offset;
+    view.byteLength = length;
+    view.byteStride = stride;
+    view.target = target;
+    model.bufferViews.push_back(view);
+    return static_cast<int>(model.bufferViews.size()) - 1;
+  };
+  auto add_accessor = [&](int view, int component, int type, size_t count,
+                          bool normalized) {
+    tinygltf::Accessor a;
+    a.bufferView = view;
+    a.componentType = component;
+    a.type = type;
+    a.count = count;
+    a.normalized = normalized;
+    model.accessors.push_back(a);
+    return static_cast<int>(model.accessors.size()) - 1;
+  };
+  // Positions with min / max.
+  {
+    std::vector<float> xyz(3 * nv);
+    std::vector<double> lo(3, std::numeric_limits<double>::max()),
+        hi(3, std::numeric_limits<double>::lowest());
+    for (size_t v = 0; v < nv; ++v) {
+      for (int k = 0; k < 3; ++k) {
+        xyz[3 * v + k] = static_cast<float>(mesh.positions(v, k));
+        lo[k] = std::min(lo[k], double{xyz[3 * v + k]});
+        hi[k] = std::max(hi[k], double{xyz[3 * v + k]});
+      }
+    }
+    const size_t offset = bin.size();
+    Append(&bin, xyz.data(), xyz.size());
+    const int a =
+        add_accessor(add_view(offset, bin.size() - offset, kArrayBuffer, 0),
+                     kFloat, TINYGLTF_TYPE_VEC3, nv, false);
+    model.accessors[a].minValues = lo;
+    model.accessors[a].maxValues = hi;
+    primitive.attributes["POSITION"] = a;
+  }
+  if (normals) {
+    std::vector<float> n(3 * nv);
+    for (size_t v = 0; v < nv; ++v) {
+      Eigen::Vector3f u = mesh.normals.row(v).transpose().cast<float>();
+      u.normalize();
+      for (int k = 0; k < 3; ++k) n[3 * v + k] = u[k];
+    }
+    const size_t offset = bin.size();
+    Append(&bin, n.data(), n.size());
+    primitive.attributes["NORMAL"] =
+        add_accessor(add_view(offset, bin.size() - offset, kArrayBuffer, 0),
+                     kFloat, TINYGLTF_TYPE_VEC3, nv, false);
+  }
+  if (colors) {
+    // RGBA8: vertex attribute elements must be 4-byte aligned.
+    std::vector<uint8_t> c(4 * nv);
+    for (size_t v = 0; v < nv; ++v) {
+      for (int k = 0; k < 3; ++k) c[4 * v + k] = mesh.colors(v, k);
+      c[4 * v + 3] = 255;
+    }
+    const size_t offset = bin.size();
+    Append(&bin, c.data(), c.size());
+    primitive.attributes["COLOR_0"] =
+        add_accessor(add_view(offset, bin.size() - offset, kArrayBuffer, 0),
+                     kUnsignedByte, TINYGLTF_TYPE_VEC4, nv, true);
+  }
+  {
+    const size_t offset = bin.size();
+    if (nv <= 65535) {
+      std::vector<uint16_t> idx(3 * nf);
+      for (size_t f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k)
+          idx[3 * f + k] = static_cast<uint16_t>(mesh.faces(f, k));
+      Append(&bin, idx.data(), idx.size());
+      primitive.indices = add_accessor(
+          add_view(offset, bin.size() - offset, kElementArrayBuffer, 0),
+          kUnsignedShort, TINYGLTF_TYPE_SCALAR, 3 * nf, false);
+    } else {
+      std::vector<uint32_t> idx(3 * nf);
+      for (size_t f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k)
+          idx[3 * f + k] = static_cast<uint32_t>(mesh.faces(f, k));
+      Append(&bin, idx.data(), idx.size());
+      primitive.indices = add_accessor(
+          add_view(offset, bin.size() - offset, kElementArrayBuffer, 0),
+          kUnsignedInt, TINYGLTF_TYPE_SCALAR, 3 * nf, false);
+    }
+  }
+  Pad4(&bin, '\0');
+  tinygltf::Buffer buffer;
+  buffer.data.assign(bin.begin(), bin.end());
+  model.buffers.push_back(std::move(buffer));
+  tinygltf::Mesh m;
+  m.primitives.push_back(primitive);
+  model.meshes.push_back(m);
+  tinygltf::Node node;
+  node.mesh = 0;
+  model.nodes.push_back(node);
+  tinygltf::Scene scene;
+  scene.nodes.push_back(0);
+  model.scenes.push_back(scene);
+  model.defaultScene = 0;
+  std::ostringstream stream;
+  tinygltf::TinyGLTF writer;
+  if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/!glb,
+                                     glb)) {
+    return InternalError("tinygltf could not serialize the mesh");
+  }
+  return stream.str();
+}
+
+// --- Draco ------------------------------------------------------------------
+
+StatusOr<std::string> EncodeDraco(const SurfaceMesh& mesh,
+                                  const GltfExportOptions& options, bool glb) {
+  const int nv = static_cast<int>(mesh.positions.rows());
+  draco::Mesh dm;
+  dm.set_num_points(nv);
+  auto add = [&](draco::GeometryAttribute::Type type, int components,
+                 draco::DataType data_type, bool normalized, int bytes) {
+    draco::GeometryAttribute a;
+    a.Init(type, nullptr, components, data_type, normalized, bytes * components,
+           0);
+    return dm.AddAttribute(a, /*identity_mapping=*/true, nv);
+  };
+  const int pos =
+      add(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32, false, 4);
+  for (int v = 0; v < nv; ++v) {
+    const float p[3] = {float(mesh.positions(v, 0)),
+                        float(mesh.positions(v, 1)),
+                        float(mesh.positions(v, 2))};
+    dm.attribute(pos)->SetAttributeValue(draco::AttributeValueIndex(v), p);
+  }
+  if (mesh.normals.rows() > 0) {
+    const int nrm =
+        add(draco::GeometryAttribute::NORMAL, 3, draco::DT_FLOAT32, false, 4);
+    for (int v = 0; v < nv; ++v) {
+      Eigen::Vector3f u =
+          mesh.normals.row(v).transpose().cast<float>().normalized();
+      dm.attribute(nrm)->SetAttributeValue(draco::AttributeValueIndex(v),
+                                           u.data());
+    }
+  }
+  if (mesh.colors.rows() > 0) {
+    const int col =
+        add(draco::GeometryAttribute::COLOR, 4, draco::DT_UINT8, true, 1);
+    for (int v = 0; v < nv; ++v) {
+      const uint8_t c[4] = {mesh.colors(v, 0), mesh.colors(v, 1),
+                            mesh.colors(v, 2), 255};
+      dm.attribute(col)->SetAttributeValue(draco::AttributeValueIndex(v), c);
+    }
+  }
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    dm.AddFace({draco::PointIndex(mesh.faces(f, 0)),
+                draco::PointIndex(mesh.faces(f, 1)),
+                draco::PointIndex(mesh.faces(f, 2))});
+  }
+  draco::DracoCompressionOptions compression;
+  compression.compression_level = options.draco_level;
+  compression.quantization_position.SetQuantizationBits(options.position_bits);
+  compression.quantization_bits_normal = 12;
+  dm.SetCompressionEnabled(true);
+  dm.SetCompressionOptions(compression);
+  draco::GltfEncoder encoder;
+  draco::EncoderBuffer buffer;
+  const draco::Status s = encoder.EncodeToBuffer(dm, &buffer);
+  if (!s.ok()) return InternalError("Draco: " + s.error_msg_string());
+  Json json;
+  std::string bin;
+  SDCB_RETURN_IF_ERROR(
+      UnpackGlb(std::string(buffer.data(), buffer.size()), &json, &bin));
+  SetGenerator(&json);
+  return Container(json, bin, glb);
+}
+
+// --- meshopt ----------------------------------------------------------------
+
+StatusOr<std::string> EncodeMeshopt(const SurfaceMesh& mesh,
+                                    const GltfExportOptions& options, bool glb,
+                                    double step, const Eigen::RowVector3d& lo) {
+  const size_t nv = mesh.positions.rows(), ni = 3 * mesh.faces.rows();
+  std::vector<unsigned int> indices(ni);
+  for (size_t i = 0; i < ni; ++i) indices[i] = mesh.faces(i / 3, i % 3);
+  // Vertex cache order for the triangles, then vertex fetch order.
+  meshopt_optimizeVertexCache(indices.data(), indices.data(), ni, nv);
+  std::vector<unsigned int> remap(nv);
+  const size_t unique =
+      meshopt_optimizeVertexFetchRemap(remap.data(), indices.data(), ni, nv);
+  meshopt_remapIndexBuffer(indices.data(), indices.data(), ni, remap.data());
+  // Vertices never referenced by a face do not exist in a closed mesh.
+  std::vector<size_t> source(unique);
+  for (size_t v = 0; v < nv; ++v) {
+    if (remap[v] != ~0u) source[remap[v]] = v;
+  }
+  const bool normals = mesh.normals.rows() > 0, colors = mesh.colors.rows() > 0;
+  std::vector<uint16_t> q(4 * unique, 0);
+  std::vector<int16_t> n(4 * unique, 0);
+  std::vector<uint8_t> c(4 * unique, 255);
+  uint16_t qmin[3] = {65535, 65535, 65535}, qmax[3] = {0, 0, 0};
+  const double levels = std::pow(2.0, options.position_bits) - 1.0;
+  for (size_t i = 0; i < unique; ++i) {
+    const size_t v = source[i];
+    for (int k = 0; k < 3; ++k) {
+      const double t = std::round((mesh.positions(v, k) - lo[k]) / step);
+      const uint16_t u = static_cast<uint16_t>(std::clamp(t, 0.0, levels));
+      q[4 * i + k] = u;
+      qmin[k] = std::min(qmin[k], u);
+      qmax[k] = std::max(qmax[k], u);
+    }
+    if (normals) {
+      const Eigen::Vector3d u = mesh.normals.row(v).transpose().normalized();
+      for (int k = 0; k < 3; ++k)
+        n[4 * i + k] = static_cast<int16_t>(std::lround(u[k] * 32767.0));
+    }
+    if (colors) {
+      for (int k = 0; k < 3; ++k) c[4 * i + k] = mesh.colors(v, k);
+    }
+  }
+  std::string bin;
+  Json views = Json::array();
+  size_t fallback_size = 0;
+  // One compressed buffer view: the uncompressed layout lives in the
+  // fallback buffer 1, the encoded bytes in buffer 0.
+  auto add_view = [&](const std::vector<unsigned char>& encoded, size_t stride,
+                      size_t count, const char* mode, int target) {
+    Pad4(&bin, '\0');
+    Json ext = {{"buffer", 0},
+                {"byteOffset", bin.size()},
+                {"byteLength", encoded.size()},
+                {"byteStride", stride},
+                {"count", count},
+                {"mode", mode}};
+    bin.append(reinterpret_cast<const char*>(encoded.data()), encoded.size());
+    Json view = {{"buffer", 1},
+                 {"byteOffset", fallback_size},
+                 {"byteLength", stride * count}};
+    if (target == kArrayBuffer) view["byteStride"] = stride;
+    view["target"] = target;
+    view["extensions"] = {{"EXT_meshopt_compression", ext}};
+    fallback_size += stride * count;
+    fallback_size = (fallback_size + 3) / 4 * 4;
+    views.push_back(view);
+    return static_cast<int>(views.size()) - 1;
+  };
+  auto encode_vertices = [&](const void* data, size_t stride) {
+    std::vector<unsigned char> out(
+        meshopt_encodeVertexBufferBound(unique, stride));
+    out.resize(meshopt_encodeVertexBuffer(out.data(), out.size(), data, unique,
+                                          stride));
+    return out;
+  };
+  Json accessors = Json::array();
+  Json attributes;
+  {
+    const int view = add_view(encode_vertices(q.data(), 8), 8, unique,
+                              "ATTRIBUTES", kArrayBuffer);
+    accessors.push_back({{"bufferView", view},
+                         {"componentType", kUnsignedShort},
+                         {"count", unique},
+                         {"type", "VEC3"},
+                         {"min", {qmin[0], qmin[1], qmin[2]}},
+                         {"max", {qmax[0], qmax[1], qmax[2]}}});
+    attributes["POSITION"] = accessors.size() - 1;
+  }
+  if (normals) {
+    const int view = add_view(encode_vertices(n.data(), 8), 8, unique,
+                              "ATTRIBUTES", kArrayBuffer);
+    accessors.push_back({{"bufferView", view},
+                         {"componentType", kShort},
+                         {"normalized", true},
+                         {"count", unique},
+                         {"type", "VEC3"}});
+    attributes["NORMAL"] = accessors.size() - 1;
+  }
+  if (colors) {
+    const int view = add_view(encode_vertices(c.data(), 4), 4, unique,
+                              "ATTRIBUTES", kArrayBuffer);
+    accessors.push_back({{"bufferView", view},
+                         {"componentType", kUnsignedByte},
+                         {"normalized", true},
+                         {"count", unique},
+                         {"type", "VEC4"}});
+    attributes["COLOR_0"] = accessors.size() - 1;
+  }
+  {
+    meshopt_encodeIndexVersion(
+        1);  // the version EXT_meshopt_compression requires
+    std::vector<unsigned char> out(meshopt_encodeIndexBufferBound(ni, unique));
+    out.resize(
+        meshopt_encodeIndexBuffer(out.data(), out.size(), indices.data(), ni));
+    const bool small = unique <= 65535;
+    const int view =
+        add_view(out, small ? 2 : 4, ni, "TRIANGLES", kElementArrayBuffer);
+    accessors.push_back(
+        {{"bufferView", view},
+         {"componentType", small ? kUnsignedShort : kUnsignedInt},
+         {"count", ni},
+         {"type", "SCALAR"}});
+  }
+  Pad4(&bin, '\0');
+  Json json;
+  json["asset"] = {{"version", "2.0"}, {"generator", "sdcb"}};
+  json["extensionsUsed"] = {"EXT_meshopt_compression", "KHR_mesh_quantization"};
+  json["extensionsRequired"] = {"EXT_meshopt_compression",
+                                "KHR_mesh_quantization"};
+  json["scene"] = 0;
+  json["scenes"] = {{{"nodes", {0}}}};
+  json["nodes"] = {{{"mesh", 0},
+                    {"translation", {lo[0], lo[1], lo[2]}},
+                    {"scale", {step, step, step}}}};
+  json["meshes"] = {{{"primitives",
+                      {{{"attributes", attributes},
+                        {"indices", accessors.size() - 1},
+                        {"mode", 4}}}}}};
+  json["accessors"] = accessors;
+  json["bufferViews"] = views;
+  json["buffers"] = {
+      {{"byteLength", bin.size()}},
+      {{"byteLength", fallback_size},
+       {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}};
+  (void)kByte;
+  (void)kFloat;
+  return Container(json, bin, glb);
+}
+
+}  // namespace
+
+double QuantizationStep(const Eigen::MatrixX3d& positions, int bits) {
+  if (positions.rows() == 0) return 0.0;
+  const double range =
+      (positions.colwise().maxCoeff() - positions.colwise().minCoeff())
+          .maxCoeff();
+  return range / (std::pow(2.0, bits) - 1.0);
+}
+
+int PositionBitsFor(const Eigen::MatrixX3d& positions, double max_error,
+                    int max_bits) {
+  for (int bits = 1; bits < max_bits; ++bits) {
+    if (std::sqrt(3.0) / 2.0 * QuantizationStep(positions, bits) <= max_error) {
+      return bits;
+    }
+  }
+  return max_bits;
+}
+
+StatusOr<EncodedGltf> EncodeGltf(const SurfaceMesh& mesh,
+                                 const GltfExportOptions& options,
+                                 bool binary) {
+  const int max_bits =
+      options.compression == GltfCompression::kMeshopt ? 16 : 30;
+  if (options.compression != GltfCompression::kNone &&
+      (options.position_bits < 1 || options.position_bits > max_bits)) {
+    return InvalidArgumentError("position quantization bits must be in 1.." +
+                                std::to_string(max_bits));
+  }
+  if (options.draco_level < 0 || options.draco_level > 10) {
+    return InvalidArgumentError("Draco compression level must be in 0..10");
+  }
+  if (mesh.normals.rows() > 0) {
+    for (Eigen::Index v = 0; v < mesh.normals.rows(); ++v) {
+      if (std::abs(mesh.normals.row(v).norm() - 1.0) > 1e-6) {
+        return InvalidArgumentError("vertex normal " + std::to_string(v) +
+                                    " is not a unit vector");
+      }
+    }
+  }
+  EncodedGltf out;
+  GltfExportResult& result = out.result;
+  for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      const double x = mesh.positions(v, k);
+      result.float32_error =
+          std::max(result.float32_error, std::abs(double(float(x)) - x));
+    }
+  }
+  StatusOr<std::string> bytes = std::string();
+  switch (options.compression) {
+    case GltfCompression::kNone:
+      bytes = EncodePlain(mesh, binary);
+      break;
+    case GltfCompression::kDraco: {
+      // Draco quantizes the float32 positions over their bounding box.
+      result.quantization_step =
+          QuantizationStep(mesh.positions, options.position_bits);
+      result.quantization_error =
+          std::sqrt(3.0) / 2.0 * result.quantization_step;
+      bytes = EncodeDraco(mesh, options, binary);
+      break;
+    }
+    case GltfCompression::kMeshopt: {
+      result.quantization_step =
+          QuantizationStep(mesh.positions, options.position_bits);
+      result.quantization_error =
+          std::sqrt(3.0) / 2.0 * result.quantization_step;
+      const Eigen::RowVector3d lo = mesh.positions.colwise().minCoeff();
+      bytes =
+          EncodeMeshopt(mesh, options, binary, result.quantization_step, lo);
+      break;
+    }
+  }
+  if (!bytes.ok()) return bytes.status();
+  out.bytes = std::move(bytes).value();
+  result.bytes = static_cast<int64_t>(out.bytes.size());
+  return out;
+}
+
+StatusOr<GltfExportResult> WriteGltf(const SurfaceMesh& mesh,
+                                     const GltfExportOptions& options,
+                                     const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  if (ext != ".gltf" && ext != ".glb") {
+    return InvalidArgumentError(path +
+                                ": a glTF file must end in .gltf or .glb");
+  }
+  StatusOr<EncodedGltf> encoded = EncodeGltf(mesh, options, ext == ".glb");
+  if (!encoded.ok()) return encoded.status().WithPrefix(path);
+  SDCB_RETURN_IF_ERROR(WriteFileAtomically(encoded->bytes, path));
+  return encoded->result;
+}
+
+}  // namespace sdcb

@@ -1,0 +1,77 @@
+// Writes a SurfaceMesh as glTF 2.0 (.gltf with the buffer embedded as a data
+// URI, or .glb): one mesh, one node, one scene, asset generator "sdcb";
+// POSITION (with min / max), NORMAL, COLOR_0 when the mesh has colors, and
+// triangle indices. Three encodings:
+//   - plain: float32 attributes through tinygltf;
+//   - Draco: KHR_draco_mesh_compression (a required extension) through
+//     Draco's glTF encoder, positions quantized to `position_bits` over the
+//     largest side of the bounding box, compression level `draco_level`;
+//   - meshopt: EXT_meshopt_compression + KHR_mesh_quantization (both
+//     required): vertex cache and fetch order optimized, positions quantized
+//     to `position_bits` as unsigned shorts with the node's translation and
+//     uniform scale undoing the quantization, normals as normalized shorts,
+//     colors as normalized bytes, buffers encoded with libmeshoptimizer
+//     (index codec version 1) and a fallback buffer without data.
+// The write is atomic.
+#ifndef SDCB_CONVERTERS_GLTF_GLTF_EXPORT_H_
+#define SDCB_CONVERTERS_GLTF_GLTF_EXPORT_H_
+
+#include <cstdint>
+#include <string>
+
+#include "sdcb/converters/mesh/surface_mesh.h"
+#include "sdcb/core/common/status.h"
+
+namespace sdcb {
+
+enum class GltfCompression { kNone, kDraco, kMeshopt };
+
+struct GltfExportOptions {
+  GltfCompression compression = GltfCompression::kNone;
+  // Position quantization (Draco: 1..30; meshopt: 1..16).
+  int position_bits = 14;
+  // Draco compression level, 0 (fastest) .. 10 (smallest).
+  int draco_level = 7;
+};
+
+struct GltfExportResult {
+  int64_t bytes = 0;  // size of the written file
+  // Largest distance between a stored and an exact vertex position caused by
+  // quantization (0 for float32 storage, whose rounding is reported as
+  // float32_error instead).
+  double quantization_error = 0.0;
+  double quantization_step = 0.0;  // grid spacing, 0 without quantization
+  double float32_error = 0.0;      // largest float32 rounding of a position
+};
+
+// The quantization grid of `bits` bits over the largest side of the
+// bounding box of `positions` (#V by 3): spacing range / (2^bits - 1).
+double QuantizationStep(const Eigen::MatrixX3d& positions, int bits);
+
+// The fewest bits (at most `max_bits`) whose quantization error,
+// sqrt(3) / 2 * QuantizationStep, is at most `max_error`.
+int PositionBitsFor(const Eigen::MatrixX3d& positions, double max_error,
+                    int max_bits);
+
+// The file's bytes and what the encoding did to the positions.
+struct EncodedGltf {
+  std::string bytes;
+  GltfExportResult result;  // result.bytes == bytes.size()
+};
+
+// `mesh` as a .glb (`binary`) or a .gltf with its buffer embedded.
+// kInvalidArgument for bits out of range or normals that are not unit
+// vectors.
+StatusOr<EncodedGltf> EncodeGltf(const SurfaceMesh& mesh,
+                                 const GltfExportOptions& options, bool binary);
+
+// EncodeGltf written to `path`, which ends in .gltf or .glb (else
+// kInvalidArgument); kIoError if the file cannot be written (nothing is left
+// at `path`).
+StatusOr<GltfExportResult> WriteGltf(const SurfaceMesh& mesh,
+                                     const GltfExportOptions& options,
+                                     const std::string& path);
+
+}  // namespace sdcb
+
+#endif  // SDCB_CONVERTERS_GLTF_GLTF_EXPORT_H_
