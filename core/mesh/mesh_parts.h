@@ -1,0 +1,52 @@
+// A mesh's parts (its connected components of triangles) and whether sdcb
+// can fit each: a part must be manifold, consistently oriented, genus 0,
+// with area and without degenerate triangles; closed, or open with one or
+// more boundary loops (core/mesh/hole_filling.h closes it for the fit).
+#ifndef SDCB_CORE_MESH_MESH_PARTS_H_
+#define SDCB_CORE_MESH_MESH_PARTS_H_
+
+#include <string>
+#include <vector>
+
+#include "sdcb/core/common/status.h"
+#include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
+
+namespace sdcb {
+
+struct MeshPart {
+  // The part's triangles and the vertices they use: vertices in ascending
+  // order of their input index, faces in input order. A mesh of one part
+  // without unreferenced vertices is its own part, unchanged.
+  TriangleMesh mesh;
+  std::vector<int> input_vertices;  // per part vertex, its input row
+  std::vector<int> input_faces;     // per part face, its input row
+};
+
+// What `sdcb check` reports per part and what the fit decides from.
+struct PartReport {
+  int number = 0;  // 1-based, in the order of the parts' first triangles
+  MeshTopologyReport topology;  // of the part alone (components == 1)
+  bool closed = false;          // no boundary edges
+  double area = 0.0;            // in the input's units squared
+  // Empty when sdcb can fit the part; else one sentence naming it, e.g.
+  // "part 1 (428 triangles) has genus 2 and 3 boundary loops; sdcb fits
+  // genus-0 parts".
+  std::string problem;
+  bool fittable() const { return problem.empty(); }
+};
+
+// Splits `mesh` into parts (triangles connected through shared vertices),
+// in the order of their first triangle. kInvalidInput for indices out of
+// range; kUnsupported with one sentence when there are more than
+// `max_parts` parts (max_parts <= 0: no limit), decided before any part is
+// built so that memory stays bounded.
+StatusOr<std::vector<MeshPart>> SplitIntoParts(const TriangleMesh& mesh,
+                                               int max_parts);
+
+// The report of one part (`number` 1-based).
+StatusOr<PartReport> ReportPart(const MeshPart& part, int number);
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_MESH_MESH_PARTS_H_
