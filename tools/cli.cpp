@@ -275,11 +275,17 @@ long long WarnAboutSelfIntersections(
   return report->intersecting_pairs;
 }
 
-StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,
-                                        const std::string& path) {
+StatusOr<TriangleMesh> ReadMeshToFit(const Args& args,
+                                     const std::string& path) {
   SDCB_ASSIGN_OR_RETURN(TriangleMesh mesh,
                         ReadMesh(path, nullptr, MeshReadLimitsFromArgs(args)));
   SDCB_RETURN_IF_ERROR(RepairIfAsked(args, path, &mesh));
+  return mesh;
+}
+
+StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,
+                                        const std::string& path) {
+  SDCB_ASSIGN_OR_RETURN(TriangleMesh mesh, ReadMeshToFit(args, path));
   SDCB_RETURN_IF_ERROR(RequireClosedGenusZero(mesh).WithPrefix(path));
   return mesh;
 }

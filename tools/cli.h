@@ -101,7 +101,11 @@ long long WarnAboutSelfIntersections(
     const std::string& path, const StatusOr<SelfIntersectionReport>& report,
     std::string* skipped_because = nullptr);
 
-// What `fit` and `param` read: the MESH with the limits of the options,
+// What `fit` reads: the MESH with the limits of the options, repaired if
+// asked; its parts are checked by the fit (core/fit/fit_model.h).
+StatusOr<TriangleMesh> ReadMeshToFit(const Args& args, const std::string& path);
+
+// What `param` reads: the MESH with the limits of the options,
 // repaired if asked, checked to be closed genus 0 (one sentence naming
 // `path` otherwise). Not checked for self-intersections.
 StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,

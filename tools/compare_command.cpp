@@ -8,10 +8,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "sdcb/converters/mesh/color_ramp.h"
 #include "sdcb/core/measure/surface_deviation.h"
+#include "sdcb/core/mesh/mesh_parts.h"
+#include "sdcb/core/spline/model.h"
 #include "sdcb/io/mesh/mesh_reader.h"
 #include "sdcb/io/mesh/mesh_writer.h"
 #include "sdcb/io/sdcb/sdcb_file.h"
@@ -48,6 +51,76 @@ Status WritePicture(const SurfaceDeviation& d,
   return WriteMesh(picture, path, options);
 }
 
+// `part`'s surface against `mesh` in the part's normalized frame, in
+// percent of the mesh's largest side, in the region the part's trims keep.
+StatusOr<SurfaceDeviation> MeasurePart(const ModelPart& part,
+                                       const TriangleMesh& mesh,
+                                       DeviationOptions options) {
+  const SplineModel& model = part.spline;
+  SDCB_ASSIGN_OR_RETURN(const SphericalSpline surface,
+                        SurfaceFromModel(model));
+  SDCB_ASSIGN_OR_RETURN(const TrimRegion region,
+                        TrimRegion::Create(part.trims));
+  // Both in the model's normalized frame; 100 % = the mesh's largest side.
+  TriangleMesh normalized = mesh;
+  normalized.vertices = model.transform.ToNormalized(mesh.vertices);
+  SDCB_ASSIGN_OR_RETURN(const NormalizingTransform own,
+                        ComputeNormalizingTransform(mesh));
+  options.length_unit = own.scale / model.transform.scale;
+  options.region = &region;
+  return MeasureSurfaceDeviation(surface, normalized, options);
+}
+
+// The figures of `d` (docs/CLI.md, `sdcb compare --json`).
+void AddFigures(const SurfaceDeviation& d, nlohmann::ordered_json* out) {
+  nlohmann::ordered_json& j = *out;
+  j["rmse_percent"] = d.rms_percent;
+  j["max_error_percent"] = d.hausdorff_percent;
+  j["hausdorff_percent"] = d.hausdorff_percent;
+  j["surface_to_mesh_rms_percent"] = d.surface_to_mesh_rms_percent;
+  j["surface_to_mesh_max_percent"] = d.surface_to_mesh_max_percent;
+  j["mesh_to_surface_rms_percent"] = d.mesh_to_surface_rms_percent;
+  j["mesh_to_surface_max_percent"] = d.mesh_to_surface_max_percent;
+  j["mesh_to_surface_max_bound_percent"] = d.mesh_to_surface_max_bound_percent;
+  j["folded_area_percent"] = d.folded_area_percent;
+  j["surface_samples"] = d.surface_samples;
+  j["mesh_samples"] = d.mesh_samples;
+  j["mesh_bound_samples"] = d.mesh_bound_samples;
+  j["mesh_sample_spacing_percent"] = d.mesh_sample_spacing_percent;
+}
+
+// The largest of each figure over the parts (each in percent of its own
+// part's largest side), the sample counts summed: a model of several parts
+// is as good as its worst part.
+SurfaceDeviation Worst(const std::vector<SurfaceDeviation>& parts) {
+  SurfaceDeviation w;
+  for (const SurfaceDeviation& d : parts) {
+    w.rms_percent = std::max(w.rms_percent, d.rms_percent);
+    w.hausdorff_percent = std::max(w.hausdorff_percent, d.hausdorff_percent);
+    w.surface_to_mesh_rms_percent =
+        std::max(w.surface_to_mesh_rms_percent, d.surface_to_mesh_rms_percent);
+    w.surface_to_mesh_max_percent =
+        std::max(w.surface_to_mesh_max_percent, d.surface_to_mesh_max_percent);
+    w.mesh_to_surface_rms_percent =
+        std::max(w.mesh_to_surface_rms_percent, d.mesh_to_surface_rms_percent);
+    w.mesh_to_surface_max_percent =
+        std::max(w.mesh_to_surface_max_percent, d.mesh_to_surface_max_percent);
+    w.mesh_to_surface_max_bound_percent =
+        std::max(w.mesh_to_surface_max_bound_percent,
+                 d.mesh_to_surface_max_bound_percent);
+    w.folded_area_percent =
+        std::max(w.folded_area_percent, d.folded_area_percent);
+    w.mesh_sample_spacing_percent =
+        std::max(w.mesh_sample_spacing_percent, d.mesh_sample_spacing_percent);
+    w.surface_samples += d.surface_samples;
+    w.mesh_samples += d.mesh_samples;
+    w.mesh_bound_samples += d.mesh_bound_samples;
+    w.refined_vertices += d.refined_vertices;
+    w.lattice_level = std::max(w.lattice_level, d.lattice_level);
+  }
+  return w;
+}
+
 }  // namespace
 
 int RunCompare(const std::vector<std::string>& argv) {
@@ -71,47 +144,64 @@ int RunCompare(const std::vector<std::string>& argv) {
 
   const Status outputs = PrepareOutputs({args.Get("json"), picture_path});
   if (!outputs.ok()) return ReportError(outputs);
-  StatusOr<SplineModel> model = ReadSdcbFile(model_path);
+  StatusOr<Model> model = ReadSdcbModelFile(model_path);
   if (!model.ok()) return ReportError(model.status());
   StatusOr<TriangleMesh> mesh = ReadMesh(mesh_path);
   if (!mesh.ok()) return ReportError(mesh.status());
-  StatusOr<SphericalSpline> surface = SurfaceFromModel(*model);
-  if (!surface.ok())
-    return ReportError(surface.status().WithPrefix(model_path));
-
-  // Both in the model's normalized frame; 100 % = the mesh's largest side.
-  TriangleMesh normalized = *mesh;
-  normalized.vertices = model->transform.ToNormalized(mesh->vertices);
-  StatusOr<NormalizingTransform> own = ComputeNormalizingTransform(*mesh);
-  if (!own.ok()) return ReportError(own.status().WithPrefix(mesh_path));
-  options.length_unit = own->scale / model->transform.scale;
-  StatusOr<SurfaceDeviation> d =
-      MeasureSurfaceDeviation(*surface, normalized, options);
-  if (!d.ok()) {
-    return ReportError(d.status().WithPrefix(model_path + " vs " + mesh_path));
+  // One untrimmed part: against the whole mesh, whatever it is. Otherwise
+  // part i against the mesh's part i (core/mesh/mesh_parts.h).
+  const bool whole = model->parts.size() == 1 && !model->parts[0].trimmed();
+  std::vector<TriangleMesh> meshes;
+  if (whole) {
+    meshes.push_back(std::move(*mesh));
+  } else {
+    StatusOr<std::vector<MeshPart>> parts = SplitIntoParts(*mesh, 0);
+    if (!parts.ok()) return ReportError(parts.status().WithPrefix(mesh_path));
+    if (parts->size() != model->parts.size()) {
+      return ReportError(InvalidInputError(
+          mesh_path + " has " + std::to_string(parts->size()) + " part" +
+          (parts->size() == 1 ? "" : "s") + ", " + model_path + " " +
+          std::to_string(model->parts.size()) +
+          "; compare measures each part against its own"));
+    }
+    for (MeshPart& part : *parts) meshes.push_back(std::move(part.mesh));
   }
+  std::vector<SurfaceDeviation> measured;
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    StatusOr<SurfaceDeviation> d =
+        MeasurePart(model->parts[i], meshes[i], options);
+    if (!d.ok()) {
+      const std::string which =
+          whole ? "" : " (part " + std::to_string(i + 1) + ")";
+      return ReportError(
+          d.status().WithPrefix(model_path + " vs " + mesh_path + which));
+    }
+    measured.push_back(std::move(d).value());
+  }
+  const SurfaceDeviation worst = whole ? SurfaceDeviation() : Worst(measured);
+  const SurfaceDeviation* d = whole ? &measured[0] : &worst;
   if (args.Has("picture")) {
-    const Status s = WritePicture(*d, model->transform, picture_path);
+    // The first part's picture (docs/CLI.md).
+    const Status s = WritePicture(measured[0], model->parts[0].spline.transform,
+                                  picture_path);
     if (!s.ok()) return ReportError(s);
   }
   if (args.Has("json")) {
     nlohmann::ordered_json j;
     j["model"] = model_path;
     j["mesh"] = mesh_path;
-    j["rmse_percent"] = d->rms_percent;
-    j["max_error_percent"] = d->hausdorff_percent;
-    j["hausdorff_percent"] = d->hausdorff_percent;
-    j["surface_to_mesh_rms_percent"] = d->surface_to_mesh_rms_percent;
-    j["surface_to_mesh_max_percent"] = d->surface_to_mesh_max_percent;
-    j["mesh_to_surface_rms_percent"] = d->mesh_to_surface_rms_percent;
-    j["mesh_to_surface_max_percent"] = d->mesh_to_surface_max_percent;
-    j["mesh_to_surface_max_bound_percent"] =
-        d->mesh_to_surface_max_bound_percent;
-    j["folded_area_percent"] = d->folded_area_percent;
-    j["surface_samples"] = d->surface_samples;
-    j["mesh_samples"] = d->mesh_samples;
-    j["mesh_bound_samples"] = d->mesh_bound_samples;
-    j["mesh_sample_spacing_percent"] = d->mesh_sample_spacing_percent;
+    AddFigures(*d, &j);
+    if (!whole) {
+      nlohmann::ordered_json parts = nlohmann::ordered_json::array();
+      for (size_t i = 0; i < measured.size(); ++i) {
+        nlohmann::ordered_json part;
+        part["number"] = static_cast<int>(i) + 1;
+        part["trim_loops"] = model->parts[i].trims.size();
+        AddFigures(measured[i], &part);
+        parts.push_back(std::move(part));
+      }
+      j["parts"] = std::move(parts);
+    }
     if (args.Has("picture")) j["picture"] = picture_path;
     const Status s = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
     if (!s.ok()) return ReportError(s);
@@ -133,6 +223,17 @@ int RunCompare(const std::vector<std::string>& argv) {
     std::printf("  folded area       %.4f%%\n", d->folded_area_percent);
     std::printf("  lattice level %d, %lld vertices refined on the spline\n",
                 d->lattice_level, static_cast<long long>(d->refined_vertices));
+    if (!whole) {
+      std::printf("  (the largest over %zu parts; per part:)\n",
+                  measured.size());
+      for (size_t i = 0; i < measured.size(); ++i) {
+        std::printf(
+            "  part %zu%s  rms %.5f%%  Hausdorff %.5f%%  folded %.4f%%\n",
+            i + 1, model->parts[i].trimmed() ? " (trimmed)" : "",
+            measured[i].rms_percent, measured[i].hausdorff_percent,
+            measured[i].folded_area_percent);
+      }
+    }
     if (args.Has("picture")) {
       std::printf(
           "  picture           %s (white 0 to red %.5f%%, folded blue)\n",

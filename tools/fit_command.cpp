@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "sdcb/core/fit/fit_model.h"
 #include "sdcb/core/fit/fit_options.h"
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/mesh_topology.h"
@@ -44,6 +45,9 @@ const std::vector<OptionSpec>& OwnOptionSpecs() {
       {"json", "FILE", "the report (docs/CLI.md)"},
       {"plot", "FILE.svg", "the error per round"},
       {"quiet", "", "no progress bar, no summary"},
+      {"max-parts", "N",
+       "refuse a mesh of more than N parts before fitting any (default "
+       "1000)"},
   };
   return specs;
 }
@@ -131,6 +135,57 @@ void PrintFitSummary(const std::string& path, const std::string& output,
   }
 }
 
+// An open part's line of the summary: its boundary loops and the fill.
+void PrintOpenPartLine(const PartFit& part) {
+  if (part.report.closed) return;
+  std::printf(
+      "  open: %d boundary loop%s, trimmed there; holes filled with %d "
+      "triangles (%.2f s) that only keep the surface smooth\n",
+      part.report.topology.boundary_loops,
+      part.report.topology.boundary_loops == 1 ? "" : "s", part.fill_faces,
+      part.fill_seconds);
+}
+
+// The summary of a model of several parts: one line per part.
+void PrintPartsSummary(const std::string& path, const std::string& output,
+                       const ModelFit& fit) {
+  int reached = 0;
+  for (const PartFit& part : fit.parts) reached += part.fit.reached_target();
+  std::printf("%s -> %s: %zu parts, %d reached the targets\n", path.c_str(),
+              output.c_str(), fit.parts.size(), reached);
+  for (const PartFit& part : fit.parts) {
+    const RoundStatistics& f = part.fit.model.statistics.final_result;
+    const int loops = part.report.topology.boundary_loops;
+    std::printf(
+        "  part %d: %d triangles, %s, %d control points, rmse %.4f%%, max "
+        "%.4f%%, %.2f s%s\n",
+        part.report.number, part.report.topology.faces,
+        loops == 0 ? "closed"
+                   : (std::to_string(loops) + " boundary loop" +
+                      (loops == 1 ? "" : "s"))
+                         .c_str(),
+        f.control_points, f.rmse_percent, f.max_error_percent,
+        part.fit.timings.total + part.fill_seconds,
+        part.fit.reached_target() ? "" : " (missed)");
+  }
+}
+
+// A part's entry of the report's "parts" (docs/CLI.md): its intake, its fill
+// and its fit's report.
+nlohmann::ordered_json PartJson(const PartFit& part) {
+  nlohmann::ordered_json j;
+  j["number"] = part.report.number;
+  j["triangles"] = part.report.topology.faces;
+  j["vertices"] = part.report.topology.vertices;
+  j["closed"] = part.report.closed;
+  j["boundary_loops"] = part.report.topology.boundary_loops;
+  j["fill_faces"] = part.fill_faces;
+  j["fill_seconds"] = part.fill_seconds;
+  const nlohmann::ordered_json fit_report = FitReportToJson(part.fit);
+  for (const auto& [key, value] : fit_report.items()) j[key] = value;
+  return j;
+}
+
 }  // namespace
 
 const std::vector<OptionSpec>& FitOptionSpecs() {
@@ -202,8 +257,8 @@ int RunFit(const std::vector<std::string>& argv) {
   ParseFitOptionFlags(args, FitOptionTable(), &options);
   write_options.store_parameters = options.store_parameters;
 
-  // Outputs are checked before the work; the mesh is read, repaired if
-  // asked, checked (tools/cli.h).
+  // Outputs are checked before the work; the mesh is read and repaired if
+  // asked (tools/cli.h); FitModel checks every part before it fits any.
   const Status outputs =
       PrepareOutputs({output, args.Get("json"), args.Get("plot")});
   if (!outputs.ok()) return ReportError(outputs);
@@ -212,34 +267,53 @@ int RunFit(const std::vector<std::string>& argv) {
   tbb::task_arena arena(options.threads > 0 ? options.threads
                                             : int{tbb::task_arena::automatic});
   StatusOr<TriangleMesh> mesh =
-      arena.execute([&] { return ReadFittableMesh(args, path); });
+      arena.execute([&] { return ReadMeshToFit(args, path); });
   if (!mesh.ok()) return ReportError(mesh.status());
   SelfIntersectionsBeside intersections(*mesh);
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
+  ModelFitOptions model_options;
+  model_options.max_parts =
+      args.GetInt("max-parts", model_options.max_parts, 1, 1 << 30);
   options.progress = [bar = progress.Callback()](const FitProgress& p) {
     bar((p.retry.empty() ? "" : p.retry + ", ") + FitStageName(p.stage),
         p.fraction);
   };
-  StatusOr<FitResult> fit = FitSphericalSpline(*mesh, options);
+  model_options.fit = options;
+  model_options.part_done = [bar = progress.Callback()](int done, int total) {
+    bar("parts fitted " + std::to_string(done) + "/" + std::to_string(total),
+        static_cast<double>(done) / total);
+  };
+  StatusOr<ModelFit> fit =
+      arena.execute([&] { return FitModel(*mesh, model_options); });
   progress.Finish();
   const long long intersecting_pairs = intersections.Warn(path);
   if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));
-  if (!fit->reached_target() && intersecting_pairs > 0) {
+  if (intersecting_pairs > 0) {
     // Where the input passes through itself, so does any surface that
     // follows it: its folds may be the mesh's (in the report's shortfall
     // and the warning alike).
-    fit->shortfall += "; the input intersects itself (" +
-                      IntersectingPairsText(intersecting_pairs) +
-                      "), which a surface that follows it does too";
+    for (PartFit& part : fit->parts) {
+      if (part.fit.reached_target()) continue;
+      part.fit.shortfall += "; the input intersects itself (" +
+                            IntersectingPairsText(intersecting_pairs) +
+                            "), which a surface that follows it does too";
+    }
   }
-  fit->model.source.file_name = std::filesystem::path(path).filename().string();
+  const std::string file_name =
+      std::filesystem::path(path).filename().string();
+  fit->model.source.file_name = file_name;
+  for (ModelPart& part : fit->model.parts) {
+    part.spline.source.file_name = file_name;
+  }
+  for (PartFit& part : fit->parts) part.fit.model.source.file_name = file_name;
 
   SdcbFileInfo file_info;
-  Status written = WriteSdcbFile(fit->model, output, write_options, &file_info);
+  Status written =
+      WriteSdcbModelFile(fit->model, output, write_options, &file_info);
   if (!written.ok()) return ReportError(written);
   const ControlPointQuantization& quantization = file_info.quantization;
-  const FitStatistics& stats = fit->model.statistics;
+  const bool one_part = fit->parts.size() == 1;
   if (args.Has("json")) {
     nlohmann::ordered_json report;
     report["input"] = path;
@@ -256,36 +330,55 @@ int RunFit(const std::vector<std::string>& argv) {
       report["quantization_bound_measured"] = quantization.basis_sum_measured;
       report["knot_grid_bits"] = file_info.knot_grid_bits;
     }
-    const nlohmann::ordered_json fit_report = FitReportToJson(*fit);
-    for (const auto& [key, value] : fit_report.items()) report[key] = value;
+    // One closed part: its report's keys at the top, as for every model of
+    // one part; otherwise a "parts" array of them (docs/CLI.md).
+    if (one_part && fit->parts[0].report.closed) {
+      const nlohmann::ordered_json fit_report =
+          FitReportToJson(fit->parts[0].fit);
+      for (const auto& [key, value] : fit_report.items()) report[key] = value;
+    } else {
+      report["reached_target"] = fit->reached_target();
+      nlohmann::ordered_json parts = nlohmann::ordered_json::array();
+      for (const PartFit& part : fit->parts) parts.push_back(PartJson(part));
+      report["parts"] = std::move(parts);
+    }
     written = WriteTextOutput(args.Get("json"), report.dump(2) + "\n");
     if (!written.ok()) return ReportError(written);
   }
   if (args.Has("plot")) {
-    written =
-        WriteConvergencePlot(stats,
-                             std::filesystem::path(path).filename().string() +
-                                 ", degree " + std::to_string(options.degree),
-                             args.Get("plot"));
+    // The first part's rounds (the plot is of one fit).
+    written = WriteConvergencePlot(
+        fit->parts[0].fit.model.statistics,
+        file_name + ", degree " + std::to_string(options.degree) +
+            (one_part ? "" : ", part 1"),
+        args.Get("plot"));
     if (!written.ok()) return ReportError(written);
   }
   if (!args.Has("quiet") && args.Get("json") != "-") {
-    PrintFitSummary(path, output, options, *fit, mesh->num_vertices(),
-                    quantization);
+    if (one_part) {
+      PrintFitSummary(path, output, options, fit->parts[0].fit,
+                      mesh->num_vertices(), quantization);
+      PrintOpenPartLine(fit->parts[0]);
+    } else {
+      PrintPartsSummary(path, output, *fit);
+    }
   }
-  if (!fit->reached_target()) {
+  for (const PartFit& part : fit->parts) {
+    if (part.fit.reached_target()) continue;
     // Where a returned surface folds, the measurement's picture shows it.
     const std::string where =
-        fit->model.statistics.final_result.folded_area_percent > 0
+        part.fit.model.statistics.final_result.folded_area_percent > 0
             ? "; `sdcb compare " + output + " " + path +
                   " --picture folds.ply` shows where (blue)"
             : "";
+    const std::string which =
+        one_part ? "" : "part " + std::to_string(part.report.number) + ": ";
     std::fprintf(
         stderr,
-        "sdcb: %s: warning: the targets (rmse %.4f%%, max %.4f%%) were not "
+        "sdcb: %s: warning: %sthe targets (rmse %.4f%%, max %.4f%%) were not "
         "reached: %s%s\n",
-        path.c_str(), options.rmse_percent, MaxErrorTarget(options),
-        fit->shortfall.c_str(), where.c_str());
+        path.c_str(), which.c_str(), options.rmse_percent,
+        MaxErrorTarget(options), part.fit.shortfall.c_str(), where.c_str());
   }
   return kExitOk;
 }

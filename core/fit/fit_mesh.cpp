@@ -13,6 +13,25 @@ void FitMesh::UseParameters(Eigen::MatrixX3d parameters) {
   u = std::move(parameters);
   parameter_tree = std::make_unique<PointKdTree>(u);
   area_ratio.reset();
+  region = TrimRegion();
+}
+
+Status FitMesh::UpdateRegion() {
+  if (!trimmed()) return Status::Ok();
+  SDCB_ASSIGN_OR_RETURN(region, TrimRegion::Create(Trims()));
+  return Status::Ok();
+}
+
+std::vector<TrimLoop> FitMesh::Trims() const {
+  std::vector<TrimLoop> trims(boundary_loops.size());
+  for (size_t l = 0; l < boundary_loops.size(); ++l) {
+    const std::vector<int>& loop = boundary_loops[l];
+    trims[l].points.resize(static_cast<Eigen::Index>(loop.size()), 3);
+    for (size_t i = 0; i < loop.size(); ++i) {
+      trims[l].points.row(static_cast<Eigen::Index>(i)) = u.row(loop[i]);
+    }
+  }
+  return trims;
 }
 
 const StatusOr<Eigen::VectorXd>& FitMesh::AreaRatio() {
@@ -34,6 +53,22 @@ FitMesh NormalizedFitMesh(const TriangleMesh& map_mesh,
     fit.mesh_area += 0.5 * (b - a).cross(c - a).norm();
   }
   fit.vertex_normal = VertexNormals(fit.mesh);
+  fit.input_faces = fit.mesh.faces.rows();
+  return fit;
+}
+
+FitMesh NormalizedOpenFitMesh(const FilledMesh& filled,
+                              const NormalizingTransform& transform) {
+  FitMesh fit = NormalizedFitMesh(filled.mesh, transform, filled.input_vertices);
+  if (filled.boundary_loops.empty()) return fit;
+  fit.input_faces = filled.input_faces;
+  fit.boundary_loops = filled.boundary_loops;
+  fit.part.emplace();
+  fit.part->vertices = fit.mesh.vertices.topRows(filled.input_vertices);
+  fit.part->faces = fit.mesh.faces.topRows(filled.input_faces);
+  fit.face_weights = Eigen::VectorXd::Ones(fit.mesh.faces.rows());
+  fit.face_weights.tail(fit.mesh.faces.rows() - filled.input_faces)
+      .setConstant(kFillWeight);
   return fit;
 }
 

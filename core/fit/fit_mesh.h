@@ -8,11 +8,14 @@
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/mesh/hole_filling.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/sphere/point_kd_tree.h"
+#include "sdcb/core/sphere/trim_region.h"
 #include "sdcb/core/spline/spline_model.h"
 
 namespace sdcb {
@@ -32,8 +35,32 @@ struct FitMesh {
   // rounds' estimate of the dense measurement).
   Eigen::MatrixX3d vertex_normal;
 
-  // Makes `parameters` the vertices' sphere parameters u.
+  // An open part (core/mesh/hole_filling.h): `mesh` is the part with its
+  // holes filled, its first input_faces faces the part's own. The errors
+  // are measured against `part` (those faces, and the input's vertices) in
+  // the region the trims keep; the fill's faces weigh kFillWeight in the
+  // data term (face_weights), so that they only keep the spline smooth.
+  // A closed part: input_faces = all, no loops, region empty.
+  Eigen::Index input_faces = 0;
+  std::vector<std::vector<int>> boundary_loops;  // rows of `mesh`
+  std::optional<TriangleMesh> part;  // open parts: the part alone
+  Eigen::VectorXd face_weights;      // open parts: per face of `mesh`
+  TrimRegion region;                 // the loops' images under u
+
+  bool trimmed() const { return !boundary_loops.empty(); }
+  // The mesh the errors are measured against: `part` for an open part,
+  // else `mesh`.
+  const TriangleMesh& measured() const { return part ? *part : mesh; }
+  // The loops at their vertices' sphere parameters (kept region on the
+  // left).
+  std::vector<TrimLoop> Trims() const;
+
+  // Makes `parameters` the vertices' sphere parameters u (the region is
+  // then empty until UpdateRegion).
   void UseParameters(Eigen::MatrixX3d parameters);
+  // Sets `region` to the trims' at u; a failure means the map folded a
+  // boundary loop.
+  Status UpdateRegion();
   // VertexAreaRatio(mesh, u), computed on the first call after u is set.
   const StatusOr<Eigen::VectorXd>& AreaRatio();
 };
@@ -44,6 +71,18 @@ struct FitMesh {
 FitMesh NormalizedFitMesh(const TriangleMesh& map_mesh,
                           const NormalizingTransform& transform,
                           Eigen::Index input_vertices);
+
+// The data term's weight of a fill triangle's area, relative to the part's
+// own: enough to hold the spline near the fair fill (no wild bulges where
+// nothing is measured), too little to bend it off the part along the
+// boundary.
+constexpr double kFillWeight = 0.05;
+
+// The open part `filled` (core/mesh/hole_filling.h) in the normalized frame
+// of `transform`: NormalizedFitMesh of its closed mesh, with the part, its
+// loops and the fill's face weights set.
+FitMesh NormalizedOpenFitMesh(const FilledMesh& filled,
+                              const NormalizingTransform& transform);
 
 // The mesh FitOptions::map_vertices asks the map and the fit to use: `mesh`
 // split (SplitToEdgeLength) for about `map_vertices` vertices, or nullopt

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "sdcb/core/mesh/feature_curves.h"
+#include "sdcb/core/sphere/trim_region.h"
 #include "sdcb/core/spline/spline_model.h"
 
 namespace sdcb {
@@ -81,6 +82,9 @@ struct FitResult {
   std::vector<RoundDetails> round_details;
   // Per input vertex: |x_i - F(u_i)| in percent of the largest side.
   Eigen::VectorXd vertex_errors_percent;
+  // An open part's trims: its boundary loops at their sphere parameters
+  // (core/spline/model.h); empty for a closed part.
+  std::vector<TrimLoop> trims;
   // Why the target was not reached (empty when it was).
   std::string shortfall;
   // The input's sharp features at FitOptions::feature_angle_degrees.

@@ -93,6 +93,29 @@ double EstimatedRms(const SurfaceDeviation& deviation,
   const double s2m = deviation.surface_to_mesh_rms_percent;
   return std::sqrt(0.5 * (s2m * s2m + ms));
 }
+// The data rows' area weights as the mesh -> surface half counts them: an
+// open part's fill rows (inside a fill triangle, or at a fill vertex) count
+// nothing, the part's rows their whole area.
+Eigen::VectorXd MeasuredWeights(const FitMesh& fit, const FitSamples& samples) {
+  Eigen::VectorXd weights = samples.weights;
+  if (!fit.trimmed()) return weights;
+  for (Eigen::Index r = 0; r < weights.size(); ++r) {
+    int vertex = -1, triangle = -1;
+    if (samples.thinned) {
+      vertex = samples.row_vertex[r];
+      if (vertex < 0) triangle = samples.triangle[r];
+    } else if (r < samples.num_vertices) {
+      vertex = static_cast<int>(r);
+    } else {
+      triangle = samples.triangle[r - samples.num_vertices];
+    }
+    if (vertex >= fit.input_vertices || triangle >= fit.input_faces) {
+      weights[r] = 0;
+    }
+  }
+  return weights;
+}
+
 // The unit mesh normal at every row of `samples`: a vertex's
 // (VertexNormals), or the triangle's of a point inside one.
 Eigen::MatrixX3d RowNormals(const FitMesh& fit, const FitSamples& samples) {
@@ -166,13 +189,14 @@ StatusOr<FoldRepairResult> RepairRoundFolds(const RoundContext& c,
   lattice.closest_points = false;
   lattice.search_all_vertices = false;
   lattice.mesh_to_surface = false;
+  lattice.region = &c.fit.region;
   FoldRepairOptions repair;
   repair.max_distance_percent =
       std::max(0.0, c.stop.target().max_error_percent);
   return RepairFolds(basis, o.basis_form,
                      RegularizedNormalMatrixLower(StackedDesign(o, c.fit, p),
                                                   o.regularization),
-                     c.fit.mesh, *c.fit.mesh_distance, lattice, repair,
+                     c.fit.measured(), *c.fit.mesh_distance, lattice, repair,
                      control_points);
 }
 
@@ -193,10 +217,10 @@ Status MeasureRound(const RoundContext& c, const FitSamples& samples,
       SurfaceDeviation measured,
       MeasureFitSurface(c.options, c.fit, *solved->surface, nullptr, false));
   const Eigen::MatrixX3d residuals = solved->fitted - samples.targets;
-  SetMeshToSurface(100.0 * residuals.rowwise().norm(), samples.weights,
-                   &measured);
-  details->estimated_rmse_percent = EstimatedRms(
-      measured, residuals, RowNormals(c.fit, samples), samples.weights);
+  const Eigen::VectorXd weights = MeasuredWeights(c.fit, samples);
+  SetMeshToSurface(100.0 * residuals.rowwise().norm(), weights, &measured);
+  details->estimated_rmse_percent =
+      EstimatedRms(measured, residuals, RowNormals(c.fit, samples), weights);
   solved->deviation = std::move(measured);
   return Status::Ok();
 }
@@ -395,8 +419,15 @@ StatusOr<SurfaceDeviation> MeasureFitSurface(
   measure.mesh_samples = final_measurement ? options.final_mesh_samples : 0;
   measure.search_all_vertices = false;
   measure.mesh_to_surface = final_measurement;
-  return MeasureSurfaceDeviation(surface, fit.mesh, measure, vertex_points,
-                                 &*fit.mesh_distance);
+  measure.region = &fit.region;
+  if (fit.part && vertex_points != nullptr) {
+    const Eigen::MatrixX3d part_points =
+        vertex_points->topRows(fit.part->vertices.rows());
+    return MeasureSurfaceDeviation(surface, *fit.part, measure, &part_points,
+                                   &*fit.mesh_distance);
+  }
+  return MeasureSurfaceDeviation(surface, fit.measured(), measure,
+                                 vertex_points, &*fit.mesh_distance);
 }
 
 Eigen::VectorXd RoundVertexErrors(const FitMesh& fit, const FitSamples& samples,
@@ -423,6 +454,7 @@ void NextDensity(const FitOptions& options, const RoundProblem& p,
   Eigen::VectorXd error = vertex_errors;
   for (size_t r = 0; r < p.samples.triangle.size(); ++r) {
     if (p.samples.triangle[r] < 0) continue;  // a thinned vertex row
+    if (p.samples.triangle[r] >= fit->input_faces) continue;  // the fill
     const double e =
         100.0 *
         (fitted.row(first + r) - p.samples.targets.row(first + r)).norm();
@@ -432,6 +464,10 @@ void NextDensity(const FitOptions& options, const RoundProblem& p,
     }
   }
   if (fold_round) error.setConstant(0.0);
+  // An open part's fill is not measured: no knots are placed for it.
+  if (fit->trimmed()) {
+    error.tail(error.size() - fit->input_vertices).setZero();
+  }
   const double worst =
       std::max(error.maxCoeff(),
                deviation.surface_sample_distance_percent.size()

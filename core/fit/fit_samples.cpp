@@ -33,6 +33,11 @@ Eigen::VectorXd KnotSpacing(const Eigen::MatrixX3d& knots) {
 
 namespace {
 
+// The factor on face f's area (FitSampleOptions::face_weights).
+double FaceWeight(const FitSampleOptions& options, Eigen::Index f) {
+  return options.face_weights ? (*options.face_weights)[f] : 1.0;
+}
+
 // A sub-triangle of a mesh triangle in barycentric coordinates (weights of
 // corners 1 and 2; corner 0 gets the rest). Dyadic values: exact doubles.
 struct Sub {
@@ -269,7 +274,7 @@ void MergedSamples(const TriangleMesh& mesh, const Eigen::MatrixX3d& sphere,
     Eigen::Vector3d s[3], x[3];
     Corners(mesh, sphere, f, corner, s, x);
     const Eigen::Vector3d normal = (x[1] - x[0]).cross(x[2] - x[0]);
-    const double area = 0.5 * normal.norm();
+    const double area = 0.5 * normal.norm() * FaceWeight(options, f);
     normal_bin = NormalBin(normal);
     const auto length = [&](const Eigen::Vector3d& p) {
       const PointKdTree::Neighbor near = knot_tree.NearestNear(p, hint);
@@ -544,7 +549,8 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
       const Eigen::Vector3d x0 = mesh.vertices.row(mesh.faces(f, 0));
       const Eigen::Vector3d x1 = mesh.vertices.row(mesh.faces(f, 1));
       const Eigen::Vector3d x2 = mesh.vertices.row(mesh.faces(f, 2));
-      const double area = 0.5 * (x1 - x0).cross(x2 - x0).norm();
+      const double area =
+          0.5 * (x1 - x0).cross(x2 - x0).norm() * FaceWeight(options, f);
       for (int k = 0; k < 3; ++k) out.weights[mesh.faces(f, k)] += area / 3.0;
       continue;
     }
@@ -552,7 +558,8 @@ FitSamples BuildFitSamples(const TriangleMesh& mesh,
     int corner[3];
     Eigen::Vector3d s[3], x[3];
     Corners(mesh, sphere, f, corner, s, x);
-    const double area = 0.5 * (x[1] - x[0]).cross(x[2] - x[0]).norm();
+    const double area =
+        0.5 * (x[1] - x[0]).cross(x[2] - x[0]).norm() * FaceWeight(options, f);
     auto add_point = [&](const Eigen::Vector2d& b) {
       out.points.row(next) = OnSphere(b, s).transpose();
       out.targets.row(next) = Target(b, x).transpose();

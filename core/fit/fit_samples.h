@@ -56,6 +56,10 @@ struct FitSampleOptions {
   int64_t thin_above_vertices = 0;
   double thinned_cells_per_spacing = 4.0;
   double thin_keep_at_most = 0.7;
+  // Per mesh face, a factor on its area in every weight (null: 1 for all):
+  // the fill of an open part's holes weighs little, so that it only keeps
+  // the spline smooth there (core/fit/fit_mesh.h). Must outlive the call.
+  const Eigen::VectorXd* face_weights = nullptr;
 };
 
 struct FitSamples {

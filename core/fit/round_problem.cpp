@@ -143,6 +143,7 @@ StatusOr<RoundProblem> BuildRoundProblem(
   const Eigen::MatrixX3d& u = fit.u;
   FitSampleOptions sample_options;
   sample_options.samples_per_spacing = o.samples_per_spacing;
+  if (fit.trimmed()) sample_options.face_weights = &fit.face_weights;
   // Far above what any closed genus-0 CGAL mesh asks (at most 68 sample
   // rows per control point), far below what a fan's needles ask (2,000).
   sample_options.max_pieces = kMaxPiecesPerControlPoint *

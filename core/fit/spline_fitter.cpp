@@ -95,7 +95,7 @@ StatusOr<Eigen::VectorXd> SplineFitter::State::Parameterize(
   SDCB_ASSIGN_OR_RETURN(const SphericalParameterization param, InArena([&] {
                           tbb::task_group side;
                           side.run([&] {
-                            distance = MeshDistance::Create(fit.mesh);
+                            distance = MeshDistance::Create(fit.measured());
                             curvedness = Curvedness(map_mesh);
                           });
                           StatusOr<SphericalParameterization> p =
@@ -104,12 +104,28 @@ StatusOr<Eigen::VectorXd> SplineFitter::State::Parameterize(
                           return p;
                         }));
   fit.UseParameters(param.sphere);
+  SDCB_RETURN_IF_ERROR(fit.UpdateRegion());
   SDCB_ASSIGN_OR_RETURN(fit.mesh_distance, std::move(*distance));
   result.timings.parameterization = stage.Seconds();
   return std::move(*curvedness);
 }
 
 StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
+                                            FitOptions options) {
+  return Create(mesh, nullptr, std::move(options));
+}
+
+StatusOr<SplineFitter> SplineFitter::Create(const FilledMesh& filled,
+                                            FitOptions options) {
+  if (filled.boundary_loops.empty()) return Create(filled.mesh, options);
+  TriangleMesh part;
+  part.vertices = filled.mesh.vertices.topRows(filled.input_vertices);
+  part.faces = filled.mesh.faces.topRows(filled.input_faces);
+  return Create(part, &filled, std::move(options));
+}
+
+StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
+                                            const FilledMesh* filled,
                                             FitOptions options) {
   SDCB_RETURN_IF_ERROR(CheckFitOptions(options));
   auto state = std::make_unique<State>(std::move(options));
@@ -120,8 +136,9 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   const int automatic = tbb::task_arena::automatic;
   s.arena =
       std::make_unique<tbb::task_arena>(o.threads > 0 ? o.threads : automatic);
-  SDCB_RETURN_IF_ERROR(
-      s.arena->execute([&] { return RequireClosedGenusZero(mesh); }));
+  SDCB_RETURN_IF_ERROR(s.arena->execute([&] {
+    return RequireClosedGenusZero(filled ? filled->mesh : mesh);
+  }));
 
   SplineModel& model = s.result.model;
   model.degree = o.degree;
@@ -134,12 +151,18 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
                         DetectFeatures(mesh, o.feature_angle_degrees));
   // The mesh the map and the fit use: the input, or the input split
   // (FitOptions::map_vertices), its first rows the input's vertices.
-  const bool feature_curves =
-      o.keep_features && FeatureCurvesJoinCorners(s.result.features);
+  // An open part is mapped and fitted with its holes filled; without
+  // feature rounds or a split (the fill's faces follow the part's).
+  const bool feature_curves = filled == nullptr && o.keep_features &&
+                              FeatureCurvesJoinCorners(s.result.features);
   const std::optional<TriangleMesh> split =
-      feature_curves ? std::nullopt : SplitForMap(mesh, o.map_vertices);
-  const TriangleMesh& map_mesh = split ? *split : mesh;
-  s.fit = NormalizedFitMesh(map_mesh, model.transform, mesh.num_vertices());
+      feature_curves || filled ? std::nullopt
+                               : SplitForMap(mesh, o.map_vertices);
+  const TriangleMesh& map_mesh =
+      filled ? filled->mesh : (split ? *split : mesh);
+  s.fit = filled ? NormalizedOpenFitMesh(*filled, model.transform)
+                 : NormalizedFitMesh(map_mesh, model.transform,
+                                     mesh.num_vertices());
   s.result.map_vertices = static_cast<int>(map_mesh.num_vertices());
   model.statistics.options = RecordFitOptions(o);
   model.statistics.error_measure = ErrorMeasure::kDenseTwoSided;
@@ -348,6 +371,7 @@ FitResult SplineFitter::TakeResult() {
   if (s.options.store_parameters) {
     s.result.model.parameters = s.fit.u.topRows(s.fit.input_vertices);
   }
+  s.result.trims = s.fit.Trims();
   s.result.timings.total = s.clock.Seconds();
   s.progress.Report(FitStage::kDone, rounds(), 0);
   FitResult out = std::move(s.result);
@@ -357,10 +381,10 @@ FitResult SplineFitter::TakeResult() {
 
 namespace {
 
-StatusOr<FitResult> RunFit(const TriangleMesh& mesh,
-                           const FitOptions& options) {
+template <typename Input>
+StatusOr<FitResult> RunFit(const Input& input, const FitOptions& options) {
   SDCB_ASSIGN_OR_RETURN(SplineFitter fitter,
-                        SplineFitter::Create(mesh, options));
+                        SplineFitter::Create(input, options));
   while (!fitter.finished()) SDCB_RETURN_IF_ERROR(fitter.AddRound());
   return fitter.TakeResult();
 }
@@ -375,6 +399,14 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
   SDCB_ASSIGN_OR_RETURN(FitResult first, run(options));
   if (RunsNoFurtherFits(mesh, options)) return first;
   return FitAgain(mesh, options, std::move(first), run);
+}
+
+StatusOr<FitResult> FitSphericalSpline(const FilledMesh& filled,
+                                       const FitOptions& options) {
+  if (filled.boundary_loops.empty()) {
+    return FitSphericalSpline(filled.mesh, options);
+  }
+  return RunFit(filled, options);
 }
 
 }  // namespace sdcb

@@ -25,6 +25,7 @@
 #include "sdcb/core/fit/fallback_round.h"
 #include "sdcb/core/fit/fit_options.h"
 #include "sdcb/core/fit/fit_result.h"
+#include "sdcb/core/mesh/hole_filling.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/spline/spline_model.h"
 
@@ -37,6 +38,13 @@ class SplineFitter {
   // mesh, parameterizes it on the sphere and prepares round 0. `mesh` is
   // copied.
   static StatusOr<SplineFitter> Create(const TriangleMesh& mesh,
+                                       FitOptions options);
+  // The same for an open part with its holes filled (core/mesh/
+  // hole_filling.h; a closed one is Create(filled.mesh)): the map and the
+  // data term use the closed mesh, the fill's faces weighted low; errors,
+  // folds and the model's source are the part's own, in the region its
+  // boundary loops keep (FitResult::trims).
+  static StatusOr<SplineFitter> Create(const FilledMesh& filled,
                                        FitOptions options);
 
   SplineFitter(SplineFitter&&) noexcept;
@@ -68,6 +76,9 @@ class SplineFitter {
  private:
   struct State;
   explicit SplineFitter(std::unique_ptr<State> state);
+  static StatusOr<SplineFitter> Create(const TriangleMesh& mesh,
+                                       const FilledMesh* filled,
+                                       FitOptions options);
   std::unique_ptr<State> state_;
 };
 
@@ -75,6 +86,10 @@ class SplineFitter {
 // and once more on the split input when FitOptions::retry_map_vertices asks.
 // The result is the same for any thread count.
 StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
+                                       const FitOptions& options = {});
+// Fits an open part with its holes filled (SplineFitter::Create(filled)):
+// the loop once, without the further fits (a closed `filled`: the above).
+StatusOr<FitResult> FitSphericalSpline(const FilledMesh& filled,
                                        const FitOptions& options = {});
 
 }  // namespace sdcb

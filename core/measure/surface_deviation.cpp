@@ -149,6 +149,14 @@ bool MeasureSurfaceSample(const SurfaceSampler& evaluator,
                           const MeshDistance& to_mesh, double to_percent,
                           const Eigen::Vector3d& lattice_normal, Eigen::Index i,
                           SurfaceDeviation* out) {
+  if (!out->surface_sample_kept.empty() && !out->surface_sample_kept[i]) {
+    // Outside the kept region: not measured.
+    out->surface_sample_distance_percent[i] = 0;
+    out->surface_sample_mesh_face[i] = -1;
+    out->surface_sample_mesh_point.row(i) =
+        out->surface_sample_positions.row(i);
+    return false;
+  }
   const MeshDistance::Closest c =
       to_mesh.Find(out->surface_sample_positions.row(i).transpose());
   out->surface_sample_distance_percent[i] = to_percent * c.distance;
@@ -164,7 +172,9 @@ bool MeasureSurfaceSample(const SurfaceSampler& evaluator,
 void SummarizeSurfaceToMesh(SurfaceDeviation* out) {
   double area = 0, sum_squares = 0, folded_area = 0, max = 0;
   const Eigen::VectorXd& weight = out->surface_sample_weight;
+  const std::vector<bool>& kept = out->surface_sample_kept;
   for (Eigen::Index i = 0; i < weight.size(); ++i) {
+    if (!kept.empty() && !kept[i]) continue;
     const double d = out->surface_sample_distance_percent[i];
     area += weight[i];
     sum_squares += weight[i] * d * d;
@@ -468,6 +478,18 @@ void MeasureSurfaceSide(const SurfaceSampler& evaluator,
   out->surface_sample_mesh_face.resize(ns);
   out->surface_sample_mesh_point.resize(ns, 3);
   out->surface_sample_weight = std::move(weight);
+  if (options.region != nullptr && !options.region->empty()) {
+    std::vector<char> kept(ns, 0);
+    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, ns, 1024),
+                      [&](const tbb::blocked_range<Eigen::Index>& range) {
+                        for (Eigen::Index i = range.begin(); i < range.end();
+                             ++i) {
+                          kept[i] = options.region->Contains(
+                              lattice.points.row(i).transpose());
+                        }
+                      });
+    out->surface_sample_kept.assign(kept.begin(), kept.end());
+  }
   std::vector<char> folded(ns, 0);
   tbb::parallel_for(
       tbb::blocked_range<Eigen::Index>(0, ns, 256),

@@ -62,6 +62,7 @@
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/mesh_distance.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/core/sphere/trim_region.h"
 #include "sdcb/core/spline/design_matrix.h"
 #include "sdcb/core/spline/spherical_spline.h"
 
@@ -99,6 +100,12 @@ struct DeviationOptions {
   // times as many, the spacing doubles until they do not. 0: at the mesh's
   // vertices only (the rounds' own measurements).
   int64_t mesh_samples = 0;
+  // The region of the sphere the surface keeps (an open part's trims,
+  // core/spline/model.h); null: the whole sphere. Surface samples outside
+  // it are not measured (distance 0, not folded, no area): every surface
+  // figure is the kept region's. The mesh is then the part's own triangles,
+  // so the mesh -> surface half is too. Must outlive the call.
+  const TrimRegion* region = nullptr;
 };
 
 struct SurfaceDeviation {
@@ -158,6 +165,9 @@ struct SurfaceDeviation {
   // surface_area).
   Eigen::VectorXd surface_sample_weight;
   std::vector<bool> surface_sample_folded;
+  // Whether each surface sample lies in DeviationOptions::region (empty:
+  // every sample does).
+  std::vector<bool> surface_sample_kept;
   // The knot triangle of each surface sample: an index into
   // ComputeDelaunayConfigurations(surface.knots(), 0).sets.
   std::vector<int> surface_sample_knot_triangle;

@@ -1,0 +1,53 @@
+// Fits a mesh of one or more parts (core/mesh/mesh_parts.h) into a Model
+// (core/spline/model.h): each part on its own, in its own normalized frame,
+// a closed genus-0 part by FitSphericalSpline, an open one with its holes
+// filled (core/mesh/hole_filling.h) and trimmed at its boundary loops. The
+// parts are fitted in parallel; every part's result depends on that part
+// alone, so the model is the same for any thread count.
+#ifndef SDCB_CORE_FIT_FIT_MODEL_H_
+#define SDCB_CORE_FIT_FIT_MODEL_H_
+
+#include <functional>
+#include <vector>
+
+#include "sdcb/core/common/status.h"
+#include "sdcb/core/fit/fit_options.h"
+#include "sdcb/core/fit/fit_result.h"
+#include "sdcb/core/mesh/mesh_parts.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/core/spline/model.h"
+
+namespace sdcb {
+
+struct ModelFitOptions {
+  FitOptions fit;  // for every part; fit.progress only with a single part
+  // More parts than this are refused before any is fitted (<= 0: no limit).
+  int max_parts = 1000;  // kDefaultMaxParts after the parts branch
+  // With several parts: called once per part fitted, with the number of
+  // parts done and the total (from the thread that fitted it, serialized).
+  std::function<void(int done, int total)> part_done;
+};
+
+struct PartFit {
+  PartReport report;        // the part's intake (PartReport::number 1-based)
+  int fill_faces = 0;       // triangles added to close its holes
+  double fill_seconds = 0;  // filling them
+  FitResult fit;  // its model and trims are the model part's too
+};
+
+struct ModelFit {
+  Model model;                // parts in the mesh's order
+  std::vector<PartFit> parts;  // one per model part
+  bool reached_target() const;  // every part reached its target
+};
+
+// Splits `mesh` into parts, checks each (a part sdcb cannot fit refuses the
+// whole mesh with kUnsupported and the part's sentence, before any fit
+// runs), and fits them. A mesh of one closed part without unreferenced
+// vertices is fitted exactly as FitSphericalSpline(mesh, options.fit).
+StatusOr<ModelFit> FitModel(const TriangleMesh& mesh,
+                            const ModelFitOptions& options);
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_FIT_FIT_MODEL_H_

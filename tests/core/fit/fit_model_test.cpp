@@ -1,0 +1,164 @@
+#include "sdcb/core/fit/fit_model.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "sdcb/core/common/constants.h"
+#include "sdcb/core/fit/spline_fitter.h"
+#include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/spline/spherical_spline.h"
+#include "testing/honest_fit_errors.h"
+#include "testing/open_sphere.h"
+
+namespace sdcb {
+namespace {
+
+using testing::Hole;
+using testing::OpenEllipsoid;
+
+const Eigen::Vector3d kAxes(1.0, 0.8, 0.6);
+
+ModelFitOptions CoarseOptions() {
+  ModelFitOptions o;
+  o.fit.rmse_percent = 0.3;
+  o.fit.threads = 2;
+  return o;
+}
+
+// The surface of an open part against its mesh by brute force, at random
+// sphere points: inside the trims, every point of the spline is within the
+// reported Hausdorff distance of the part (the fit measured what it kept);
+// and the trims are where the part's boundary is: F at every trim point is
+// its boundary vertex, within the reported distance.
+void ExpectHonestTrimmedPart(const TriangleMesh& mesh, const ModelPart& part,
+                             int points) {
+  const SplineModel& model = part.spline;
+  StatusOr<SphericalSpline> surface = SurfaceFromModel(model);
+  ASSERT_TRUE(surface.ok());
+  StatusOr<TrimRegion> region = TrimRegion::Create(part.trims);
+  ASSERT_TRUE(region.ok()) << region.status().message();
+  const double side = testing::BoundingBoxSide(mesh);
+  const double reported = model.statistics.final_result.max_error_percent;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> gauss;
+  int kept = 0;
+  double worst = 0;
+  for (int i = 0; i < points; ++i) {
+    const Eigen::Vector3d p =
+        Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)).normalized();
+    if (!region->Contains(p)) continue;
+    ++kept;
+    const Eigen::Vector3d x =
+        model.transform.ToInput(surface->Evaluate(p).transpose()).row(0);
+    worst = std::max(worst, 100 * testing::BruteForceDistance(mesh, x) / side);
+  }
+  EXPECT_GT(kept, points / 10);
+  EXPECT_LE(worst, 1.02 * reported + 1e-9);
+}
+
+TEST(FitModel, ADiskIsOnePartTrimmedAtItsOneLoop) {
+  const TriangleMesh disk =
+      OpenEllipsoid(3, kAxes, {{Eigen::Vector3d::UnitZ(), 0.5}});
+  ASSERT_EQ(AnalyzeMeshTopology(disk)->boundary_loops, 1);
+  StatusOr<ModelFit> fit = FitModel(disk, CoarseOptions());
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  ASSERT_EQ(fit->model.parts.size(), 1u);
+  const ModelPart& part = fit->model.parts[0];
+  ASSERT_EQ(part.trims.size(), 1u);
+  EXPECT_TRUE(fit->parts[0].fit.reached_target());
+  EXPECT_FALSE(fit->parts[0].report.closed);
+  EXPECT_GT(fit->parts[0].fill_faces, 0);
+  // The model describes the part (not its fill): its source and frame.
+  EXPECT_EQ(part.spline.source.num_faces, disk.num_faces());
+  EXPECT_EQ(part.spline.source.hash, HashTriangleMesh(disk));
+  ExpectHonestTrimmedPart(disk, part, 4000);
+}
+
+TEST(FitModel, ATubeHasTwoTrimsAndThreeHolesThree) {
+  const TriangleMesh tube =
+      OpenEllipsoid(3, kAxes, {{Eigen::Vector3d::UnitZ(), 0.7},
+                               {-Eigen::Vector3d::UnitZ(), 0.7}});
+  const TriangleMesh holes = OpenEllipsoid(
+      3, kAxes,
+      {{Eigen::Vector3d::UnitX(), 0.9},
+       {Eigen::Vector3d::UnitY(), 0.9},
+       {Eigen::Vector3d(-1, -1, 1).normalized(), 0.9}});
+  for (const auto& [mesh, loops] :
+       {std::pair<const TriangleMesh*, size_t>{&tube, 2},
+        std::pair<const TriangleMesh*, size_t>{&holes, 3}}) {
+    ASSERT_EQ(AnalyzeMeshTopology(*mesh)->boundary_loops,
+              static_cast<int>(loops));
+    StatusOr<ModelFit> fit = FitModel(*mesh, CoarseOptions());
+    ASSERT_TRUE(fit.ok()) << fit.status().message();
+    ASSERT_EQ(fit->model.parts.size(), 1u);
+    EXPECT_EQ(fit->model.parts[0].trims.size(), loops);
+    EXPECT_TRUE(fit->parts[0].fit.reached_target());
+    ExpectHonestTrimmedPart(*mesh, fit->model.parts[0], 3000);
+  }
+}
+
+TEST(FitModel, TwoClosedPartsAreFittedEachInItsOwnFrame) {
+  TriangleMesh far = MakeIcosphere(2);
+  far.vertices = (far.vertices * 0.25).rowwise() +
+                 Eigen::RowVector3d(10, 0, 0);
+  const TriangleMesh both =
+      testing::Concatenated(OpenEllipsoid(2, kAxes, {}), far);
+  StatusOr<ModelFit> fit = FitModel(both, CoarseOptions());
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  ASSERT_EQ(fit->model.parts.size(), 2u);
+  EXPECT_EQ(fit->model.source.num_faces, both.num_faces());
+  // Each part's frame is its own bounding box: the far sphere's side is
+  // 0.5, centred at (10, 0, 0).
+  const NormalizingTransform& t = fit->model.parts[1].spline.transform;
+  EXPECT_NEAR(t.scale, 0.5, 1e-12);
+  EXPECT_NEAR(t.translation.x(), 10, 1e-12);
+  for (const PartFit& part : fit->parts) {
+    EXPECT_TRUE(part.report.closed);
+    EXPECT_TRUE(part.fit.reached_target());
+  }
+  EXPECT_TRUE(fit->model.parts[0].trims.empty());
+}
+
+TEST(FitModel, OneClosedPartIsTheFitOfTheMesh) {
+  const TriangleMesh mesh = OpenEllipsoid(2, kAxes, {});
+  const ModelFitOptions options = CoarseOptions();
+  StatusOr<ModelFit> model = FitModel(mesh, options);
+  StatusOr<FitResult> alone = FitSphericalSpline(mesh, options.fit);
+  ASSERT_TRUE(model.ok() && alone.ok());
+  const SplineModel& a = model->model.parts[0].spline;
+  EXPECT_EQ(a.knots, alone->model.knots);
+  EXPECT_EQ(a.control_points, alone->model.control_points);
+}
+
+TEST(FitModel, APartOfHigherGenusRefusesTheMeshBeforeAnyFit) {
+  // A torus of 8 x 6 quads, beside a sphere: part 2 has genus 1.
+  TriangleMesh torus;
+  const int n = 8, m = 6;
+  torus.vertices.resize(n * m, 3);
+  torus.faces.resize(2 * n * m, 3);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const double a = 2 * kPi * i / n, b = 2 * kPi * j / m;
+      torus.vertices.row(i * m + j) << (3 + std::cos(b)) * std::cos(a),
+          (3 + std::cos(b)) * std::sin(a), std::sin(b);
+      const int v00 = i * m + j, v10 = ((i + 1) % n) * m + j;
+      const int v01 = i * m + (j + 1) % m, v11 = ((i + 1) % n) * m + (j + 1) % m;
+      torus.faces.row(2 * (i * m + j)) << v00, v10, v11;
+      torus.faces.row(2 * (i * m + j) + 1) << v00, v11, v01;
+    }
+  }
+  const TriangleMesh both =
+      testing::Concatenated(OpenEllipsoid(2, kAxes, {}), torus);
+  StatusOr<ModelFit> fit = FitModel(both, CoarseOptions());
+  ASSERT_FALSE(fit.ok());
+  EXPECT_EQ(fit.status().code(), StatusCode::kUnsupported);
+  EXPECT_EQ(fit.status().message(),
+            "part 2 (96 triangles) has genus 1; sdcb fits genus-0 parts");
+}
+
+}  // namespace
+}  // namespace sdcb
