@@ -88,7 +88,8 @@ std::string PartLine(const PartReport& p) {
 int RunCheck(const std::vector<std::string>& argv) {
   const Args args(argv, Concat({"json", "max-parts"}, kMeshValueOptions),
                   Concat({"quiet"}, kMeshFlagOptions));
-  args.RequirePositionals(1, "MESH (usage: sdcb check MESH [--json FILE])");
+  args.RequirePositionals(
+      1, "MESH (usage: sdcb check MESH [--json FILE] [--max-parts N])");
   const std::string& path = args.positionals()[0];
   const int max_parts = args.GetInt("max-parts", kDefaultMaxParts, 0, INT_MAX);
   const Status outputs = PrepareOutputs({args.Get("json")});

@@ -62,6 +62,11 @@ std::string DescribePartProblem(const PartReport& report, bool too_large) {
            "box overflows); sdcb fits parts whose area and bounding box are "
            "finite";
   }
+  if (report.area == 0.0 && t.degenerate_faces < t.faces) {
+    return part +
+           " has coordinates too small for doubles (its area underflows to "
+           "0); sdcb fits parts with area";
+  }
   if (report.area == 0.0) {
     return part + " has no area; sdcb fits parts with area";
   }

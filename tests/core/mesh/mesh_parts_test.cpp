@@ -295,6 +295,16 @@ TEST(MeshPartsTest, CoordinatesTheFitCannotUseAreRefusedAsTheFitRefusesThem) {
   EXPECT_NEAR(large.area / 1e100, 1.5 + std::sqrt(3.0) / 2, 1e-12);
   EXPECT_TRUE(ComputeNormalizingTransform(CornerTetrahedron(1e50)).ok());
 
+  // Scaled by 1e-170: no triangle is degenerate (exact test), but each
+  // cross product, ~1e-340, underflows to 0.
+  const TriangleMesh tiny = CornerTetrahedron(1e-170);
+  const PartReport t = ReportWhole(tiny);
+  EXPECT_EQ(t.topology.degenerate_faces, 0);
+  EXPECT_EQ(t.problem,
+            "part 1 (4 triangles) has coordinates too small for doubles (its "
+            "area underflows to 0); sdcb fits parts with area");
+  EXPECT_FALSE(AreaScaleToUnitSphere(tiny).ok());  // the fit's refusal
+
   // Vertices at -1e308 and 1e308: the bounding box's side overflows.
   const TriangleMesh wide =
       MakeMesh({{-1e308, 0, 0}, {1e308, 0, 0}, {0, 1, 0}, {0, 0, 1}},
