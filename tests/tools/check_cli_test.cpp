@@ -250,6 +250,22 @@ TEST(CheckCliTest, MorePartsThanMaxPartsAreRefusedWithTheCount) {
   EXPECT_EQ(
       RunSdcb({"check", dir + "/two.off", "--max-parts", "2"}, dir).exit_code,
       0);
+  // 10,000 disjoint triangles (a soup): refused at the default limit.
+  std::string soup = "OFF\n30000 10000 0\n";
+  for (int i = 0; i < 10000; ++i) {
+    soup += std::to_string(i) + " 0 0\n" + std::to_string(i) + ".5 0 0\n" +
+            std::to_string(i) + " 0.5 0\n";
+  }
+  for (int i = 0; i < 10000; ++i) {
+    soup += "3 " + std::to_string(3 * i) + " " + std::to_string(3 * i + 1) +
+            " " + std::to_string(3 * i + 2) + "\n";
+  }
+  WriteBytes(dir + "/soup.off", soup);
+  r = RunSdcb({"check", dir + "/soup.off"}, dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "sdcb: " + dir +
+                       "/soup.off: mesh has 10,000 parts, more than "
+                       "--max-parts 1000\n");
   EXPECT_EQ(
       RunSdcb({"check", dir + "/two.off", "--max-parts", "-1"}, dir).exit_code,
       2);
