@@ -1,40 +1,16 @@
 #include "sdcb/core/mesh/mesh_parts.h"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <string>
 #include <vector>
 
+#include "sdcb/core/common/union_find.h"
 #include "sdcb/core/param/parameterization_distortion.h"
 #include "sdcb/core/spline/spline_model.h"
 
 namespace sdcb {
 namespace {
-
-// Union-find over the vertices, joined along the triangles' edges.
-class VertexSets {
- public:
-  explicit VertexSets(int n) : parent_(n) {
-    std::iota(parent_.begin(), parent_.end(), 0);
-  }
-  int Find(int x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void Union(int a, int b) {
-    a = Find(a);
-    b = Find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<int> parent_;
-};
 
 // 10000 -> "10,000".
 std::string GroupDigits(long long n) {
@@ -114,7 +90,7 @@ StatusOr<std::vector<MeshPart>> SplitIntoParts(const TriangleMesh& mesh,
   SDCB_RETURN_IF_ERROR(CheckFaceIndices(mesh));
   const int nv = mesh.num_vertices();
   const int nf = mesh.num_faces();
-  VertexSets sets(nv);
+  UnionFind sets(nv);
   for (int f = 0; f < nf; ++f) {
     sets.Union(mesh.faces(f, 0), mesh.faces(f, 1));
     sets.Union(mesh.faces(f, 0), mesh.faces(f, 2));
