@@ -53,14 +53,20 @@ StatusOr<PartsVerdict> JudgeParts(const TriangleMesh& mesh, int max_parts) {
 
 // The self-intersection test of every part, summed: pairs of triangles of
 // different parts are not counted (parts are fitted apart). Skipped when a
-// part's test is.
+// part's test is. Each part gets the share of the whole mesh's budget of
+// box pairs that its triangles are of the mesh's, so that the parts
+// together test no more pairs than one mesh of their size could.
 StatusOr<SelfIntersectionReport> PartsSelfIntersections(
-    const std::vector<MeshPart>& parts) {
+    const std::vector<MeshPart>& parts, int total_faces) {
+  const SelfIntersectionOptions whole;
   SelfIntersectionReport total;
   total.checked = true;
   for (const MeshPart& part : parts) {
+    SelfIntersectionOptions share = whole;
+    share.max_extra_pairs =
+        whole.max_extra_pairs * part.mesh.num_faces() / total_faces;
     SDCB_ASSIGN_OR_RETURN(const SelfIntersectionReport one,
-                          FindSelfIntersections(part.mesh));
+                          FindSelfIntersections(part.mesh, share));
     if (!one.checked) return one;
     total.intersecting_pairs += one.intersecting_pairs;
   }
@@ -114,7 +120,8 @@ int RunCheck(const std::vector<std::string>& argv) {
   std::string skipped_because = "not every part can be fitted (see the parts)";
   const long long self_intersections =
       ok ? WarnAboutSelfIntersections(
-               path, PartsSelfIntersections(verdict->meshes), &skipped_because)
+               path, PartsSelfIntersections(verdict->meshes, r.faces),
+               &skipped_because)
          : -1;
 
   if (args.Has("json")) {
