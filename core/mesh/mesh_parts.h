@@ -36,10 +36,11 @@ struct PartReport {
   double area = 0.0;
   // Empty when sdcb can fit the part; else one sentence naming it, e.g.
   // "part 1 (428 triangles) has genus 2 and 3 boundary loops; sdcb fits
-  // genus-0 parts". The first problem of: too large for doubles (the
-  // fit's own tests: ComputeNormalizingTransform and AreaScaleToUnitSphere
-  // fail), no area, not manifold, not consistently oriented, genus > 0,
-  // degenerate triangles.
+  // genus-0 parts". The first problem of: coordinates too large or too
+  // small for doubles (the fit's own tests, ComputeNormalizingTransform and
+  // AreaScaleToUnitSphere, fail: the bounding box or area overflows, or the
+  // area of non-degenerate triangles underflows to 0), no area, not
+  // manifold, not consistently oriented, genus > 0, degenerate triangles.
   std::string problem;
   bool fittable() const { return problem.empty(); }
 };
