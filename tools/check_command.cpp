@@ -1,21 +1,103 @@
-// sdcb check MESH [--json FILE] [--repair] [--max-file-mb N]
-//                 [--max-memory-mb N]: is this mesh something sdcb can fit?
+// sdcb check MESH [--json FILE] [--repair] [--max-parts N] [--max-file-mb N]
+//                 [--max-memory-mb N]: can sdcb fit every part of this mesh?
+#include <climits>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "sdcb/core/mesh/mesh_parts.h"
 #include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/io/mesh/mesh_reader.h"
 #include "tools/cli.h"
 #include "tools/commands.h"
 
 namespace sdcb::cli {
 
+namespace {
+
+// What check found beyond the whole mesh's topology: the parts (empty when
+// there are none or too many), whether every part can be fitted and, if
+// not, the sentence saying why.
+struct PartsVerdict {
+  std::vector<MeshPart> meshes;
+  std::vector<PartReport> parts;
+  bool split = false;  // false: more parts than --max-parts
+  bool ok = false;
+  std::string problem;
+};
+
+StatusOr<PartsVerdict> JudgeParts(const TriangleMesh& mesh, int max_parts) {
+  PartsVerdict verdict;
+  StatusOr<std::vector<MeshPart>> parts = SplitIntoParts(mesh, max_parts);
+  if (!parts.ok()) {
+    if (parts.status().code() != StatusCode::kUnsupported) {
+      return parts.status();
+    }
+    verdict.problem = parts.status().message();
+    return verdict;
+  }
+  verdict.split = true;
+  verdict.meshes = std::move(parts).value();
+  for (size_t i = 0; i < verdict.meshes.size(); ++i) {
+    SDCB_ASSIGN_OR_RETURN(
+        PartReport report,
+        ReportPart(verdict.meshes[i], static_cast<int>(i) + 1));
+    if (verdict.problem.empty()) verdict.problem = report.problem;
+    verdict.parts.push_back(std::move(report));
+  }
+  if (verdict.parts.empty()) verdict.problem = "mesh has no triangles";
+  verdict.ok = verdict.problem.empty();
+  return verdict;
+}
+
+// The self-intersection test of every part, summed: pairs of triangles of
+// different parts are not counted (parts are fitted apart). Skipped when a
+// part's test is. Each part gets the share of the whole mesh's budget of
+// box pairs that its triangles are of the mesh's, so that the parts
+// together test no more pairs than one mesh of their size could.
+StatusOr<SelfIntersectionReport> PartsSelfIntersections(
+    const std::vector<MeshPart>& parts, int total_faces) {
+  const SelfIntersectionOptions whole;
+  SelfIntersectionReport total;
+  total.checked = true;
+  for (const MeshPart& part : parts) {
+    SelfIntersectionOptions share = whole;
+    share.max_extra_pairs =
+        whole.max_extra_pairs * part.mesh.num_faces() / total_faces;
+    SDCB_ASSIGN_OR_RETURN(const SelfIntersectionReport one,
+                          FindSelfIntersections(part.mesh, share));
+    if (!one.checked) return one;
+    total.intersecting_pairs += one.intersecting_pairs;
+  }
+  return total;
+}
+
+std::string PartLine(const PartReport& p) {
+  const MeshTopologyReport& t = p.topology;
+  std::string line = "part " + std::to_string(p.number) + ": " +
+                     std::to_string(t.faces) +
+                     (t.faces == 1 ? " triangle, " : " triangles, ") +
+                     std::to_string(t.vertices) +
+                     (t.vertices == 1 ? " vertex, " : " vertices, ");
+  line += p.closed ? "closed"
+                   : "open (" + std::to_string(t.boundary_loops) +
+                         (t.boundary_loops == 1 ? " boundary loop)"
+                                                : " boundary loops)");
+  line += ", genus " + std::to_string(t.genus);
+  line += p.fittable() ? ", fittable" : ", not fittable";
+  return line;
+}
+
+}  // namespace
+
 int RunCheck(const std::vector<std::string>& argv) {
-  const Args args(argv, Concat({"json"}, kMeshValueOptions),
+  const Args args(argv, Concat({"json", "max-parts"}, kMeshValueOptions),
                   Concat({"quiet"}, kMeshFlagOptions));
-  args.RequirePositionals(1, "MESH (usage: sdcb check MESH [--json FILE])");
+  args.RequirePositionals(
+      1, "MESH (usage: sdcb check MESH [--json FILE] [--max-parts N])");
   const std::string& path = args.positionals()[0];
+  const int max_parts = args.GetInt("max-parts", kDefaultMaxParts, 0, INT_MAX);
   const Status outputs = PrepareOutputs({args.Get("json")});
   if (!outputs.ok()) return ReportError(outputs);
 
@@ -28,13 +110,19 @@ int RunCheck(const std::vector<std::string>& argv) {
   StatusOr<MeshTopologyReport> report = AnalyzeMeshTopology(*mesh);
   if (!report.ok()) return ReportError(report.status().WithPrefix(path));
   const MeshTopologyReport& r = *report;
-  const std::string problem = DescribeTopologyProblem(r);
-  // Self-intersections are tested on meshes that are otherwise fine (in a
-  // soup or an open mesh, touching pieces would count); -1 when not tested.
-  std::string skipped_because =
-      "the mesh is not a closed genus-0 manifold (see the other counts)";
+  StatusOr<PartsVerdict> verdict = JudgeParts(*mesh, max_parts);
+  if (!verdict.ok()) return ReportError(verdict.status().WithPrefix(path));
+  const bool ok = verdict->ok;
+  const std::string& problem = verdict->problem;
+  // Self-intersections are tested within each part, on meshes whose parts
+  // can all be fitted (in a soup, touching pieces would count); -1 when not
+  // tested.
+  std::string skipped_because = "not every part can be fitted (see the parts)";
   const long long self_intersections =
-      r.ok ? WarnAboutSelfIntersections(path, *mesh, &skipped_because) : -1;
+      ok ? WarnAboutSelfIntersections(
+               path, PartsSelfIntersections(verdict->meshes, r.faces),
+               &skipped_because)
+         : -1;
 
   if (args.Has("json")) {
     nlohmann::ordered_json j;
@@ -61,7 +149,27 @@ int RunCheck(const std::vector<std::string>& argv) {
       j["self_intersections_skipped"] = skipped_because;
     }
     j["repaired"] = args.Has("repair");
-    j["ok"] = r.ok;
+    if (verdict->split) {
+      nlohmann::ordered_json parts = nlohmann::ordered_json::array();
+      for (const PartReport& p : verdict->parts) {
+        nlohmann::ordered_json part;
+        part["number"] = p.number;
+        part["triangles"] = p.topology.faces;
+        part["vertices"] = p.topology.vertices;
+        part["closed"] = p.closed;
+        part["boundary_loops"] = p.topology.boundary_loops;
+        part["genus"] = p.topology.genus;
+        part["manifold"] = p.topology.non_manifold_edges == 0 &&
+                           p.topology.non_manifold_vertices == 0;
+        part["fittable"] = p.fittable();
+        part["problem"] = p.problem;
+        parts.push_back(std::move(part));
+      }
+      j["parts"] = std::move(parts);
+    } else {
+      j["parts"] = nullptr;  // more than --max-parts: `problem` says so
+    }
+    j["ok"] = ok;
     j["problem"] = problem;
     const Status written = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
     if (!written.ok()) return ReportError(written);
@@ -93,11 +201,19 @@ int RunCheck(const std::vector<std::string>& argv) {
     } else {
       std::printf("  %-30s %12s\n", "self-intersecting pairs", "not tested");
     }
-    std::printf("  %-30s %12s\n", "ok (closed genus-0 manifold)",
-                r.ok ? "yes" : "no");
+    if (verdict->split) {
+      row("parts", static_cast<long long>(verdict->parts.size()));
+      for (const PartReport& p : verdict->parts) {
+        std::printf("  %s\n", PartLine(p).c_str());
+      }
+    } else {
+      std::printf("  %-30s %12s\n", "parts", "not listed");
+    }
+    std::printf("  %-30s %12s\n", "ok (every part fittable)",
+                ok ? "yes" : "no");
     std::fflush(stdout);
   }
-  if (!r.ok) {
+  if (!ok) {
     std::cerr << "sdcb: " << path << ": " << problem << "\n";
     return kExitBadInput;
   }

@@ -19,13 +19,16 @@ constexpr const char* kUsageHead = R"(usage: sdcb COMMAND [ARGS]
 Turns closed genus-0 triangle meshes into one smooth spherical DCB-spline.
 
 commands:
-  check MESH [--json FILE] [--repair]
-                             Report the mesh's topology and self-intersections;
-                             exit 1 unless it is a closed, manifold,
-                             single-component genus-0 mesh. --repair first
-                             merges duplicate vertices, drops degenerate and
-                             duplicate faces, orients the faces and fills
-                             small holes, and says what it changed.
+  check MESH [--json FILE] [--repair] [--max-parts N]
+                             Report the mesh's topology, each part (connected
+                             component) and self-intersections; exit 1 unless
+                             sdcb can fit every part: manifold, consistently
+                             oriented, genus 0, closed or open, with area and
+                             no degenerate triangles. More than --max-parts
+                             parts (default 1000, 0: no limit) is exit 1.
+                             --repair first merges duplicate vertices, drops
+                             degenerate and duplicate faces, orients the faces
+                             and fills small holes, and says what it changed.
   param MESH -o SPHERE_MESH [--lambda L] [--json FILE] [--colors angle|area]
                              Map the mesh onto the unit sphere without folds
                              (same vertices and faces; .obj/.off/.ply);

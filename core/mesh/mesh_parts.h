@@ -14,6 +14,10 @@
 
 namespace sdcb {
 
+// SplitIntoParts' limit on the number of parts unless told otherwise
+// (`--max-parts`).
+constexpr int kDefaultMaxParts = 1000;
+
 struct MeshPart {
   // The part's triangles and the vertices they use: vertices in ascending
   // order of their input index, faces in input order. A mesh of one part
@@ -28,23 +32,30 @@ struct PartReport {
   int number = 0;  // 1-based, in the order of the parts' first triangles
   MeshTopologyReport topology;  // of the part alone (components == 1)
   bool closed = false;          // no boundary edges
-  double area = 0.0;            // in the input's units squared
+  // In the input's units squared; +infinity when the sum overflows.
+  double area = 0.0;
   // Empty when sdcb can fit the part; else one sentence naming it, e.g.
   // "part 1 (428 triangles) has genus 2 and 3 boundary loops; sdcb fits
-  // genus-0 parts".
+  // genus-0 parts". The first problem of: coordinates too large or too
+  // small for doubles (the fit's own tests, ComputeNormalizingTransform and
+  // AreaScaleToUnitSphere, fail: the bounding box or area overflows, or the
+  // area of non-degenerate triangles underflows to 0), no area, not
+  // manifold, not consistently oriented, genus > 0, degenerate triangles.
   std::string problem;
   bool fittable() const { return problem.empty(); }
 };
 
 // Splits `mesh` into parts (triangles connected through shared vertices),
-// in the order of their first triangle. kInvalidInput for indices out of
-// range; kUnsupported with one sentence when there are more than
-// `max_parts` parts (max_parts <= 0: no limit), decided before any part is
-// built so that memory stays bounded.
+// in the order of their first triangle; vertices no triangle uses belong to
+// no part. kInvalidInput for indices out of range; kUnsupported with one
+// sentence ("mesh has 10,000 parts, more than --max-parts 1000") when there
+// are more than `max_parts` parts (max_parts <= 0: no limit), decided by a
+// union-find before any part is built, so that memory stays O(#V + #F).
 StatusOr<std::vector<MeshPart>> SplitIntoParts(const TriangleMesh& mesh,
                                                int max_parts);
 
-// The report of one part (`number` 1-based).
+// The report of one part (`number` 1-based, used in the problem sentence).
+// kInvalidInput only for face indices out of range.
 StatusOr<PartReport> ReportPart(const MeshPart& part, int number);
 
 }  // namespace sdcb

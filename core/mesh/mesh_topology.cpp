@@ -8,32 +8,12 @@
 #include <numeric>
 #include <vector>
 
+#include "sdcb/core/common/union_find.h"
+
 namespace sdcb {
 namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-
-class UnionFind {
- public:
-  explicit UnionFind(int n) : parent_(n) {
-    std::iota(parent_.begin(), parent_.end(), 0);
-  }
-  int Find(int x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void Union(int a, int b) {
-    a = Find(a);
-    b = Find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<int> parent_;
-};
 
 // One directed edge of a triangle: from -> to, in face `face`, whose corner
 // at `from` is corner index 3 * face + k.

@@ -245,12 +245,14 @@ TEST(HostileCliTest, SelfIntersectionsAreReportedAndWarned) {
   r = RunSdcb({"check", dir + "/sphere.off", "--json", "-"}, dir);
   EXPECT_EQ(nlohmann::json::parse(r.out)["self_intersections"], 0);
   EXPECT_TRUE(r.err.empty()) << r.err;
-  // Not tested on a mesh that is not closed genus 0 (it would count the
-  // touching pieces of a soup): null and why.
-  r = RunSdcb({"check", MeshPath("mushroom.off"), "--json", "-"}, dir);
+  // Not tested on a mesh with a part sdcb cannot fit: null and why.
+  r = RunSdcb({"check", MeshPath("knot1.off"), "--json", "-"}, dir);
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_TRUE(j["self_intersections"].is_null());
   EXPECT_TRUE(j.contains("self_intersections_skipped"));
+  // Tested on an open part (one boundary loop), which sdcb fits.
+  r = RunSdcb({"check", MeshPath("mushroom.off"), "--json", "-"}, dir);
+  EXPECT_TRUE(nlohmann::json::parse(r.out)["self_intersections"].is_number());
 
   // fit warns too (whatever the fit then makes of it).
   r = RunSdcb({"fit", dir + "/crumpled.off", "-o", dir + "/c.sdcb",
@@ -317,10 +319,16 @@ TEST(HostileCliTest, RepairTurnsASoupWithHolesIntoAMeshThatFits) {
       WriteMesh(DamagedSphere(&kept, &sphere_vertices), dir + "/damaged.off")
           .ok());
 
+  // Unrepaired, every soup triangle is a part of its own: the 1848
+  // triangles of sphere966.off's header less 3, more than --max-parts
+  // allows.
+  ASSERT_EQ(kept, 1845);
   RunResult r = RunSdcb({"check", dir + "/damaged.off"}, dir);
   EXPECT_EQ(r.exit_code, 1);
   ExpectOneSentenceNaming(r, "damaged.off");
-  EXPECT_NE(r.err.find("open surface"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("mesh has 1,845 parts, more than --max-parts 1000"),
+            std::string::npos)
+      << r.err;
 
   r = RunSdcb(
       {"check", dir + "/damaged.off", "--repair", "--json", dir + "/c.json"},

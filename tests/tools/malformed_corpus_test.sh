@@ -3,7 +3,8 @@
 # generated here, must make sdcb exit 1 within 20 s under `ulimit -v
 # 4000000` (4 GB of address space), with exactly one line on stderr naming
 # the file, and leave no file behind.
-#   meshes: sdcb check FILE; sdcb fit FILE -o OUT/m.sdcb --json OUT/f.json
+#   meshes: sdcb check FILE (but for $check_ok); sdcb fit FILE -o OUT/m.sdcb
+#           --json OUT/f.json
 #   models: sdcb info FILE --json OUT/i.json; eval FILE -i P -o OUT/v.txt;
 #           dump FILE -o OUT/d.json; cage FILE -o OUT/c.obj --json OUT/c.json
 # Usage: malformed_corpus_test.sh SDCB_BINARY CORPUS_DIR WORK_DIR
@@ -62,6 +63,8 @@ gen=$work/generated
 
 printf '0 0 1\n1 0 0\n' > "$work/points.txt"
 
+check_ok="off_open_surface.off off_two_components.off obj_open_surface.obj"
+check_ok+=" off_unreferenced_vertex.off big_open_fan.off"
 files=0 runs=0 failures=0
 run() {  # run NAME ARGS...: one sdcb invocation, checked
   local name=$1
@@ -100,7 +103,13 @@ for f in "$corpus"/* "$gen"/*; do
   case $name in
     *.off | *.obj | *.ply | *.stl)
       files=$((files + 1))
-      run "$name" check "$f"
+      # Meshes whose every part sdcb can fit (open, two parts, a vertex no
+      # triangle uses, the open fan): `check` says ok
+      # (tests/tools/check_cli_test.cpp).
+      case " $check_ok " in
+        *" $name "*) ;;
+        *) run "$name" check "$f" ;;
+      esac
       run "$name" fit "$f" -o "$work/out/m.sdcb" --json "$work/out/f.json" --quiet
       ;;
     *.sdcb)
