@@ -3,6 +3,7 @@
 // OwnOptionSpecs below; FitUsage() is its usage text.
 #include <tbb/task_arena.h>
 
+#include <climits>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -47,7 +48,7 @@ const std::vector<OptionSpec>& OwnOptionSpecs() {
       {"quiet", "", "no progress bar, no summary"},
       {"max-parts", "N",
        "refuse a mesh of more than N parts before fitting any (default "
-       "1000)"},
+       "1000; 0: no limit)"},
   };
   return specs;
 }
@@ -274,7 +275,7 @@ int RunFit(const std::vector<std::string>& argv) {
   ProgressBar progress("sdcb fit", args.Has("quiet"));
   ModelFitOptions model_options;
   model_options.max_parts =
-      args.GetInt("max-parts", model_options.max_parts, 1, 1 << 30);
+      args.GetInt("max-parts", model_options.max_parts, 0, INT_MAX);
   options.progress = [bar = progress.Callback()](const FitProgress& p) {
     bar((p.retry.empty() ? "" : p.retry + ", ") + FitStageName(p.stage),
         p.fraction);

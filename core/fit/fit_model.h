@@ -22,7 +22,7 @@ namespace sdcb {
 struct ModelFitOptions {
   FitOptions fit;  // for every part; fit.progress only with a single part
   // More parts than this are refused before any is fitted (<= 0: no limit).
-  int max_parts = 1000;  // kDefaultMaxParts after the parts branch
+  int max_parts = kDefaultMaxParts;
   // With several parts: called once per part fitted, with the number of
   // parts done and the total (from the thread that fitted it, serialized).
   std::function<void(int done, int total)> part_done;
