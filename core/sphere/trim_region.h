@@ -4,9 +4,11 @@
 #define SDCB_CORE_SPHERE_TRIM_REGION_H_
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/sphere/point_kd_tree.h"
 
 namespace sdcb {
 
@@ -45,16 +47,30 @@ class TrimRegion {
   double DistanceToTrim(const Eigen::Vector3d& p) const;
 
  private:
-  std::vector<TrimLoop> loops_;
-  // Per loop: a bounding cap (unit centre, cosine of its angular radius)
-  // and whether its hole lies inside the cap; cap_cos = -2 means no cap.
-  struct LoopBound {
-    Eigen::Vector3d center = Eigen::Vector3d::UnitZ();
-    double cap_cos = -2.0;
-    bool hole_inside_cap = true;
-    Eigen::Vector3d outside_point = Eigen::Vector3d::UnitZ();  // not in hole
+  // One trim side a -> b with n = a x b (not normalized); its bounding cap
+  // for DistanceToTrim: centre `mid`, its half-angle, cosine and sine.
+  struct Side {
+    Eigen::Vector3d a, b, n, mid;
+    double half = 0, cos_half = 1, sin_half = 0;
   };
-  std::vector<LoopBound> bounds_;
+  // Contains: a cube-map grid over the sphere (gnomonic coordinates of a
+  // fixed generic rotation of the sphere, N by N cells per face; a cell is
+  // a convex spherical quadrilateral, so the great arc between two of its
+  // points stays in it). Per cell: the sides that may pass through it and
+  // whether its centre is kept. A query counts the crossings of the arc
+  // from the point to its cell's centre with the cell's sides.
+  int CellOf(const Eigen::Vector3d& p) const;
+
+  std::vector<TrimLoop> loops_;
+  std::vector<Side> sides_;
+  Eigen::Matrix3d frame_ = Eigen::Matrix3d::Identity();  // the rotation
+  int grid_n_ = 0;
+  std::vector<int> cell_begin_;  // 6 N^2 + 1 offsets into cell_sides_
+  std::vector<int> cell_sides_;  // side indices, ascending per cell
+  std::vector<Eigen::Vector3d> cell_centers_;  // unit, per cell
+  std::vector<char> center_kept_;              // per cell
+  // DistanceToTrim: the sides' midpoints, for a first (upper) bound.
+  std::shared_ptr<const PointKdTree> midpoints_;
 };
 
 }  // namespace sdcb
