@@ -127,12 +127,15 @@ std::optional<HoleFillMethod> FillCgalHole(CgalMesh::Halfedge_index border,
     ++edges;
   }
   std::vector<CgalMesh::Face_index> patch;
-  PMP::triangulate_hole(
-      *mesh, border, std::back_inserter(patch),
-      CGAL::parameters::use_2d_constrained_delaunay_triangulation(
-          options.use_2d_delaunay)
-          .use_delaunay_triangulation(true)
-          .do_not_use_cubic_algorithm(edges > options.max_cubic_search_edges));
+  if (options.cgal_triangulation) {
+    PMP::triangulate_hole(
+        *mesh, border, std::back_inserter(patch),
+        CGAL::parameters::use_2d_constrained_delaunay_triangulation(
+            options.use_2d_delaunay)
+            .use_delaunay_triangulation(true)
+            .do_not_use_cubic_algorithm(edges >
+                                        options.max_cubic_search_edges));
+  }
   HoleFillMethod method = HoleFillMethod::kTriangulated;
   if (patch.empty()) {
     if (!options.fan_fallback || !FanFill(border, mesh, &patch)) {
@@ -145,10 +148,11 @@ std::optional<HoleFillMethod> FillCgalHole(CgalMesh::Halfedge_index border,
     std::vector<CgalMesh::Vertex_index> new_vertices;
     PMP::refine(*mesh, patch, std::back_inserter(new_faces),
                 std::back_inserter(new_vertices));
-    if (method == HoleFillMethod::kTriangulated) {
+    const int n = static_cast<int>(new_vertices.size());
+    // A patch refine split nothing stays "triangulated" (nothing to fair).
+    if (method == HoleFillMethod::kTriangulated && n > 0) {
       method = HoleFillMethod::kRefined;
     }
-    const int n = static_cast<int>(new_vertices.size());
     if (n > 0 && n <= options.max_fair_vertices &&
         PMP::fair(*mesh, new_vertices) && method == HoleFillMethod::kRefined) {
       method = HoleFillMethod::kFaired;

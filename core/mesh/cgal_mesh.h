@@ -41,6 +41,9 @@ struct CgalHoleFillOptions {
   // When nothing else triangulates the hole: a fan from a new vertex at the
   // loop's centroid (always closes it combinatorially).
   bool fan_fallback = false;
+  // False skips CGAL's triangulations (straight to the fan, if allowed):
+  // how the tests reach the fan, which CGAL's searches rarely leave to it.
+  bool cgal_triangulation = true;
   // Split the patch's triangles to the density of the loop's edges
   // (CGAL's refine, density_control_factor sqrt(2)).
   bool refine = true;

@@ -77,6 +77,16 @@ Eigen::Vector3d FromGnomonic(int face, double u, double v) {
   return x.normalized();
 }
 
+// Whether every point of `cap` is farther than `best` (cosine, sine) from
+// unit p: the angle from p to its centre exceeds best + its radius.
+template <typename Cap>
+bool Beyond(const Eigen::Vector3d& p, const Cap& cap, double best,
+            double cos_best, double sin_best) {
+  return best + cap.radius < kPi &&
+         p.dot(cap.center) <
+             cos_best * cap.cos_radius - sin_best * cap.sin_radius;
+}
+
 int GridCoordinate(double u, int n) {
   const int i = static_cast<int>(std::floor((u + 1) * 0.5 * n));
   return std::clamp(i, 0, n - 1);
@@ -113,6 +123,14 @@ Status ValidateTrimLoop(const TrimLoop& loop) {
 
 StatusOr<TrimRegion> TrimRegion::Create(std::vector<TrimLoop> loops) {
   TrimRegion region;
+  auto make_cap = [](const Eigen::Vector3d& center, double radius) {
+    Cap cap;
+    cap.center = center;
+    cap.radius = radius;
+    cap.cos_radius = std::cos(radius);
+    cap.sin_radius = std::sin(radius);
+    return cap;
+  };
   std::vector<std::pair<int, int>> loop_sides;  // [begin, end) per loop
   for (size_t l = 0; l < loops.size(); ++l) {
     const Status valid = ValidateTrimLoop(loops[l]);
@@ -126,10 +144,7 @@ StatusOr<TrimRegion> TrimRegion::Create(std::vector<TrimLoop> loops) {
       s.a = pts.row(i);
       s.b = pts.row((i + 1) % pts.rows());
       s.n = s.a.cross(s.b);
-      s.mid = (s.a + s.b).normalized();
-      s.half = Angle(s.a, s.b) / 2;
-      s.cos_half = std::cos(s.half);
-      s.sin_half = std::sin(s.half);
+      s.cap = make_cap((s.a + s.b).normalized(), Angle(s.a, s.b) / 2);
       region.sides_.push_back(s);
     }
     loop_sides.emplace_back(begin, static_cast<int>(region.sides_.size()));
@@ -138,23 +153,42 @@ StatusOr<TrimRegion> TrimRegion::Create(std::vector<TrimLoop> loops) {
   if (region.sides_.empty()) return region;
   Eigen::MatrixX3d midpoints(region.sides_.size(), 3);
   for (size_t i = 0; i < region.sides_.size(); ++i) {
-    midpoints.row(i) = region.sides_[i].mid.transpose();
+    midpoints.row(i) = region.sides_[i].cap.center.transpose();
   }
   region.midpoints_ = std::make_shared<const PointKdTree>(midpoints);
+  for (size_t begin = 0; begin < region.sides_.size(); begin += kChunk) {
+    const size_t end = std::min(region.sides_.size(), begin + kChunk);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (size_t i = begin; i < end; ++i) sum += region.sides_[i].a;
+    Cap cap;  // no bound unless a cap under a hemisphere holds the sides
+    if (sum.norm() > 1e-6) {
+      const Eigen::Vector3d center = sum.normalized();
+      double radius = 0;
+      for (size_t i = begin; i < end; ++i) {
+        radius = std::max({radius, Angle(center, region.sides_[i].a),
+                           Angle(center, region.sides_[i].b)});
+      }
+      // A cap smaller than a hemisphere is convex: it holds the arcs
+      // between the ends it holds.
+      if (radius < kPi / 2 - 1e-9) cap = make_cap(center, radius + 1e-12);
+    }
+    region.chunks_.push_back(cap);
+  }
 
   // Per loop a point r kept with respect to that loop alone: just left of
   // the middle of its first side, nearer to it than to any other side.
   std::vector<Eigen::Vector3d> reference;
   for (const auto& [begin, end] : loop_sides) {
     const Side& s0 = region.sides_[begin];
-    double room = s0.half;
+    const Eigen::Vector3d& mid = s0.cap.center;
+    double room = s0.cap.radius;
     for (int j = begin + 1; j < end; ++j) {
       const Side& s = region.sides_[j];
-      room = std::min(room, ArcDistance(s0.mid, s.a, s.b, s.n));
+      room = std::min(room, ArcDistance(mid, s.a, s.b, s.n));
     }
     const double step = 0.5 * std::min(room, 0.01);
     reference.push_back(
-        (s0.mid + std::tan(step) * s0.n.normalized()).normalized());
+        (mid + std::tan(step) * s0.n.normalized()).normalized());
   }
   // Crossings of the path r -> q (one arc, or two through a point 90
   // degrees from r when q is near -r) with the sides [begin, end).
@@ -343,25 +377,25 @@ double TrimRegion::DistanceToTrim(const Eigen::Vector3d& p) const {
   double cos_best = -1, sin_best = 0;
   if (sides_.empty()) return best;
   // The side with the nearest midpoint bounds the answer from above; the
-  // scan then skips most sides with one dot product.
+  // scan then skips most chunks of sides with one dot product.
   {
     const Side& s = sides_[midpoints_->Nearest(p).index];
     best = ArcDistance(p, s.a, s.b, s.n);
     cos_best = std::cos(best);
     sin_best = std::sin(best);
   }
-  for (const Side& s : sides_) {
-    // Skip a side whose bounding cap is farther than `best`: the angle to
-    // its centre exceeds best + its half-angle.
-    if (best + s.half < kPi &&
-        p.dot(s.mid) < cos_best * s.cos_half - sin_best * s.sin_half) {
-      continue;
-    }
-    const double d = ArcDistance(p, s.a, s.b, s.n);
-    if (d < best) {
-      best = d;
-      cos_best = std::cos(best);
-      sin_best = std::sin(best);
+  for (size_t c = 0; c < chunks_.size(); ++c) {
+    if (Beyond(p, chunks_[c], best, cos_best, sin_best)) continue;
+    const size_t end = std::min(sides_.size(), (c + 1) * kChunk);
+    for (size_t i = c * kChunk; i < end; ++i) {
+      const Side& s = sides_[i];
+      if (Beyond(p, s.cap, best, cos_best, sin_best)) continue;
+      const double d = ArcDistance(p, s.a, s.b, s.n);
+      if (d < best) {
+        best = d;
+        cos_best = std::cos(best);
+        sin_best = std::sin(best);
+      }
     }
   }
   return best;

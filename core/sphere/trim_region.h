@@ -47,12 +47,20 @@ class TrimRegion {
   double DistanceToTrim(const Eigen::Vector3d& p) const;
 
  private:
-  // One trim side a -> b with n = a x b (not normalized); its bounding cap
-  // for DistanceToTrim: centre `mid`, its half-angle, cosine and sine.
-  struct Side {
-    Eigen::Vector3d a, b, n, mid;
-    double half = 0, cos_half = 1, sin_half = 0;
+  // A cap that holds some trim sides, for DistanceToTrim: unit centre,
+  // angular radius (pi: no bound), its cosine and sine.
+  struct Cap {
+    Eigen::Vector3d center = Eigen::Vector3d::UnitZ();
+    double radius = 3.141592653589793, cos_radius = -1, sin_radius = 0;
   };
+  // One trim side a -> b with n = a x b (not normalized) and its cap
+  // (centred at its midpoint, radius half its angle).
+  struct Side {
+    Eigen::Vector3d a, b, n;
+    Cap cap;
+  };
+  // Sides per DistanceToTrim chunk (consecutive sides sharing a cap).
+  static constexpr int kChunk = 32;
   // Contains: a cube-map grid over the sphere (gnomonic coordinates of a
   // fixed generic rotation of the sphere, N by N cells per face; a cell is
   // a convex spherical quadrilateral, so the great arc between two of its
@@ -69,8 +77,10 @@ class TrimRegion {
   std::vector<int> cell_sides_;  // side indices, ascending per cell
   std::vector<Eigen::Vector3d> cell_centers_;  // unit, per cell
   std::vector<char> center_kept_;              // per cell
-  // DistanceToTrim: the sides' midpoints, for a first (upper) bound.
+  // DistanceToTrim: the sides' midpoints, for a first (upper) bound, and
+  // the caps of sides kChunk * i .. kChunk * (i + 1) - 1.
   std::shared_ptr<const PointKdTree> midpoints_;
+  std::vector<Cap> chunks_;
 };
 
 }  // namespace sdcb

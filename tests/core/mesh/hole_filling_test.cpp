@@ -106,6 +106,29 @@ TEST(FillHolesTest, SmallCapWithAHoleOfMostOfTheSphere) {
                1);
 }
 
+TEST(FillHolesTest, SingleTriangleBecomesAPillow) {
+  TriangleMesh triangle;
+  triangle.vertices.resize(3, 3);
+  triangle.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0;
+  triangle.faces.resize(1, 3);
+  triangle.faces << 0, 1, 2;
+  ExpectFilled(triangle, 1);
+}
+
+TEST(FillHolesTest, IcosahedronWithoutAFaceGetsItBack) {
+  TriangleMesh open = MakeIcosphere(0);
+  std::vector<bool> keep(open.num_faces(), true);
+  keep[7] = false;
+  open = testing::Submesh(open, keep);
+  ExpectFilled(open, 1);
+  const StatusOr<FilledMesh> filled = FillHoles(open);
+  ASSERT_TRUE(filled.ok());
+  // A 3-edge hole takes one triangle and no new vertex.
+  EXPECT_EQ(filled->mesh.num_faces(), open.num_faces() + 1);
+  EXPECT_EQ(filled->mesh.num_vertices(), open.num_vertices());
+  EXPECT_EQ(filled->fill_methods[0], HoleFillMethod::kTriangulated);
+}
+
 TEST(FillHolesTest, ClosedPartComesBackUnchanged) {
   const TriangleMesh sphere = MakeIcosphere(2);
   const StatusOr<FilledMesh> filled = FillHoles(sphere);
