@@ -145,6 +145,35 @@ TEST(TrimRegionTest, WindingLoopOnAFineSphere) {
   ExpectAgreesWithBruteForce(c, 20000, 2000);
 }
 
+TEST(TrimRegionTest, LongSidesOctantKeptOrOctantHole) {
+  // Sides of 90 degrees: the kept region is the positive octant (its
+  // corners counter-clockwise seen from outside), or, reversed, the octant
+  // is the hole. Brute force: the octant is where all coordinates are >= 0.
+  TrimLoop octant;
+  octant.points = Eigen::Matrix3d::Identity();
+  TrimLoop reversed;
+  reversed.points = octant.points.colwise().reverse();
+  const StatusOr<TrimRegion> kept = TrimRegion::Create({octant});
+  const StatusOr<TrimRegion> hole = TrimRegion::Create({reversed});
+  ASSERT_TRUE(kept.ok() && hole.ok());
+  const Eigen::MatrixX3d queries = testing::RandomUnitVectors(20000, 8);
+  int inside = 0;
+  for (int i = 0; i < queries.rows(); ++i) {
+    const Eigen::Vector3d p = queries.row(i);
+    if (p.minCoeff() > -1e-12 && p.minCoeff() < 1e-12) continue;
+    const bool in_octant = p.minCoeff() >= 0;
+    inside += in_octant;
+    EXPECT_EQ(kept->Contains(p), in_octant) << i;
+    EXPECT_EQ(hole->Contains(p), !in_octant) << i;
+    // The distance to the octant's sides: in the octant, its smallest
+    // coordinate's arcsine (the nearest side's plane is a coordinate plane).
+    if (in_octant) {
+      EXPECT_NEAR(kept->DistanceToTrim(p), std::asin(p.minCoeff()), 1e-12);
+    }
+  }
+  EXPECT_NEAR(inside, 20000 / 8, 200);
+}
+
 TEST(TrimRegionTest, PointsNearASideAndOnTheLeftAreKept) {
   // A triangle around the north pole, clockwise from above (the cap is the
   // hole): points 1e-9 inside and outside the middle of a side.
