@@ -123,14 +123,6 @@ Status ValidateTrimLoop(const TrimLoop& loop) {
 
 StatusOr<TrimRegion> TrimRegion::Create(std::vector<TrimLoop> loops) {
   TrimRegion region;
-  auto make_cap = [](const Eigen::Vector3d& center, double radius) {
-    Cap cap;
-    cap.center = center;
-    cap.radius = radius;
-    cap.cos_radius = std::cos(radius);
-    cap.sin_radius = std::sin(radius);
-    return cap;
-  };
   std::vector<std::pair<int, int>> loop_sides;  // [begin, end) per loop
   for (size_t l = 0; l < loops.size(); ++l) {
     const Status valid = ValidateTrimLoop(loops[l]);
@@ -144,83 +136,84 @@ StatusOr<TrimRegion> TrimRegion::Create(std::vector<TrimLoop> loops) {
       s.a = pts.row(i);
       s.b = pts.row((i + 1) % pts.rows());
       s.n = s.a.cross(s.b);
-      s.cap = make_cap((s.a + s.b).normalized(), Angle(s.a, s.b) / 2);
+      s.cap = MakeCap((s.a + s.b).normalized(), Angle(s.a, s.b) / 2);
       region.sides_.push_back(s);
     }
     loop_sides.emplace_back(begin, static_cast<int>(region.sides_.size()));
   }
   region.loops_ = std::move(loops);
   if (region.sides_.empty()) return region;
-  Eigen::MatrixX3d midpoints(region.sides_.size(), 3);
-  for (size_t i = 0; i < region.sides_.size(); ++i) {
-    midpoints.row(i) = region.sides_[i].cap.center.transpose();
+  region.IndexDistances();
+  region.GridSides();
+  region.ClassifyCenters(loop_sides);
+  return region;
+}
+
+TrimRegion::Cap TrimRegion::MakeCap(const Eigen::Vector3d& center,
+                                    double radius) {
+  Cap cap;
+  cap.center = center;
+  cap.radius = radius;
+  cap.cos_radius = std::cos(radius);
+  cap.sin_radius = std::sin(radius);
+  return cap;
+}
+
+void TrimRegion::IndexDistances() {
+  Eigen::MatrixX3d midpoints(sides_.size(), 3);
+  for (size_t i = 0; i < sides_.size(); ++i) {
+    midpoints.row(i) = sides_[i].cap.center.transpose();
   }
-  region.midpoints_ = std::make_shared<const PointKdTree>(midpoints);
-  for (size_t begin = 0; begin < region.sides_.size(); begin += kChunk) {
-    const size_t end = std::min(region.sides_.size(), begin + kChunk);
+  midpoints_ = std::make_shared<const PointKdTree>(midpoints);
+  for (size_t begin = 0; begin < sides_.size(); begin += kChunk) {
+    const size_t end = std::min(sides_.size(), begin + kChunk);
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (size_t i = begin; i < end; ++i) sum += region.sides_[i].a;
+    for (size_t i = begin; i < end; ++i) sum += sides_[i].a;
     Cap cap;  // no bound unless a cap under a hemisphere holds the sides
     if (sum.norm() > 1e-6) {
       const Eigen::Vector3d center = sum.normalized();
       double radius = 0;
       for (size_t i = begin; i < end; ++i) {
-        radius = std::max({radius, Angle(center, region.sides_[i].a),
-                           Angle(center, region.sides_[i].b)});
+        radius = std::max(
+            {radius, Angle(center, sides_[i].a), Angle(center, sides_[i].b)});
       }
       // A cap smaller than a hemisphere is convex: it holds the arcs
       // between the ends it holds.
-      if (radius < kPi / 2 - 1e-9) cap = make_cap(center, radius + 1e-12);
+      if (radius < kPi / 2 - 1e-9) cap = MakeCap(center, radius + 1e-12);
     }
-    region.chunks_.push_back(cap);
+    chunks_.push_back(cap);
   }
+}
 
-  // Per loop a point r kept with respect to that loop alone: just left of
-  // the middle of its first side, nearer to it than to any other side.
-  std::vector<Eigen::Vector3d> reference;
-  for (const auto& [begin, end] : loop_sides) {
-    const Side& s0 = region.sides_[begin];
-    const Eigen::Vector3d& mid = s0.cap.center;
-    double room = s0.cap.radius;
-    for (int j = begin + 1; j < end; ++j) {
-      const Side& s = region.sides_[j];
-      room = std::min(room, ArcDistance(mid, s.a, s.b, s.n));
-    }
-    const double step = 0.5 * std::min(room, 0.01);
-    reference.push_back(
-        (mid + std::tan(step) * s0.n.normalized()).normalized());
+int TrimRegion::PathParity(const Eigen::Vector3d& r, const Eigen::Vector3d& q,
+                           int begin, int end) const {
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> arcs;
+  if (r.dot(q) > -0.5) {
+    arcs.emplace_back(r, q);
+  } else {
+    Eigen::Index k;
+    r.cwiseAbs().minCoeff(&k);
+    const Eigen::Vector3d w = r.cross(Eigen::Vector3d::Unit(k)).normalized();
+    arcs.emplace_back(r, w);
+    arcs.emplace_back(w, q);
   }
-  // Crossings of the path r -> q (one arc, or two through a point 90
-  // degrees from r when q is near -r) with the sides [begin, end).
-  auto path_parity = [&region](const Eigen::Vector3d& r,
-                               const Eigen::Vector3d& q, int begin, int end) {
-    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> arcs;
-    if (r.dot(q) > -0.5) {
-      arcs.emplace_back(r, q);
-    } else {
-      Eigen::Index k;
-      r.cwiseAbs().minCoeff(&k);
-      const Eigen::Vector3d w = r.cross(Eigen::Vector3d::Unit(k)).normalized();
-      arcs.emplace_back(r, w);
-      arcs.emplace_back(w, q);
+  int parity = 0;
+  for (const auto& [p0, p1] : arcs) {
+    const Eigen::Vector3d m = p0.cross(p1);
+    for (int j = begin; j < end; ++j) {
+      const Side& s = sides_[j];
+      parity ^= Crosses(p0, p1, m, s.a, s.b, s.n);
     }
-    int parity = 0;
-    for (const auto& [p0, p1] : arcs) {
-      const Eigen::Vector3d m = p0.cross(p1);
-      for (int j = begin; j < end; ++j) {
-        const Side& s = region.sides_[j];
-        parity ^= Crosses(p0, p1, m, s.a, s.b, s.n);
-      }
-    }
-    return parity;
-  };
+  }
+  return parity;
+}
 
-  // The grid: about one cell per trim point, 4 to 128 cells a face side.
+void TrimRegion::GridSides() {
+  // The grid: about six cells per trim point, 4 to 128 cells a face side.
   const int n = std::clamp(
-      static_cast<int>(std::ceil(std::sqrt(double(region.sides_.size())))), 4,
-      128);
-  region.grid_n_ = n;
-  region.frame_ = GridFrame();
+      static_cast<int>(std::ceil(std::sqrt(double(sides_.size())))), 4, 128);
+  grid_n_ = n;
+  frame_ = GridFrame();
   const int cells = 6 * n * n;
   std::vector<std::vector<int>> lists(cells);
   // Each side, cut into pieces of at most 30 degrees, is drawn on every
@@ -231,10 +224,10 @@ StatusOr<TrimRegion> TrimRegion::Create(std::vector<TrimLoop> loops) {
   // `margin` of gets the side.
   const double margin = 1e-9;
   const double max_piece = 30 * kPi / 180;
-  for (int si = 0; si < static_cast<int>(region.sides_.size()); ++si) {
-    const Side& s = region.sides_[si];
-    const Eigen::Vector3d a = region.frame_ * s.a;
-    const Eigen::Vector3d b = region.frame_ * s.b;
+  for (int si = 0; si < static_cast<int>(sides_.size()); ++si) {
+    const Side& s = sides_[si];
+    const Eigen::Vector3d a = frame_ * s.a;
+    const Eigen::Vector3d b = frame_ * s.b;
     const double angle = Angle(a, b);
     const int pieces =
         std::max(1, static_cast<int>(std::ceil(angle / max_piece)));
@@ -286,31 +279,49 @@ StatusOr<TrimRegion> TrimRegion::Create(std::vector<TrimLoop> loops) {
       }
     }
   }
-  region.cell_begin_.assign(cells + 1, 0);
+  cell_begin_.assign(cells + 1, 0);
   for (int c = 0; c < cells; ++c) {
-    region.cell_begin_[c + 1] =
-        region.cell_begin_[c] + static_cast<int>(lists[c].size());
+    cell_begin_[c + 1] = cell_begin_[c] + static_cast<int>(lists[c].size());
   }
-  region.cell_sides_.reserve(region.cell_begin_[cells]);
+  cell_sides_.reserve(cell_begin_[cells]);
   for (const std::vector<int>& list : lists) {
-    region.cell_sides_.insert(region.cell_sides_.end(), list.begin(),
-                              list.end());
+    cell_sides_.insert(cell_sides_.end(), list.begin(), list.end());
   }
-  region.cell_centers_.resize(cells);
+  cell_centers_.resize(cells);
   for (int face = 0; face < 6; ++face) {
     for (int i = 0; i < n; ++i) {
       for (int j = 0; j < n; ++j) {
-        region.cell_centers_[(face * n + i) * n + j] =
-            region.frame_.transpose() *
+        cell_centers_[(face * n + i) * n + j] =
+            frame_.transpose() *
             FromGnomonic(face, -1 + (2.0 * i + 1) / n, -1 + (2.0 * j + 1) / n);
       }
     }
+  }
+}
+
+void TrimRegion::ClassifyCenters(
+    const std::vector<std::pair<int, int>>& loop_sides) {
+  // Per loop a point r kept with respect to that loop alone: just left of
+  // the middle of its first side, nearer to it than to any other side.
+  std::vector<Eigen::Vector3d> reference;
+  for (const auto& [begin, end] : loop_sides) {
+    const Side& s0 = sides_[begin];
+    const Eigen::Vector3d& mid = s0.cap.center;
+    double room = s0.cap.radius;
+    for (int j = begin + 1; j < end; ++j) {
+      const Side& s = sides_[j];
+      room = std::min(room, ArcDistance(mid, s.a, s.b, s.n));
+    }
+    const double step = 0.5 * std::min(room, 0.01);
+    reference.push_back(
+        (mid + std::tan(step) * s0.n.normalized()).normalized());
   }
   // Whether each cell's centre is kept: on each face the first cell from
   // the loops' reference points (a point is in at most one hole), the others
   // walking row by row in a serpentine, crossing from each centre to the
   // next through the two cells' sides (the arc stays in the two cells).
-  region.center_kept_.assign(cells, 1);
+  const int n = grid_n_;
+  center_kept_.assign(6 * n * n, 1);
   for (int face = 0; face < 6; ++face) {
     int previous = -1;
     bool kept = true;
@@ -318,37 +329,35 @@ StatusOr<TrimRegion> TrimRegion::Create(std::vector<TrimLoop> loops) {
       for (int jj = 0; jj < n; ++jj) {
         const int j = i % 2 == 0 ? jj : n - 1 - jj;
         const int cell = (face * n + i) * n + j;
-        const Eigen::Vector3d& q = region.cell_centers_[cell];
+        const Eigen::Vector3d& q = cell_centers_[cell];
         if (previous < 0) {
           kept = true;
           for (size_t l = 0; l < loop_sides.size(); ++l) {
-            if (path_parity(reference[l], q, loop_sides[l].first,
-                            loop_sides[l].second)) {
+            if (PathParity(reference[l], q, loop_sides[l].first,
+                           loop_sides[l].second)) {
               kept = false;
             }
           }
         } else {
-          const Eigen::Vector3d& p = region.cell_centers_[previous];
+          const Eigen::Vector3d& p = cell_centers_[previous];
           const Eigen::Vector3d m = p.cross(q);
           // The union of the two cells' ascending side lists.
           std::vector<int> both;
-          std::set_union(
-              region.cell_sides_.begin() + region.cell_begin_[previous],
-              region.cell_sides_.begin() + region.cell_begin_[previous + 1],
-              region.cell_sides_.begin() + region.cell_begin_[cell],
-              region.cell_sides_.begin() + region.cell_begin_[cell + 1],
-              std::back_inserter(both));
+          std::set_union(cell_sides_.begin() + cell_begin_[previous],
+                         cell_sides_.begin() + cell_begin_[previous + 1],
+                         cell_sides_.begin() + cell_begin_[cell],
+                         cell_sides_.begin() + cell_begin_[cell + 1],
+                         std::back_inserter(both));
           for (int si : both) {
-            const Side& s = region.sides_[si];
+            const Side& s = sides_[si];
             kept ^= Crosses(p, q, m, s.a, s.b, s.n);
           }
         }
-        region.center_kept_[cell] = kept;
+        center_kept_[cell] = kept;
         previous = cell;
       }
     }
   }
-  return region;
 }
 
 int TrimRegion::CellOf(const Eigen::Vector3d& p) const {

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "sdcb/core/common/constants.h"
@@ -35,7 +36,7 @@ class TrimRegion {
   // No loops: the whole sphere is kept.
   TrimRegion() = default;
   // kInvalidArgument when a loop fails ValidateTrimLoop. Time and memory
-  // linear in the loops' points (about one grid cell per point; a 5,000-
+  // linear in the loops' points (about six grid cells per point; a 5,000-
   // point loop builds in a few milliseconds). The loops are trusted to be
   // disjoint and simple; crossing loops give a region by crossing parity.
   static StatusOr<TrimRegion> Create(std::vector<TrimLoop> loops);
@@ -77,6 +78,19 @@ class TrimRegion {
   // whether its centre is kept. A query counts the crossings of the arc
   // from the point to its cell's centre with the cell's sides.
   int CellOf(const Eigen::Vector3d& p) const;
+
+  // Create's steps, after sides_ is filled: the DistanceToTrim bounds; the
+  // grid's side lists and centres; which centres are kept (`loop_sides`:
+  // per loop, its range of sides_).
+  static Cap MakeCap(const Eigen::Vector3d& center, double radius);
+  void IndexDistances();
+  void GridSides();
+  void ClassifyCenters(const std::vector<std::pair<int, int>>& loop_sides);
+  // The parity of the crossings of sides [begin, end) with the path r -> q:
+  // one great arc, or two through a point 90 degrees from r when q is near
+  // -r (each arc shorter than pi).
+  int PathParity(const Eigen::Vector3d& r, const Eigen::Vector3d& q, int begin,
+                 int end) const;
 
   std::vector<TrimLoop> loops_;
   std::vector<Side> sides_;
