@@ -2,7 +2,8 @@
 // TrimRegion::Contains (core/sphere/trim_region.h) on a synthetic loop.
 // Prints per mesh: vertices, faces, boundary loops, the longest loop's
 // edges, the fill's faces, the fill methods used and seconds; then the
-// time of 1,000,000 Contains queries against one 5,000-point loop.
+// time of 1,000,000 Contains queries against one 5,000-point loop, and of
+// 100,000 DistanceToTrim queries, uniform and near the loop.
 // Usage: hole_fill_bench [mesh.off | wavy-disk-M ...] (default: the meshes
 // of issue 54, from data/meshes, missing ones skipped with a note, then
 // wavy-disk-1000 and wavy-disk-4000: a disk of 10 rings whose wavy rim,
@@ -162,11 +163,28 @@ void TrimTiming() {
     sum += region->DistanceToTrim(points[i]);
   }
   const double distance_seconds = distance_watch.Seconds();
+  // Points within about 0.05 radians of the loop, with that limit.
+  std::vector<Eigen::Vector3d> near(distance_queries);
+  std::uniform_int_distribution<int> row(0, n - 1);
+  for (Eigen::Vector3d& p : near) {
+    const Eigen::Vector3d on = loop.points.row(row(random));
+    p = (on +
+         0.03 * Eigen::Vector3d(normal(random), normal(random), normal(random)))
+            .normalized();
+  }
+  sdcb::Stopwatch near_watch;
+  double near_sum = 0;
+  for (const Eigen::Vector3d& p : near) {
+    near_sum += region->DistanceToTrim(p, 0.05);
+  }
+  const double near_seconds = near_watch.Seconds();
   std::printf(
       "\ntrim region, one loop of %d points: build %.4f s; %d Contains "
-      "%.3f s (%.1f%% kept); %d DistanceToTrim %.3f s (mean %.4f rad)\n",
+      "%.3f s (%.1f%% kept); %d DistanceToTrim %.3f s (mean %.4f rad); "
+      "%d near the loop with limit 0.05: %.3f s (mean %.4f rad)\n",
       n, build_seconds, queries, seconds, 100.0 * kept / queries,
-      distance_queries, distance_seconds, sum / distance_queries);
+      distance_queries, distance_seconds, sum / distance_queries,
+      distance_queries, near_seconds, near_sum / distance_queries);
 }
 
 }  // namespace

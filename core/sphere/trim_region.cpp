@@ -381,18 +381,15 @@ bool TrimRegion::Contains(const Eigen::Vector3d& p) const {
   return kept;
 }
 
-double TrimRegion::DistanceToTrim(const Eigen::Vector3d& p) const {
-  double best = std::numeric_limits<double>::infinity();
-  double cos_best = -1, sin_best = 0;
-  if (sides_.empty()) return best;
+double TrimRegion::DistanceToTrim(const Eigen::Vector3d& p,
+                                  double limit) const {
+  if (sides_.empty()) return limit;
   // The side with the nearest midpoint bounds the answer from above; the
   // scan then skips most chunks of sides with one dot product.
-  {
-    const Side& s = sides_[midpoints_->Nearest(p).index];
-    best = ArcDistance(p, s.a, s.b, s.n);
-    cos_best = std::cos(best);
-    sin_best = std::sin(best);
-  }
+  const Side& nearest = sides_[midpoints_->Nearest(p).index];
+  double best =
+      std::min(limit, ArcDistance(p, nearest.a, nearest.b, nearest.n));
+  double cos_best = std::cos(best), sin_best = std::sin(best);
   for (size_t c = 0; c < chunks_.size(); ++c) {
     if (Beyond(p, chunks_[c], best, cos_best, sin_best)) continue;
     const size_t end = std::min(sides_.size(), (c + 1) * kChunk);

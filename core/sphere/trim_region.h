@@ -4,6 +4,7 @@
 #define SDCB_CORE_SPHERE_TRIM_REGION_H_
 
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -51,10 +52,14 @@ class TrimRegion {
   // (1,000,000 queries against a 5,000-point loop: 0.05 s on one core).
   bool Contains(const Eigen::Vector3d& p) const;
   // The angle, radians, from unit vector `p` to the nearest point of any
-  // trim side; +inf without loops. A scan that skips chunks of 32 sides by
-  // their bounding caps (tens of microseconds against 5,000 sides for a
-  // point far from a round loop, less near one).
-  double DistanceToTrim(const Eigen::Vector3d& p) const;
+  // trim side, or `limit` when that is smaller (+inf without loops and a
+  // limit of +inf): min(distance, limit). A scan that skips chunks of 32
+  // sides by their bounding caps, and most of them when the limit is small
+  // (against 5,000 sides: about 2 microseconds near the loop; tens of
+  // microseconds for a point far from a round loop without a limit).
+  double DistanceToTrim(
+      const Eigen::Vector3d& p,
+      double limit = std::numeric_limits<double>::infinity()) const;
 
  private:
   // A cap that holds some trim sides, for DistanceToTrim: unit centre,

@@ -98,6 +98,9 @@ void ExpectAgreesWithBruteForce(const Case& c, int points,
     }
     if (i < distance_points) {
       EXPECT_NEAR(region->DistanceToTrim(p), nearest, 1e-12) << "point " << i;
+      EXPECT_NEAR(region->DistanceToTrim(p, 0.05), std::min(nearest, 0.05),
+                  1e-12)
+          << "point " << i;
     }
     if (nearest < 1e-12) continue;
     ++compared;
