@@ -47,17 +47,18 @@ struct CgalHoleFillOptions {
   // Split the patch's triangles to the density of the loop's edges
   // (CGAL's refine, density_control_factor sqrt(2)).
   bool refine = true;
-  // Then fair the refined patch (CGAL's fair: harmonic-bilaplacian, C1 to
-  // the surrounding faces) when it has at most this many new vertices
-  // (fairing solves a sparse system in them); 0: never fair.
+  // Then fair the refined patch (CGAL's fair: a bi-Laplacian system,
+  // tangent-continuous to the surrounding faces) when it has at most this
+  // many new vertices (fairing solves a sparse system in them); 0: never.
   int max_fair_vertices = 0;
 };
 
 // Fills the hole whose border half-edge (face() null) is `border`: the
-// faces and vertices it adds are appended to `mesh` (nothing is removed or
-// moved but the new vertices). Returns the method that filled it, or
-// std::nullopt, `mesh` unchanged, when none did. Deterministic. CGAL may
-// throw on a violated precondition; callers catch.
+// faces and vertices it adds are appended to `mesh`; no face or vertex that
+// was there before changes. Returns the method that filled it, or
+// std::nullopt when none did (the mesh as it was, though a refused fan
+// leaves removed elements that Surface_mesh's iterators skip).
+// Deterministic. CGAL may throw on a violated precondition; callers catch.
 std::optional<HoleFillMethod> FillCgalHole(CgalMesh::Halfedge_index border,
                                            const CgalHoleFillOptions& options,
                                            CgalMesh* mesh, int* added_faces,
