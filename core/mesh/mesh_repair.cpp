@@ -7,7 +7,6 @@
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/shape_predicates.h>
-#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -59,14 +58,15 @@ int FillSmallHoles(const MeshRepairOptions& options, CgalMesh* mesh,
         span > options.max_hole_percent / 100.0 * largest_side) {
       continue;
     }
-    std::vector<CgalMesh::Face_index> faces;
-    std::vector<CgalMesh::Vertex_index> vertices;
-    PMP::triangulate_and_refine_hole(*mesh, h, std::back_inserter(faces),
-                                     std::back_inserter(vertices));
-    if (faces.empty()) continue;
+    // Triangulated and refined, not faired: the fill stays the flat-ish
+    // patch --repair always made.
+    CgalHoleFillOptions fill;
+    fill.refine = true;
+    int faces = 0, vertices = 0;
+    if (!FillCgalHole(h, fill, mesh, &faces, &vertices)) continue;
     ++filled;
-    report->added_faces += static_cast<int>(faces.size());
-    report->added_vertices += static_cast<int>(vertices.size());
+    report->added_faces += faces;
+    report->added_vertices += vertices;
   }
   return filled;
 }
