@@ -36,6 +36,7 @@ for f in $files; do
   echo "$check" | grep -q '"ok": true' || continue
   echo "$check" | grep -q '"boundary_edges": 0,' || continue
   echo "$check" | grep -q '"components": 1,' || continue
+  echo "$check" | grep -q '"unreferenced_vertices": 0,' || continue
   v=$(echo "$check" | sed -n 's/.*"vertices": \([0-9]*\).*/\1/p' | head -n 1)
   [ "$v" -le "$max_vertices" ] || continue
   name=$(basename "$f")
