@@ -2,13 +2,22 @@
 
 #include <CGAL/Polygon_mesh_processing/border.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <queue>
 #include <exception>
 #include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
+#include "sdcb/core/common/union_find.h"
 #include "sdcb/core/mesh/cgal_mesh.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 
@@ -73,6 +82,126 @@ bool SameFace(const CgalMesh& mesh, CgalMesh::Face_index f,
     }
   }
   return false;
+}
+
+// A fill that folds back over the part: its faces beside the boundary face
+// away from the part's (a flat part's planar hole, filled in its own plane,
+// lies on the part with the opposite orientation, and no smooth surface
+// follows a closed mesh through such a fold). Each such fill is lifted
+// into a dome off the part's side: its vertices move along the fill's area
+// vector (outward of the closed mesh) by kDomeHeight times the radius of a
+// disk of the fill's area, times sin(pi/2 s), s the vertex's distance from
+// the loop over the fill's edges relative to the farthest. The fill then
+// leaves the boundary at an angle instead of doubling back.
+constexpr double kFoldBackCosine = -0.3;  // mean over the loop's edges
+constexpr double kDomeHeight = 0.5;
+
+// Unit normals of the faces of `mesh`.
+Eigen::MatrixX3d FaceNormals(const TriangleMesh& mesh) {
+  Eigen::MatrixX3d n(mesh.num_faces(), 3);
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
+    const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
+    const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
+    const Eigen::Vector3d x = (b - a).cross(c - a);
+    n.row(f) = (x.norm() > 0 ? x.normalized() : x).transpose();
+  }
+  return n;
+}
+
+void LiftFoldedFills(FilledMesh* filled) {
+  TriangleMesh& mesh = filled->mesh;
+  const int nf = mesh.num_faces(), nv = mesh.num_vertices();
+  const int first_fill = filled->input_faces;
+  if (first_fill == nf) return;
+  const Eigen::MatrixX3d normal = FaceNormals(mesh);
+  // Per undirected edge, its faces; fills as components of fill faces.
+  std::map<std::pair<int, int>, std::vector<int>> edge_faces;
+  for (int f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.faces(f, k), b = mesh.faces(f, (k + 1) % 3);
+      edge_faces[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  }
+  UnionFind fills(nf);
+  std::vector<double> cos_sum(nf, 0.0);
+  std::vector<int> cos_count(nf, 0);
+  std::vector<std::pair<int, int>> boundary_faces;  // (fill face, part face)
+  for (const auto& [edge, faces] : edge_faces) {
+    if (faces.size() != 2) continue;
+    const bool fill0 = faces[0] >= first_fill, fill1 = faces[1] >= first_fill;
+    if (fill0 && fill1) fills.Union(faces[0], faces[1]);
+    if (fill0 != fill1) {
+      boundary_faces.emplace_back(fill0 ? faces[0] : faces[1],
+                                  fill0 ? faces[1] : faces[0]);
+    }
+  }
+  for (const auto& [fill, part] : boundary_faces) {
+    const int root = fills.Find(fill);
+    cos_sum[root] += normal.row(fill).dot(normal.row(part));
+    ++cos_count[root];
+  }
+  // Distance from the part over the fill's edges (Dijkstra), per vertex.
+  std::vector<double> distance(nv, std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (int v = 0; v < filled->input_vertices; ++v) {
+    distance[v] = 0;
+    queue.push({0.0, v});
+  }
+  std::vector<std::vector<int>> neighbours(nv);
+  for (const auto& [edge, faces] : edge_faces) {
+    neighbours[edge.first].push_back(edge.second);
+    neighbours[edge.second].push_back(edge.first);
+  }
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[v]) continue;
+    for (const int w : neighbours[v]) {
+      const double dw =
+          d + (mesh.vertices.row(v) - mesh.vertices.row(w)).norm();
+      if (dw < distance[w]) {
+        distance[w] = dw;
+        queue.push({dw, w});
+      }
+    }
+  }
+  // Each folded fill's area vector, area, farthest distance and vertices.
+  std::map<int, Eigen::Vector3d> area_vector;
+  std::map<int, double> area, farthest;
+  std::map<int, std::vector<int>> vertices;
+  for (int f = first_fill; f < nf; ++f) {
+    const int root = fills.Find(f);
+    if (cos_count[root] == 0 || cos_sum[root] / cos_count[root] > kFoldBackCosine) {
+      continue;
+    }
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));
+    const Eigen::Vector3d b = mesh.vertices.row(mesh.faces(f, 1));
+    const Eigen::Vector3d c = mesh.vertices.row(mesh.faces(f, 2));
+    const Eigen::Vector3d x = 0.5 * (b - a).cross(c - a);
+    auto [it, added] = area_vector.emplace(root, Eigen::Vector3d::Zero());
+    it->second += x;
+    area[root] += x.norm();
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.faces(f, k);
+      if (v < filled->input_vertices) continue;
+      vertices[root].push_back(v);
+      farthest[root] = std::max(farthest[root], distance[v]);
+    }
+  }
+  for (auto& [root, list] : vertices) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    const Eigen::Vector3d direction = area_vector[root].normalized();
+    const double height = kDomeHeight * std::sqrt(area[root] / kPi);
+    if (!(farthest[root] > 0) || !direction.allFinite()) continue;
+    for (const int v : list) {
+      const double s = std::min(1.0, distance[v] / farthest[root]);
+      mesh.vertices.row(v) +=
+          (height * std::sin(0.5 * kPi * s) * direction).transpose();
+    }
+  }
 }
 
 StatusOr<FilledMesh> Fill(const TriangleMesh& part) {
@@ -149,6 +278,7 @@ StatusOr<FilledMesh> Fill(const TriangleMesh& part) {
     out.mesh.faces.row(out.input_faces + static_cast<int>(i)) =
         added_faces[i].transpose();
   }
+  LiftFoldedFills(&out);
   SDCB_ASSIGN_OR_RETURN(const MeshTopologyReport topology,
                         AnalyzeMeshTopology(out.mesh));
   if (!topology.ok) {
