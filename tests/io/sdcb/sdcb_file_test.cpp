@@ -860,12 +860,12 @@ TEST(SdcbFileTest, ChunkStructureViolationsAreRejected) {
 
 TEST(SdcbFileTest, HeaderProblemsAreNamed) {
   const std::vector<RawChunk> chunks = SplitFile(Serialize(MakeTestModel()));
-  const StatusOr<SplineModel> newer = ParseSdcb(Join(chunks, 4));
+  const StatusOr<SplineModel> newer = ParseSdcb(Join(chunks, 5));
   ASSERT_FALSE(newer.ok());
   EXPECT_EQ(newer.status().code(), StatusCode::kUnsupported);
-  EXPECT_NE(newer.status().message().find("format version 4"),
+  EXPECT_NE(newer.status().message().find("format version 5"),
             std::string::npos);
-  EXPECT_NE(newer.status().message().find("up to 3"), std::string::npos);
+  EXPECT_NE(newer.status().message().find("up to 4"), std::string::npos);
   ExpectCorrupt(Join(chunks, 0), "format version is 0");
   ExpectCorrupt("", "the file is empty");
   ExpectCorrupt(std::string(kSdcbMagic, 5), "only 5 bytes");
