@@ -498,7 +498,7 @@ TEST(SdcbFileTest, AbsurdCountsAreRejectedWithoutAllocating) {
                         Case{24, 4, "sphere parameters"}}) {
     std::vector<RawChunk> chunks = SplitFile(file);
     Find(chunks, "HEAD")->payload.replace(c.offset, 8, Le(c.value, 8));
-    ExpectCorrupt(Join(chunks), "inflated bytes; HEAD's counts need");
+    ExpectCorrupt(Join(chunks), "inflated bytes; the declared counts need");
   }
 }
 
@@ -721,7 +721,7 @@ TEST(SdcbFileTest, CraftedQuantizedChunksAreRejected) {
                   codes.resize(codes.size() - 12);
                   p = p.substr(0, 68) + TestPack(codes);
                 }),
-                "inflated bytes; HEAD's counts need");
+                "inflated bytes; the declared counts need");
   // A raw-basis file may state any positive basis sum.
   {
     std::vector<RawChunk> chunks = SplitFile(file);
