@@ -3,13 +3,15 @@
 // can grow: readers skip chunk types they do not know. The byte layout,
 // versioning rules and limits are specified in docs/FORMAT.md.
 //
-// Version 2 (written here) stores the knots and the control points, not the
-// configurations: the reader recomputes them from the knots
+// Versions 2 and 3 (written here) store the knots and the control points, not
+// the configurations: the reader recomputes them from the knots
 // (ComputeDelaunayConfigurations: exact predicates, symbolic perturbation,
 // deterministic) and checks them against a stored hash. Arrays are stored as
 // byte planes deflated with zlib; the sphere parameters only on request;
 // control points optionally quantized with a stated error bound
 // (io/sdcb/control_point_quantization.h). Version 1 files still read.
+// Version 4 (io/sdcb/sdcb_model_file.cpp) stores a Model of parts, each
+// spline in those chunks, with its name and trim loops.
 //
 // Writing is deterministic (same model and options, same bytes, for one zlib
 // build: fixed chunk order, no timestamps) and atomic (a temporary file
@@ -95,7 +97,7 @@ struct SdcbFileInfo {
   std::vector<SdcbPartStorage> parts;
 };
 
-// The complete file contents (format version 2) for `model`. Fails with
+// The complete file contents (format version 2 or 3) for `model`. Fails with
 // kInvalidArgument if ValidateSplineModel(model) fails or the model's
 // configurations are not ComputeDelaunayConfigurations(knots, degree) (an
 // invalid model is never written), or if `options` or the quantization is
