@@ -10,10 +10,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "sdcb/io/sdcb/sdcb_file.h"
+#include "testing/allocation_tracker.h"
 #include "testing/sdcb_test_codec.h"
 #include "testing/spline_model_fixture.h"
 #include "testing/temp_dir.h"
@@ -424,6 +426,62 @@ TEST(SdcbModelFileTest, CraftedVersionFourFilesNameTheProblem) {
     ExpectCorruptModel(with(3, {"PART", good[3].payload + "x"}),
                        "part 2: 1 unexpected bytes follow the END chunk");
   }
+}
+
+TEST(SdcbModelFileTest, AbsurdTrimCountsAllocateNothingLarge) {
+  const Model model = TwoPartModel();
+  const std::vector<RawChunk> good = ExpectedChunks(model);
+  std::vector<RawChunk> inner =
+      SplitFile(testing::JoinFile({}, 0) + good[3].payload);
+  for (const std::string& trim :
+       {Le(uint64_t{1} << 60, 8) + Le(5, 8),
+        Le(1, 8) + Le(0x7fffffff, 8) + Le(uint64_t{1} << 40, 8),
+        Le(2, 8) + Le(0x7ffffffe, 8) + Le(0x7ffffffe, 8)}) {
+    testing::Find(inner, "TRIM")->payload = trim;
+    std::vector<RawChunk> c = good;
+    c[3].payload = Sequence(inner);
+    const std::string file = Join4(c);
+    StatusOr<Model> m = InternalError("not parsed");
+    const size_t largest =
+        testing::LargestAllocationDuring([&] { m = ParseSdcbModel(file); });
+    ASSERT_FALSE(m.ok());
+    EXPECT_EQ(m.status().code(), StatusCode::kCorruptFile);
+    EXPECT_LE(largest, 16 * file.size() + 4096) << m.status().message();
+  }
+}
+
+// Bytes changed, inserted or dropped inside a part's chunks, every CRC
+// recomputed: refused with a message, or a valid model that writes and
+// reads back to itself.
+TEST(SdcbModelFileTest, MutationsInsidePartsWithValidCrcsNeverCrash) {
+  const std::vector<RawChunk> good = ExpectedChunks(TwoPartModel());
+  std::mt19937 rng(54);
+  int accepted = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    std::vector<RawChunk> c = good;
+    const size_t which = 2 + rng() % 2;
+    std::vector<RawChunk> inner =
+        SplitFile(testing::JoinFile({}, 0) + c[which].payload);
+    RawChunk& target = inner[rng() % (inner.size() - 1)];
+    testing::MutateBytes(&rng, &target.payload);
+    c[which].payload = Sequence(inner);
+    const StatusOr<Model> m = ParseSdcbModel(Join4(c));
+    if (!m.ok()) {
+      EXPECT_TRUE(m.status().code() == StatusCode::kCorruptFile ||
+                  m.status().code() == StatusCode::kUnsupported)
+          << m.status().message();
+      EXPECT_EQ(m.status().message().rfind("part ", 0), 0u)
+          << m.status().message();
+      continue;
+    }
+    ++accepted;
+    const StatusOr<std::string> again = SerializeSdcbModel(*m);
+    ASSERT_TRUE(again.ok()) << again.status().message();
+    const StatusOr<Model> reread = ParseSdcbModel(*again);
+    ASSERT_TRUE(reread.ok()) << reread.status().message();
+    ExpectSameModel(*m, *reread);
+  }
+  EXPECT_LT(accepted, 600);
 }
 
 TEST(SdcbModelFileTest, FilesAreWrittenAtomicallyAndReadBack) {
