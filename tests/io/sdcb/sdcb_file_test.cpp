@@ -1,7 +1,7 @@
-// Tests io/sdcb/sdcb_file.* (format version 2) and io/sdcb/crc32.*: bit-exact round
-// trips, deterministic bytes, the documented layout (docs/FORMAT.md, decoded
-// here by the independent test-side codec of testing/sdcb_test_codec.h, with
-// zlib called directly and the configuration hash recomputed from the
+// Tests io/sdcb/sdcb_file.* (format version 2) and io/sdcb/crc32.*: bit-exact
+// round trips, deterministic bytes, the documented layout (docs/FORMAT.md,
+// decoded here by the independent test-side codec of testing/sdcb_test_codec.h,
+// with zlib called directly and the configuration hash recomputed from the
 // brute-force oracle's configurations), and hostile files: every single-byte
 // corruption and every truncation of a valid file is rejected, crafted files
 // with valid CRCs but bad contents are rejected with a message naming the
