@@ -108,7 +108,8 @@ StatusOr<std::string> SerializeSdcb(const SplineModel& model,
                                     SdcbFileInfo* info = nullptr);
 
 // Parses complete file contents (format version 1 to 4; a version 4 file
-// only if it holds one untrimmed part, whose name is dropped: otherwise
+// only if it holds one untrimmed part, read without its name and the
+// model's source: otherwise
 // kUnsupported, "the file holds 3 parts; ..."). Any malformation
 // (bad magic, newer version, truncation, bad CRC, missing or duplicate
 // required chunk, sizes that do not match the declared counts, a corrupt
