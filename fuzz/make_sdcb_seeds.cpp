@@ -1,8 +1,10 @@
 // Writes small valid .sdcb models (degrees 0..3, a few knots, with and
 // without sphere parameters; format version 3's grid knots and predicted
-// control points, version 2's quantized ones) into the directory given as
-// the argument: the seeds of corpus/sdcb. The models come from the tests'
-// fixture, whose configurations are found by brute force.
+// control points, version 2's quantized ones; version 4's models of two
+// named parts with trim loops) into the directory given as the argument:
+// the seeds of corpus/sdcb. The models come from the tests' fixture, whose
+// configurations are found by brute force.
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -51,6 +53,36 @@ int main(int argc, char** argv) {
       return 1;
     }
     const std::string path = std::string(argv[1]) + "/" + q.name + ".sdcb";
+    std::ofstream(path, std::ios::binary) << *bytes;
+    std::printf("%s: %zu bytes\n", path.c_str(), bytes->size());
+  }
+  // Format version 4: two parts, named, the second with two trim loops (a
+  // square around +z and a triangle); lossless, and quantized on the grid.
+  const double h = std::sqrt(0.5);
+  sdcb::TrimLoop square, triangle;
+  square.points.resize(4, 3);
+  square.points << h, 0, h, 0, h, h, -h, 0, h, 0, -h, h;
+  triangle.points.resize(3, 3);
+  triangle.points << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  for (const int quantize_bits : {0, 12}) {
+    sdcb::Model model;
+    model.parts.resize(2);
+    model.parts[0].name = "body";
+    model.parts[0].spline = sdcb::testing::MakeGridTestModel(1, 8, 16, 3);
+    model.parts[1].name = "lid \xc3\xa9";
+    model.parts[1].spline = sdcb::testing::MakeGridTestModel(2, 8, 12, 5);
+    model.parts[1].trims = {square, triangle};
+    model.source = model.parts[0].spline.source;
+    model.source.file_name = "two parts.obj";
+    sdcb::SdcbWriteOptions options;
+    options.quantize_bits = quantize_bits;
+    const auto bytes = sdcb::SerializeSdcbModel(model, options);
+    if (!bytes.ok()) {
+      std::fprintf(stderr, "%s\n", bytes.status().message().c_str());
+      return 1;
+    }
+    const std::string path = std::string(argv[1]) + "/v4_two_parts_trimmed" +
+                             (quantize_bits ? "_pctl" : "") + ".sdcb";
     std::ofstream(path, std::ios::binary) << *bytes;
     std::printf("%s: %zu bytes\n", path.c_str(), bytes->size());
   }

@@ -39,11 +39,12 @@ commands:
 // After `sdcb fit`'s usage (FitUsage()).
 constexpr const char* kUsageTail = R"(  info MODEL.sdcb [--json FILE]
                              Summary of a model (format version, size,
-                             quantization bound).
+                             quantization bound) and of each of its parts.
   dump MODEL.sdcb -o MODEL.json
                              Everything in a model, as JSON.
-  eval MODEL.sdcb -i POINTS.txt -o VALUES.txt [--derivatives]
-                             Evaluate the surface at directions (x y z per
+  eval MODEL.sdcb -i POINTS.txt -o VALUES.txt [--derivatives] [--part N]
+                             Evaluate the surface (of part N, from 1;
+                             default 1) at directions (x y z per
                              line, normalized onto the sphere); writes x y z
                              in the input's coordinates (+ unit normal).
                              A zero direction, or a model whose values are

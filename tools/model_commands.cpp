@@ -1,7 +1,9 @@
 // Commands that read a .sdcb model: info, dump, eval.
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -14,6 +16,101 @@
 
 namespace sdcb::cli {
 
+namespace {
+
+size_t ConfigurationCount(const SplineModel& m) {
+  size_t configurations = 0;
+  for (const auto& set : m.configurations.sets) {
+    configurations += set.boundaries.size();
+  }
+  return configurations;
+}
+
+size_t TrimPoints(const ModelPart& part) {
+  size_t points = 0;
+  for (const TrimLoop& loop : part.trims) points += loop.points.rows();
+  return points;
+}
+
+// The keys `info --json` gives one spline (a one-part model's at the top).
+void SplineInfoJson(const SplineModel& m, const SdcbPartStorage& storage,
+                    nlohmann::ordered_json* out) {
+  nlohmann::ordered_json& j = *out;
+  const ControlPointQuantization& q = storage.quantization;
+  const RoundStatistics& f = m.statistics.final_result;
+  const bool dense = m.statistics.error_measure == ErrorMeasure::kDenseTwoSided;
+  j["degree"] = m.degree;
+  j["knots"] = m.knots.rows();
+  j["control_points"] = m.control_points.rows();
+  j["configurations"] = ConfigurationCount(m);
+  j["rmse_percent"] = f.rmse_percent;
+  j["max_error_percent"] = f.max_error_percent;
+  j["error_measure"] = dense ? "dense_two_sided" : "vertices";
+  j["folded_area_percent"] = f.folded_area_percent;
+  j["reached_target"] = m.statistics.reached_target;
+  j["rounds"] = m.statistics.rounds.size();
+  j["source"] = {{"file_name", m.source.file_name},
+                 {"vertices", m.source.num_vertices},
+                 {"faces", m.source.num_faces},
+                 {"hash", m.source.hash}};
+  j["has_parameters"] = m.parameters.rows() > 0;
+  j["basis_form"] = m.basis_form == BasisForm::kRaw ? "raw" : "normalized";
+  j["quantization_bits"] = q.bits;  // 0: control points stored exactly
+  j["knot_grid_bits"] = storage.knot_grid_bits;  // 0: knots stored exactly
+  if (!q.lossless()) {
+    j["quantization_error_bound_percent"] = q.surface_error_bound_percent();
+    j["quantization_bound_measured"] = q.basis_sum_measured;
+  }
+}
+
+// The text lines of one spline, each starting with `indent`.
+void PrintSplineInfo(const SplineModel& m, const SdcbPartStorage& storage,
+                     const char* indent) {
+  const ControlPointQuantization& q = storage.quantization;
+  const RoundStatistics& f = m.statistics.final_result;
+  const bool dense = m.statistics.error_measure == ErrorMeasure::kDenseTwoSided;
+  const int width = 24 - static_cast<int>(std::strlen(indent));
+  std::printf("%s%-*s %d\n", indent, width, "degree", m.degree);
+  std::printf("%s%-*s %lld\n", indent, width, "knots",
+              static_cast<long long>(m.knots.rows()));
+  std::printf("%s%-*s %lld\n", indent, width, "control points",
+              static_cast<long long>(m.control_points.rows()));
+  std::printf("%s%-*s %zu\n", indent, width, "configurations",
+              ConfigurationCount(m));
+  std::printf("%s%-*s %.5f%% (%s)\n", indent, width, "rmse", f.rmse_percent,
+              dense ? "two-sided, dense" : "at the vertices");
+  std::printf("%s%-*s %.5f%%\n", indent, width, "max error",
+              f.max_error_percent);
+  if (dense) {
+    std::printf("%s%-*s %.5f%%\n", indent, width, "folded area",
+                f.folded_area_percent);
+  }
+  std::printf("%s%-*s %s\n", indent, width, "reached target",
+              m.statistics.reached_target ? "yes" : "no");
+  std::printf("%s%-*s %zu\n", indent, width, "rounds",
+              m.statistics.rounds.size());
+  std::printf("%s%-*s %s (%lld vertices, %lld faces)\n", indent, width,
+              "source", m.source.file_name.c_str(),
+              static_cast<long long>(m.source.num_vertices),
+              static_cast<long long>(m.source.num_faces));
+  std::printf("%s%-*s %s\n", indent, width, "parameters stored",
+              m.parameters.rows() ? "yes" : "no");
+  if (storage.knot_grid_bits > 0) {
+    std::printf("%s%-*s %d-bit grid (as fitted)\n", indent, width,
+                "knots stored on", storage.knot_grid_bits);
+  }
+  if (q.lossless()) {
+    std::printf("%s%-*s none (exact control points)\n", indent, width,
+                "quantization");
+  } else {
+    std::printf("%s%-*s %d bits; surface within %.3g%% of the fit%s\n", indent,
+                width, "quantization", q.bits, q.surface_error_bound_percent(),
+                q.basis_sum_measured ? " (bound measured)" : "");
+  }
+}
+
+}  // namespace
+
 // sdcb info MODEL.sdcb [--json FILE]
 int RunInfo(const std::vector<std::string>& argv) {
   const Args args(argv, {"json"}, {"quiet"});
@@ -23,43 +120,36 @@ int RunInfo(const std::vector<std::string>& argv) {
   const Status outputs = PrepareOutputs({args.Get("json")});
   if (!outputs.ok()) return ReportError(outputs);
   SdcbFileInfo file;
-  StatusOr<SplineModel> model = ReadSdcbFile(path, &file);
+  StatusOr<Model> model = ReadSdcbModelFile(path, &file);
   if (!model.ok()) return ReportError(model.status());
-  const SplineModel& m = *model;
-  const ControlPointQuantization& q = file.quantization;
-  size_t configurations = 0;
-  for (const auto& set : m.configurations.sets)
-    configurations += set.boundaries.size();
-  const RoundStatistics& f = m.statistics.final_result;
-  const bool dense = m.statistics.error_measure == ErrorMeasure::kDenseTwoSided;
+  const std::vector<ModelPart>& parts = model->parts;
+  const bool one_part = parts.size() == 1;
   if (args.Has("json")) {
     nlohmann::ordered_json j;
     j["file"] = path;
     j["format_version"] = file.format_version;
     j["file_bytes"] = file.file_bytes;
-    j["degree"] = m.degree;
-    j["knots"] = m.knots.rows();
-    j["control_points"] = m.control_points.rows();
-    j["configurations"] = configurations;
-    j["rmse_percent"] = f.rmse_percent;
-    j["max_error_percent"] = f.max_error_percent;
-    j["error_measure"] = dense ? "dense_two_sided" : "vertices";
-    j["folded_area_percent"] = f.folded_area_percent;
-    j["reached_target"] = m.statistics.reached_target;
-    j["rounds"] = m.statistics.rounds.size();
-    j["source"] = {{"file_name", m.source.file_name},
-                   {"vertices", m.source.num_vertices},
-                   {"faces", m.source.num_faces},
-                   {"hash", m.source.hash}};
-    j["has_parameters"] = m.parameters.rows() > 0;
-    j["basis_form"] = m.basis_form == BasisForm::kRaw ? "raw" : "normalized";
-    j["quantization_bits"] = q.bits;  // 0: control points stored exactly
-    j["knot_grid_bits"] = file.knot_grid_bits;  // 0: knots stored exactly
-    if (!q.lossless()) {
-      j["quantization_error_bound_percent"] = q.surface_error_bound_percent();
-      j["quantization_bound_measured"] = q.basis_sum_measured;
+    // A one-part model keeps the keys one-part files always had.
+    if (one_part) SplineInfoJson(parts[0].spline, file.parts[0], &j);
+    j["source"] = {{"file_name", model->source.file_name},
+                   {"vertices", model->source.num_vertices},
+                   {"faces", model->source.num_faces},
+                   {"hash", model->source.hash}};
+    nlohmann::ordered_json list = nlohmann::ordered_json::array();
+    for (size_t i = 0; i < parts.size(); ++i) {
+      nlohmann::ordered_json p;
+      p["number"] = i + 1;
+      p["name"] = parts[i].name;
+      p["trimmed"] = parts[i].trimmed();
+      p["trim_loops"] = parts[i].trims.size();
+      p["trim_points"] = TrimPoints(parts[i]);
+      SplineInfoJson(parts[i].spline, file.parts[i], &p);
+      list.push_back(std::move(p));
     }
-    const Status s = WriteTextOutput(args.Get("json"), j.dump(2) + "\n");
+    j["parts"] = std::move(list);
+    const Status s = WriteTextOutput(
+        args.Get("json"),
+        j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
     if (!s.ok()) return ReportError(s);
   }
   if (!args.Has("quiet") && args.Get("json") != "-") {
@@ -67,37 +157,36 @@ int RunInfo(const std::vector<std::string>& argv) {
     std::printf("  %-22s %u (%llu bytes)\n", "format version",
                 file.format_version,
                 static_cast<unsigned long long>(file.file_bytes));
-    std::printf("  %-22s %d\n", "degree", m.degree);
-    std::printf("  %-22s %lld\n", "knots",
-                static_cast<long long>(m.knots.rows()));
-    std::printf("  %-22s %lld\n", "control points",
-                static_cast<long long>(m.control_points.rows()));
-    std::printf("  %-22s %zu\n", "configurations", configurations);
-    std::printf("  %-22s %.5f%% (%s)\n", "rmse", f.rmse_percent,
-                dense ? "two-sided, dense" : "at the vertices");
-    std::printf("  %-22s %.5f%%\n", "max error", f.max_error_percent);
-    if (dense) {
-      std::printf("  %-22s %.5f%%\n", "folded area", f.folded_area_percent);
+    if (one_part && !parts[0].trimmed() && parts[0].name.empty()) {
+      PrintSplineInfo(parts[0].spline, file.parts[0], "  ");
+      return kExitOk;
     }
-    std::printf("  %-22s %s\n", "reached target",
-                m.statistics.reached_target ? "yes" : "no");
-    std::printf("  %-22s %zu\n", "rounds", m.statistics.rounds.size());
+    std::printf("  %-22s %zu\n", "parts", parts.size());
     std::printf("  %-22s %s (%lld vertices, %lld faces)\n", "source",
-                m.source.file_name.c_str(),
-                static_cast<long long>(m.source.num_vertices),
-                static_cast<long long>(m.source.num_faces));
-    std::printf("  %-22s %s\n", "parameters stored",
-                m.parameters.rows() ? "yes" : "no");
-    if (file.knot_grid_bits > 0) {
-      std::printf("  %-22s %d-bit grid (as fitted)\n", "knots stored on",
-                  file.knot_grid_bits);
-    }
-    if (q.lossless()) {
-      std::printf("  %-22s none (exact control points)\n", "quantization");
-    } else {
-      std::printf("  %-22s %d bits; surface within %.3g%% of the fit%s\n",
-                  "quantization", q.bits, q.surface_error_bound_percent(),
-                  q.basis_sum_measured ? " (bound measured)" : "");
+                model->source.file_name.c_str(),
+                static_cast<long long>(model->source.num_vertices),
+                static_cast<long long>(model->source.num_faces));
+    for (size_t i = 0; i < parts.size(); ++i) {
+      const ModelPart& part = parts[i];
+      const FitStatistics& st = part.spline.statistics;
+      std::printf("  part %zu%s%s%s: %s", i + 1, part.name.empty() ? "" : " \"",
+                  part.name.c_str(), part.name.empty() ? "" : "\"",
+                  part.trimmed() ? "trimmed" : "closed");
+      if (part.trimmed()) {
+        std::printf(" (%zu trim loop%s, %zu points)", part.trims.size(),
+                    part.trims.size() == 1 ? "" : "s", TrimPoints(part));
+      }
+      std::printf(
+          "; %lld knots, %lld control points; reached %s, rms %.5f%%, "
+          "%s %.5f%%\n",
+          static_cast<long long>(part.spline.knots.rows()),
+          static_cast<long long>(part.spline.control_points.rows()),
+          st.reached_target ? "yes" : "no", st.final_result.rmse_percent,
+          st.error_measure == ErrorMeasure::kDenseTwoSided
+              ? "Hausdorff"
+              : "max at the vertices",
+          st.final_result.max_error_percent);
+      PrintSplineInfo(part.spline, file.parts[i], "      ");
     }
   }
   return kExitOk;
@@ -112,22 +201,33 @@ int RunDump(const std::vector<std::string>& argv) {
   if (output.empty()) throw UsageError{"missing -o MODEL.json"};
   const Status outputs = PrepareOutputs({output});
   if (!outputs.ok()) return ReportError(outputs);
-  StatusOr<SplineModel> model = ReadSdcbFile(args.positionals()[0]);
+  StatusOr<Model> model = ReadSdcbModelFile(args.positionals()[0]);
   if (!model.ok()) return ReportError(model.status());
   const Status s = WriteTextOutput(output, ModelToJson(*model));
   return s.ok() ? kExitOk : ReportError(s);
 }
 
 // sdcb eval MODEL.sdcb -i POINTS.txt -o VALUES.txt [--derivatives]
+//      [--part N]
 int RunEval(const std::vector<std::string>& argv) {
-  const Args args(argv, {"input", "output"}, {"derivatives"});
+  const Args args(argv, {"input", "output", "part"}, {"derivatives"});
   args.RequirePositionals(
       1, "MODEL (usage: sdcb eval MODEL.sdcb -i POINTS.txt -o VALUES.txt)");
   const std::string input = args.Get("input"), output = args.Get("output");
   if (input.empty()) throw UsageError{"missing -i POINTS.txt"};
   if (output.empty()) throw UsageError{"missing -o VALUES.txt"};
-  StatusOr<SplineModel> model = ReadSdcbFile(args.positionals()[0]);
-  if (!model.ok()) return ReportError(model.status());
+  const int part = args.GetInt("part", 1, 1, std::numeric_limits<int>::max());
+  StatusOr<Model> parts = ReadSdcbModelFile(args.positionals()[0]);
+  if (!parts.ok()) return ReportError(parts.status());
+  if (static_cast<size_t>(part) > parts->parts.size()) {
+    return ReportError(InvalidInputError(
+        args.positionals()[0] + ": --part " + std::to_string(part) +
+        " does not exist; the model has " +
+        std::to_string(parts->parts.size()) +
+        (parts->parts.size() == 1 ? " part" : " parts")));
+  }
+  // The part's spline everywhere on the sphere, trims or not.
+  const SplineModel* model = &parts->parts[part - 1].spline;
 
   const Status outputs = PrepareOutputs({output});
   if (!outputs.ok()) return ReportError(outputs);

@@ -26,9 +26,15 @@ std::string Hex64(uint64_t v) {
   return buffer;
 }
 
-}  // namespace
+json SourceToJson(const SourceMeshInfo& source) {
+  return {{"vertices", source.num_vertices},
+          {"faces", source.num_faces},
+          {"hash", Hex64(source.hash)},
+          {"file_name", source.file_name}};
+}
 
-std::string ModelToJson(const SplineModel& model) {
+// The keys of one spline (all of today's one-part dump but format_version).
+json SplineToJson(const SplineModel& model) {
   json basis = json::array();
   for (const ConfigurationSet& set : model.configurations.sets) {
     json triples = json::array();
@@ -40,7 +46,6 @@ std::string ModelToJson(const SplineModel& model) {
   }
   const NormalizingTransform& t = model.transform;
   json out{
-      {"format_version", kSdcbFormatVersion},
       {"degree", model.degree},
       {"knots", PointsToJson(model.knots)},
       {"basis", std::move(basis)},
@@ -52,16 +57,50 @@ std::string ModelToJson(const SplineModel& model) {
          json::array({t.translation[0], t.translation[1], t.translation[2]})},
         {"definition", "input = scale * normalized + translation"}}},
       {"statistics", FitStatisticsToJson(model.statistics)},
-      {"source",
-       {{"vertices", model.source.num_vertices},
-        {"faces", model.source.num_faces},
-        {"hash", Hex64(model.source.hash)},
-        {"file_name", model.source.file_name}}},
+      {"source", SourceToJson(model.source)},
   };
   if (model.parameters.rows() > 0) {
     out["parameters"] = PointsToJson(model.parameters);
   }
-  return out.dump(-1, ' ', false, json::error_handler_t::replace) + "\n";
+  return out;
+}
+
+std::string Text(const json& j) {
+  return j.dump(-1, ' ', false, json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace
+
+std::string ModelToJson(const SplineModel& model) {
+  json out = SplineToJson(model);
+  out["format_version"] = kSdcbFormatVersion;
+  return Text(out);
+}
+
+std::string ModelToJson(const Model& model) {
+  json parts = json::array();
+  for (size_t i = 0; i < model.parts.size(); ++i) {
+    const ModelPart& part = model.parts[i];
+    json p = SplineToJson(part.spline);
+    p["number"] = i + 1;
+    p["name"] = part.name;
+    p["trimmed"] = part.trimmed();
+    json trims = json::array();
+    for (const TrimLoop& loop : part.trims) {
+      trims.push_back(PointsToJson(loop.points));
+    }
+    p["trims"] = std::move(trims);
+    parts.push_back(std::move(p));
+  }
+  // One part: its spline's keys at the top too, as one-part dumps had them.
+  json out = model.parts.size() == 1 ? parts[0] : json::object();
+  for (const char* key : {"number", "name", "trimmed", "trims"}) {
+    out.erase(key);
+  }
+  out["format_version"] = kSdcbFormatVersion;
+  out["source"] = SourceToJson(model.source);
+  out["parts"] = std::move(parts);
+  return Text(out);
 }
 
 }  // namespace sdcb

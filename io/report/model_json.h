@@ -14,6 +14,8 @@
 //   source               {"vertices", "faces", "hash" ("0x" + 16 hex digits),
 //                         "file_name"}
 //   parameters           N x 3 sphere points, only when the model stores them
+//   parts                (the Model overload) per part the keys above, plus
+//                        number, name, trimmed, trims
 // Doubles are printed with the shortest text that parses back to the same
 // bits; key order is fixed (sorted), so equal models give equal text.
 #ifndef SDCB_IO_REPORT_MODEL_JSON_H_
@@ -21,6 +23,7 @@
 
 #include <string>
 
+#include "sdcb/core/spline/model.h"
 #include "sdcb/core/spline/spline_model.h"
 
 namespace sdcb {
@@ -28,6 +31,14 @@ namespace sdcb {
 // Compact JSON text ending in a newline. Bytes of `source.file_name` that are
 // not valid UTF-8 are replaced by U+FFFD.
 std::string ModelToJson(const SplineModel& model);
+
+// A Model (core/spline/model.h): `format_version`, `source` (the whole
+// input's), and `parts`, one object per part in order with the keys above
+// (but format_version; `source` the part's) plus `number` (from 1), `name`,
+// `trimmed` and `trims` (loops of #points x 3 unit vectors). A model of one
+// part also has that part's spline keys at the top, as ModelToJson of its
+// SplineModel gives them (its `source` is the model's).
+std::string ModelToJson(const Model& model);
 
 }  // namespace sdcb
 

@@ -58,14 +58,22 @@ bool Chunks::Set(int index, std::string_view payload) {
   return true;
 }
 
-Status SplitChunks(std::string_view bytes, Chunks* chunks) {
-  size_t pos = kHeaderBytes;
+Status SplitChunks(std::string_view bytes, Chunks* chunks, size_t begin,
+                   size_t end) {
+  const bool whole_file = end == std::string_view::npos;
+  if (whole_file) end = bytes.size();
+  size_t pos = begin;
   bool first = true;
   while (true) {
-    const size_t left = bytes.size() - pos;
+    const size_t left = end - pos;
     if (left < kChunkFrameBytes) {
-      return Corrupt("truncated: the file ends at byte " + Str(bytes.size()) +
-                     " inside a chunk header, before the END chunk");
+      return Corrupt(whole_file
+                         ? "truncated: the file ends at byte " + Str(end) +
+                               " inside a chunk header, before the END "
+                               "chunk"
+                         : "the PART payload ends at byte " + Str(end) +
+                               " inside a chunk header, before its END "
+                               "chunk");
     }
     ChunkType type;
     std::memcpy(type.data(), bytes.data() + pos, 4);
@@ -98,14 +106,16 @@ Status SplitChunks(std::string_view bytes, Chunks* chunks) {
     }
     first = false;
     const int known = chunks->IndexOf(type);
-    if (known >= 0 && !chunks->Set(known, framed.substr(12))) {
+    if (chunks->IsRepeated(type)) {
+      chunks->AddRepeated(framed.substr(12));
+    } else if (known >= 0 && !chunks->Set(known, framed.substr(12))) {
       return Corrupt("chunk " + TypeName(type) + " occurs twice");
     }
     pos += kChunkFrameBytes + length;
     if (type == kEnd) {
       if (length != 0) return Corrupt("the END chunk is not empty");
-      if (pos != bytes.size()) {
-        return Corrupt(Str(bytes.size() - pos) +
+      if (pos != end) {
+        return Corrupt(Str(end - pos) +
                        " unexpected bytes follow the END chunk");
       }
       return Status::Ok();

@@ -14,8 +14,10 @@
 
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/sphere/unit_vector_grid.h"
+#include "sdcb/core/spline/model.h"
 #include "sdcb/core/spline/spline_model.h"
 #include "sdcb/io/sdcb/control_point_quantization.h"
+#include "sdcb/io/sdcb/sdcb_file.h"
 
 namespace sdcb::sdcb_internal {
 
@@ -34,6 +36,11 @@ constexpr ChunkType kStat = {'S', 'T', 'A', 'T'};
 constexpr ChunkType kSrcm = {'S', 'R', 'C', 'M'};
 constexpr ChunkType kParm = {'P', 'A', 'R', 'M'};
 constexpr ChunkType kEnd = {'E', 'N', 'D', ' '};
+// Version 4: the file's PART chunks (each a chunk sequence of one part) and,
+// inside a part, its name and trim loops.
+constexpr ChunkType kPart = {'P', 'A', 'R', 'T'};
+constexpr ChunkType kName = {'N', 'A', 'M', 'E'};
+constexpr ChunkType kTrim = {'T', 'R', 'I', 'M'};
 
 constexpr size_t kHeaderBytes = 12;      // magic + version
 constexpr size_t kChunkFrameBytes = 16;  // type + length + CRC
@@ -123,13 +130,17 @@ void AppendChunk(const ChunkType& type, std::string_view payload,
                  ByteWriter* file);
 
 // The payloads of the chunk types a version knows, after framing and CRC
-// checks; other types are skipped.
+// checks; other types are skipped. A known type occurs at most once, except
+// the one `repeated` type (version 4's PART), whose payloads are kept in
+// file order.
 class Chunks {
  public:
-  explicit Chunks(std::vector<ChunkType> known)
+  explicit Chunks(std::vector<ChunkType> known,
+                  ChunkType repeated = {'\0', '\0', '\0', '\0'})
       : known_(std::move(known)),
         present_(known_.size(), false),
-        payload_(known_.size()) {}
+        payload_(known_.size()),
+        repeated_type_(repeated) {}
 
   // -1 if `t` is not known.
   int IndexOf(const ChunkType& t) const;
@@ -139,18 +150,28 @@ class Chunks {
   }
   // False if the type was already set.
   bool Set(int index, std::string_view payload);
+  bool IsRepeated(const ChunkType& t) const { return t == repeated_type_; }
+  void AddRepeated(std::string_view payload) { repeated_.push_back(payload); }
+  const std::vector<std::string_view>& repeated() const { return repeated_; }
 
  private:
   std::vector<ChunkType> known_;
   std::vector<bool> present_;
   std::vector<std::string_view> payload_;
+  ChunkType repeated_type_;
+  std::vector<std::string_view> repeated_;
 };
 
 // Splits the chunk sequence after the 12-byte header of `bytes`, checking
 // framing and CRCs: every chunk lies inside the file, has a valid type and
 // CRC, a known type occurs at most once, HEAD comes first, END comes last
-// (empty) with nothing after it. `chunks` lists the known types.
-Status SplitChunks(std::string_view bytes, Chunks* chunks);
+// (empty) with nothing after it. `chunks` lists the known types. The
+// sequence is bytes[begin, end) (end npos: the end of `bytes`); a version 4
+// part's sequence is its PART payload. Byte offsets in messages count from
+// the start of `bytes`.
+Status SplitChunks(std::string_view bytes, Chunks* chunks,
+                   size_t begin = kHeaderBytes,
+                   size_t end = std::string_view::npos);
 
 // Each count read from HEAD must be payable by the file before anything is
 // allocated for it: count <= kMaxCount and count * bytes_each <=
@@ -213,6 +234,31 @@ StatusOr<Eigen::MatrixX3d> ParseKnotGrid(std::string_view payload,
 
 // Decodes the chunks of a version 1 file (io/sdcb/sdcb_file_v1.cpp).
 StatusOr<SplineModel> DecodeVersion1(std::string_view bytes);
+
+// One spline's chunks as versions 2 and 3 store them, shared by those files
+// and version 4's parts (io/sdcb/sdcb_file.cpp).
+// The chunk types a spline of `version` may hold (QKNT, PCTL from 3 on).
+std::vector<ChunkType> SplineChunkTypes(uint32_t version);
+// Appends HEAD, KNOT or QKNT, CTRL or QCTL or PCTL, XFRM, STAT, SRCM and
+// PARM (not END) for `model` to `file`; returns the lowest version (2 or 3)
+// that holds them and sets info->quantization and info->knot_grid_bits.
+// kInvalidArgument as SerializeSdcb.
+StatusOr<uint32_t> AppendSplineChunks(const SplineModel& model,
+                                      const SdcbWriteOptions& options,
+                                      ByteWriter* file, SdcbFileInfo* info);
+// Decodes a spline from split chunks (SplineChunkTypes(version) known);
+// version 3 must use QKNT or PCTL, version 4 (a part) may. `file_size`
+// bounds HEAD's counts. Sets file_info->quantization and knot_grid_bits.
+StatusOr<SplineModel> DecodeSplineChunks(const Chunks& chunks, uint32_t version,
+                                         size_t file_size,
+                                         SdcbFileInfo* file_info);
+
+// The bytes of the file at `path`; kIoError naming it if it cannot be read.
+StatusOr<std::string> ReadFileBytes(const std::string& path);
+
+// Decodes a version 4 file (io/sdcb/sdcb_model_file.cpp) and fills all of
+// *info.
+StatusOr<Model> DecodeVersion4(std::string_view bytes, SdcbFileInfo* info);
 
 }  // namespace sdcb::sdcb_internal
 

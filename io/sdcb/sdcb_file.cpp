@@ -119,19 +119,24 @@ std::string ConfigurationDifference(const DelaunayConfigurations& a,
   return "";
 }
 
-// Versions 2 and 3 (version 3 adds QKNT and PCTL).
-StatusOr<SplineModel> DecodeVersion2Or3(std::string_view bytes,
-                                        uint32_t version,
-                                        SdcbFileInfo* file_info) {
-  ControlPointQuantization* quantization = &file_info->quantization;
+}  // namespace
+
+namespace sdcb_internal {
+
+std::vector<ChunkType> SplineChunkTypes(uint32_t version) {
   std::vector<ChunkType> known = {kHead, kKnot, kCtrl, kQctl, kXfrm,
                                   kStat, kSrcm, kParm, kEnd};
   if (version >= 3) {
     known.push_back(kQknt);
     known.push_back(kPctl);
   }
-  Chunks chunks(known);
-  SDCB_RETURN_IF_ERROR(SplitChunks(bytes, &chunks));
+  return known;
+}
+
+StatusOr<SplineModel> DecodeSplineChunks(const Chunks& chunks, uint32_t version,
+                                         size_t file_size,
+                                         SdcbFileInfo* file_info) {
+  ControlPointQuantization* quantization = &file_info->quantization;
   for (const ChunkType& required : {kXfrm, kSrcm, kEnd}) {
     if (!chunks.Has(required)) {
       return Corrupt("the required chunk " + TypeName(required) +
@@ -162,14 +167,14 @@ StatusOr<SplineModel> DecodeVersion2Or3(std::string_view bytes,
     return Corrupt("the file has a 'CTRL', a 'QCTL' and a 'PCTL' chunk");
   }
   // A writer uses version 3 only for its chunks (SerializeSdcb writes the
-  // lowest version that holds the file).
-  if (version >= 3 && !knot_grid && !predicted) {
+  // lowest version that holds the file); a version 4 part may use any.
+  if (version == 3 && !knot_grid && !predicted) {
     return Corrupt(
         "a version 3 file needs a 'QKNT' or a 'PCTL' chunk (without them it "
         "would be version 2)");
   }
   SDCB_ASSIGN_OR_RETURN(const Head head,
-                        ParseHead(chunks.Get(kHead), version, bytes.size()));
+                        ParseHead(chunks.Get(kHead), version, file_size));
   SplineModel m;
   m.degree = head.degree;
   m.basis_form = head.basis_form;
@@ -247,6 +252,19 @@ StatusOr<SplineModel> DecodeVersion2Or3(std::string_view bytes,
   return m;
 }
 
+}  // namespace sdcb_internal
+
+namespace {
+
+// Versions 2 and 3 (version 3 adds QKNT and PCTL).
+StatusOr<SplineModel> DecodeVersion2Or3(std::string_view bytes,
+                                        uint32_t version,
+                                        SdcbFileInfo* file_info) {
+  Chunks chunks(SplineChunkTypes(version));
+  SDCB_RETURN_IF_ERROR(SplitChunks(bytes, &chunks));
+  return DecodeSplineChunks(chunks, version, bytes.size(), file_info);
+}
+
 }  // namespace
 
 uint64_t HashConfigurations(const DelaunayConfigurations& configurations) {
@@ -254,9 +272,11 @@ uint64_t HashConfigurations(const DelaunayConfigurations& configurations) {
   return Fnv1a64(bytes.data(), bytes.size());
 }
 
-StatusOr<std::string> SerializeSdcb(const SplineModel& model,
-                                    const SdcbWriteOptions& options,
-                                    SdcbFileInfo* info) {
+namespace sdcb_internal {
+
+StatusOr<uint32_t> AppendSplineChunks(const SplineModel& model,
+                                      const SdcbWriteOptions& options,
+                                      ByteWriter* file, SdcbFileInfo* info) {
   const Status valid = ValidateSplineModel(model);
   if (!valid.ok()) {
     return InvalidArgumentError("cannot write an invalid model: " +
@@ -336,27 +356,42 @@ StatusOr<std::string> SerializeSdcb(const SplineModel& model,
       parameters ? static_cast<uint64_t>(model.parameters.rows()) : 0;
   head.configuration_hash = HashConfigurations(model.configurations);
 
+  AppendChunk(kHead, HeadPayload(head), file);
+  if (knot_grid) {
+    AppendChunk(kQknt, KnotGridPayload(knot_codes, grid_bits), file);
+  } else {
+    AppendChunk(kKnot, PackPoints(model.knots), file);
+  }
+  AppendChunk(control_type, control_points, file);
+  AppendChunk(kXfrm, TransformPayload(model.transform), file);
+  AppendChunk(kStat, Packed(FitStatisticsToJson(model.statistics).dump()),
+              file);
+  AppendChunk(kSrcm, SourcePayload(model.source), file);
+  if (parameters) AppendChunk(kParm, PackPoints(model.parameters), file);
+  info->quantization = quantization;
+  info->knot_grid_bits = knot_grid ? grid_bits : 0;
+  return version;
+}
+
+}  // namespace sdcb_internal
+
+StatusOr<std::string> SerializeSdcb(const SplineModel& model,
+                                    const SdcbWriteOptions& options,
+                                    SdcbFileInfo* info) {
+  ByteWriter chunks;
+  SdcbFileInfo written;
+  SDCB_ASSIGN_OR_RETURN(const uint32_t version,
+                        AppendSplineChunks(model, options, &chunks, &written));
   ByteWriter file;
   file.Bytes(std::string_view(kSdcbMagic, sizeof kSdcbMagic));
   file.U32(version);
-  AppendChunk(kHead, HeadPayload(head), &file);
-  if (knot_grid) {
-    AppendChunk(kQknt, KnotGridPayload(knot_codes, grid_bits), &file);
-  } else {
-    AppendChunk(kKnot, PackPoints(model.knots), &file);
-  }
-  AppendChunk(control_type, control_points, &file);
-  AppendChunk(kXfrm, TransformPayload(model.transform), &file);
-  AppendChunk(kStat, Packed(FitStatisticsToJson(model.statistics).dump()),
-              &file);
-  AppendChunk(kSrcm, SourcePayload(model.source), &file);
-  if (parameters) AppendChunk(kParm, PackPoints(model.parameters), &file);
+  file.Bytes(chunks.str());
   AppendChunk(kEnd, std::string_view(), &file);
   if (info != nullptr) {
+    *info = written;
     info->format_version = version;
     info->file_bytes = file.str().size();
-    info->quantization = quantization;
-    info->knot_grid_bits = knot_grid ? grid_bits : 0;
+    info->parts = {{written.quantization, written.knot_grid_bits}};
   }
   return std::move(file.str());
 }
@@ -385,6 +420,20 @@ StatusOr<SplineModel> ParseSdcb(std::string_view bytes, SdcbFileInfo* info) {
                             Str(kSdcbFormatVersion));
   }
   SdcbFileInfo decoded;
+  if (version >= 4) {
+    // A one-part model of one untrimmed part reads as its spline.
+    SDCB_ASSIGN_OR_RETURN(Model model, DecodeVersion4(bytes, &decoded));
+    const size_t parts = model.parts.size();
+    if (parts > 1 || model.parts[0].trimmed()) {
+      return UnsupportedError(
+          "the file holds " +
+          (parts > 1 ? Str(parts) + " parts" : std::string("a trimmed part")) +
+          "; this reads only models of one closed part (`sdcb info` lists "
+          "the parts)");
+    }
+    if (info != nullptr) *info = decoded;
+    return std::move(model.parts[0].spline);
+  }
   StatusOr<SplineModel> model =
       version == 1 ? DecodeVersion1(bytes)
                    : DecodeVersion2Or3(bytes, version, &decoded);
@@ -392,6 +441,7 @@ StatusOr<SplineModel> ParseSdcb(std::string_view bytes, SdcbFileInfo* info) {
     *info = decoded;
     info->format_version = version;
     info->file_bytes = bytes.size();
+    info->parts = {{decoded.quantization, decoded.knot_grid_bits}};
   }
   return model;
 }
@@ -405,6 +455,15 @@ Status WriteSdcbFile(const SplineModel& model, const std::string& path,
 
 StatusOr<SplineModel> ReadSdcbFile(const std::string& path,
                                    SdcbFileInfo* info) {
+  SDCB_ASSIGN_OR_RETURN(const std::string bytes, ReadFileBytes(path));
+  StatusOr<SplineModel> model = ParseSdcb(bytes, info);
+  if (!model.ok()) return model.status().WithPrefix(path);
+  return model;
+}
+
+namespace sdcb_internal {
+
+StatusOr<std::string> ReadFileBytes(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     return IoError(path + ": is a directory, not an .sdcb model");
@@ -417,9 +476,9 @@ StatusOr<SplineModel> ReadSdcbFile(const std::string& path,
   std::string bytes((std::istreambuf_iterator<char>(in)),
                     std::istreambuf_iterator<char>());
   if (in.bad()) return IoError(path + ": reading the file failed");
-  StatusOr<SplineModel> model = ParseSdcb(bytes, info);
-  if (!model.ok()) return model.status().WithPrefix(path);
-  return model;
+  return bytes;
 }
+
+}  // namespace sdcb_internal
 
 }  // namespace sdcb

@@ -41,7 +41,7 @@ StatusOr<std::string> Unpacked(std::string_view payload, int64_t expected,
   }
   if (expected >= 0 && length != static_cast<uint64_t>(expected)) {
     return Corrupt(std::string("the ") + chunk + " chunk declares " +
-                   Str(length) + " inflated bytes; HEAD's counts need " +
+                   Str(length) + " inflated bytes; the declared counts need " +
                    Str(expected));
   }
   StatusOr<std::string> inflated = ZlibDecompress(r.Rest(), length);

@@ -91,7 +91,7 @@ TEST(CorpusReplayTest, ModelCorpusParsesAndEvaluatesOrFailsCleanly) {
   for (const fs::path& path : files) {
     SCOPED_TRACE(path.string());
     const std::string bytes = testing::ReadBytes(path.string());
-    const StatusOr<SplineModel> model = ParseSdcb(bytes);
+    const StatusOr<Model> model = ParseSdcbModel(bytes);
     // Seeds are valid files; those made by `sdcb fit` (fit_*) also give a
     // surface (the fixture's random knots may leave holes in the basis).
     const std::string name = path.filename().string();
@@ -101,19 +101,21 @@ TEST(CorpusReplayTest, ModelCorpusParsesAndEvaluatesOrFailsCleanly) {
       ASSERT_TRUE(model.ok()) << model.status().message();
     }
     if (!model.ok()) continue;
-    const StatusOr<SphericalSpline> surface = SurfaceFromModel(*model);
-    if (seed && name.rfind("fit_", 0) == 0) {
-      ASSERT_TRUE(surface.ok()) << surface.status().message();
-    }
-    if (!surface.ok()) continue;
-    // Two evaluation paths agree to the rounding of a convex combination
-    // of the control points.
-    const Eigen::Vector3d p = Eigen::Vector3d(1, 2, 3).normalized();
-    const Eigen::Vector3d a = surface->Evaluate(p);
-    const Eigen::Vector3d b = surface->EvaluateDifferential(p).position;
-    if (a.allFinite() && b.allFinite()) {
-      EXPECT_LE((a - b).cwiseAbs().maxCoeff(),
-                1e-9 * model->control_points.cwiseAbs().maxCoeff());
+    for (const ModelPart& part : model->parts) {
+      const StatusOr<SphericalSpline> surface = SurfaceFromModel(part.spline);
+      if (seed && name.rfind("fit_", 0) == 0) {
+        ASSERT_TRUE(surface.ok()) << surface.status().message();
+      }
+      if (!surface.ok()) continue;
+      // Two evaluation paths agree to the rounding of a convex combination
+      // of the control points.
+      const Eigen::Vector3d p = Eigen::Vector3d(1, 2, 3).normalized();
+      const Eigen::Vector3d a = surface->Evaluate(p);
+      const Eigen::Vector3d b = surface->EvaluateDifferential(p).position;
+      if (a.allFinite() && b.allFinite()) {
+        EXPECT_LE((a - b).cwiseAbs().maxCoeff(),
+                  1e-9 * part.spline.control_points.cwiseAbs().maxCoeff());
+      }
     }
   }
 }

@@ -1,5 +1,5 @@
-// Tests io/report/model_json.*: the dump parses back with nlohmann, has the keys
-// docs/FORMAT.md lists, and its values are the model's (control points
+// Tests io/report/model_json.*: the dump parses back with nlohmann, has the
+// keys docs/FORMAT.md lists, and its values are the model's (control points
 // transformed to input coordinates, doubles exact); and the record of the fit
 // options in it (io/report/fit_statistics_json.h) by core/fit/fit_options.h's
 // table.
@@ -202,6 +202,48 @@ TEST(ModelJsonTest, OlderRecordsReadWithoutTheNewerKeys) {
   ASSERT_FALSE(back.ok());
   EXPECT_EQ(back.status().message(),
             "statistics.options lacks the key \"max_rounds\"");
+}
+
+TEST(ModelJsonTest, AModelOfPartsListsThemAndOnePartKeepsTheTopLevelKeys) {
+  const SplineModel spline = MakeTestModel(1, 7, 0);
+  Model one;
+  one.parts.emplace_back();
+  one.parts[0].spline = spline;
+  one.source = spline.source;
+  json top = json::parse(ModelToJson(one));
+  const json single = json::parse(ModelToJson(spline));
+  ASSERT_EQ(top["parts"].size(), 1u);
+  json part = top["parts"][0];
+  top.erase("parts");
+  EXPECT_EQ(top, single);
+  EXPECT_EQ(part["number"], 1);
+  EXPECT_EQ(part["name"], "");
+  EXPECT_EQ(part["trimmed"], false);
+  EXPECT_EQ(part["trims"], json::array());
+  for (const char* key : {"number", "name", "trimmed", "trims"}) {
+    part.erase(key);
+  }
+  json spline_keys = single;
+  spline_keys.erase("format_version");
+  EXPECT_EQ(part, spline_keys);
+
+  Model two = one;
+  two.parts.push_back(one.parts[0]);
+  two.parts[1].name = "b";
+  two.parts[1].trims.resize(1);
+  two.parts[1].trims[0].points.resize(3, 3);
+  two.parts[1].trims[0].points << 1, 0, 0, 0, 1, 0, 0, 0, -0.0;
+  two.source.file_name = "whole.off";
+  const json j = json::parse(ModelToJson(two));
+  EXPECT_FALSE(j.contains("knots"));
+  EXPECT_EQ(j["source"]["file_name"], "whole.off");
+  ASSERT_EQ(j["parts"].size(), 2u);
+  EXPECT_EQ(j["parts"][1]["number"], 2);
+  EXPECT_EQ(j["parts"][1]["name"], "b");
+  EXPECT_EQ(j["parts"][1]["trimmed"], true);
+  EXPECT_EQ(j["parts"][1]["trims"],
+            json::parse("[[[1.0,0.0,0.0],[0.0,1.0,0.0],[0.0,0.0,-0.0]]]"));
+  EXPECT_EQ(j["parts"][1]["source"], single["source"]);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
-// Tests io/sdcb/sdcb_file.* (format version 2) and io/sdcb/crc32.*: bit-exact round
-// trips, deterministic bytes, the documented layout (docs/FORMAT.md, decoded
-// here by the independent test-side codec of testing/sdcb_test_codec.h, with
-// zlib called directly and the configuration hash recomputed from the
+// Tests io/sdcb/sdcb_file.* (format version 2) and io/sdcb/crc32.*: bit-exact
+// round trips, deterministic bytes, the documented layout (docs/FORMAT.md,
+// decoded here by the independent test-side codec of testing/sdcb_test_codec.h,
+// with zlib called directly and the configuration hash recomputed from the
 // brute-force oracle's configurations), and hostile files: every single-byte
 // corruption and every truncation of a valid file is rejected, crafted files
 // with valid CRCs but bad contents are rejected with a message naming the
@@ -498,7 +498,7 @@ TEST(SdcbFileTest, AbsurdCountsAreRejectedWithoutAllocating) {
                         Case{24, 4, "sphere parameters"}}) {
     std::vector<RawChunk> chunks = SplitFile(file);
     Find(chunks, "HEAD")->payload.replace(c.offset, 8, Le(c.value, 8));
-    ExpectCorrupt(Join(chunks), "inflated bytes; HEAD's counts need");
+    ExpectCorrupt(Join(chunks), "inflated bytes; the declared counts need");
   }
 }
 
@@ -721,7 +721,7 @@ TEST(SdcbFileTest, CraftedQuantizedChunksAreRejected) {
                   codes.resize(codes.size() - 12);
                   p = p.substr(0, 68) + TestPack(codes);
                 }),
-                "inflated bytes; HEAD's counts need");
+                "inflated bytes; the declared counts need");
   // A raw-basis file may state any positive basis sum.
   {
     std::vector<RawChunk> chunks = SplitFile(file);
@@ -860,12 +860,12 @@ TEST(SdcbFileTest, ChunkStructureViolationsAreRejected) {
 
 TEST(SdcbFileTest, HeaderProblemsAreNamed) {
   const std::vector<RawChunk> chunks = SplitFile(Serialize(MakeTestModel()));
-  const StatusOr<SplineModel> newer = ParseSdcb(Join(chunks, 4));
+  const StatusOr<SplineModel> newer = ParseSdcb(Join(chunks, 5));
   ASSERT_FALSE(newer.ok());
   EXPECT_EQ(newer.status().code(), StatusCode::kUnsupported);
-  EXPECT_NE(newer.status().message().find("format version 4"),
+  EXPECT_NE(newer.status().message().find("format version 5"),
             std::string::npos);
-  EXPECT_NE(newer.status().message().find("up to 3"), std::string::npos);
+  EXPECT_NE(newer.status().message().find("up to 4"), std::string::npos);
   ExpectCorrupt(Join(chunks, 0), "format version is 0");
   ExpectCorrupt("", "the file is empty");
   ExpectCorrupt(std::string(kSdcbMagic, 5), "only 5 bytes");
