@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sdcb/core/mesh/icosphere.h"
+#include "sdcb/core/sphere/point_kd_tree.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/spline/knot_hull.h"
 
@@ -63,6 +64,58 @@ Status CheckLoops(const std::vector<TrimLoop>& loops) {
   return Status::Ok();
 }
 
+// Points graded away from each loop: rings of every 2nd, 4th, 8th ... trim
+// point, each moved off the loop on both sides by half the ring's spacing
+// (the local spacing of the loop times the step), until that reaches
+// kClearance. Without them a dense loop (a scan's boundary) is triangulated
+// by long slivers from its points to the far points, which the refinement
+// then splits into a dense strip all the way along them. A ring point nearer
+// than 0.6 of its offset to a trim point (a concave bend, another loop) is
+// left out.
+std::vector<Eigen::Vector3d> GradedPoints(
+    const std::vector<TrimLoop>& loops,
+    const std::vector<Eigen::Vector3d>& trim_points) {
+  Eigen::MatrixX3d all(trim_points.size(), 3);
+  for (size_t i = 0; i < trim_points.size(); ++i) {
+    all.row(i) = trim_points[i].transpose();
+  }
+  const PointKdTree tree(all);
+  std::vector<Eigen::Vector3d> out;
+  int first = 0;
+  for (const TrimLoop& loop : loops) {
+    const int n = static_cast<int>(loop.points.rows());
+    bool wide = false;
+    for (int step = 2; !wide && 3 * step <= n; step *= 2) {
+      for (int i = 0; i < n; i += step) {
+        const Eigen::Vector3d& p = trim_points[first + i];
+        const Eigen::Vector3d& prev = trim_points[first + (i + n - 1) % n];
+        const Eigen::Vector3d& next = trim_points[first + (i + 1) % n];
+        Eigen::Vector3d t = next - prev;
+        t -= p * p.dot(t);
+        if (!(t.norm() > 0.0)) continue;
+        const Eigen::Vector3d left = p.cross(t.normalized());
+        const double h = 0.5 * ((next - p).norm() + (p - prev).norm());
+        const double offset = 0.5 * step * h;
+        if (offset > kClearance) {
+          wide = true;
+          break;
+        }
+        for (const double side : {1.0, -1.0}) {
+          const Eigen::Vector3d q =
+              (p * std::cos(offset) + side * std::sin(offset) * left)
+                  .normalized();
+          const PointKdTree::Neighbor near = tree.Nearest(q);
+          if (std::sqrt(near.squared_distance) >= 0.6 * offset) {
+            out.push_back(q);
+          }
+        }
+      }
+    }
+    first += n;
+  }
+  return out;
+}
+
 }  // namespace
 
 StatusOr<SphereTriangulation> TrimmedPattern(
@@ -82,6 +135,10 @@ StatusOr<SphereTriangulation> TrimmedPattern(
     }
   }
   const int trim_points = static_cast<int>(points.size());
+  for (const Eigen::Vector3d& q : GradedPoints(loops, points)) {
+    points.push_back(q);
+    vertex_arc.push_back(SphereTriangulation::kFreeVertex);
+  }
   const TriangleMesh ico = MakeIcosphere(1);
   for (Eigen::Index v = 0; v < ico.vertices.rows(); ++v) {
     const Eigen::Vector3d p = ico.vertices.row(v).transpose().normalized();

@@ -317,15 +317,20 @@ TEST(TrimmedTessellationTest, DiskWhoseHoleIsMoreThanAHemisphere) {
 }
 
 TEST(TrimmedTessellationTest, DenseTrimPoints) {
-  // 1000 points on a circle of radius 0.05 rad: sides 3e-4 rad long.
-  const std::vector<Circle> circles = {
-      {Eigen::Vector3d(0.2, 0.3, -1.0), std::cos(0.05), 1000, false}};
-  EllipsoidSampler sphere(Eigen::Vector3d::Ones());
-  const Outcome a = Tessellate(sphere, circles, kEps);
-  std::cout << "dense hole: " << a.seconds << " s (simplify "
-            << a.t.seconds.simplify << "), " << a.t.samples << " samples, "
-            << a.t.faces.rows() << " faces\n";
-  ExpectTrimmed(circles, a.t, "dense hole");
+  // 4000 points on circles of radius 0.05 rad (sides 8e-5 rad long): a hole,
+  // and a kept disk whose hole is all the rest of the sphere.
+  for (const bool keep_cap : {false, true}) {
+    const std::vector<Circle> circles = {
+        {Eigen::Vector3d(0.2, 0.3, -1.0), std::cos(0.05), 4000, keep_cap}};
+    EllipsoidSampler sphere(Eigen::Vector3d::Ones());
+    const Outcome a = Tessellate(sphere, circles, kEps);
+    const char* name = keep_cap ? "dense disk" : "dense hole";
+    std::cout << name << ": " << a.seconds << " s (simplify "
+              << a.t.seconds.simplify << "), " << a.t.samples << " samples, "
+              << a.t.faces.rows() << " faces\n";
+    ExpectTrimmed(circles, a.t, name);
+    EXPECT_LE(a.t.certified_distance, kEps);
+  }
 }
 
 TEST(TrimmedTessellationTest, SameBytesForAnyThreadCount) {
