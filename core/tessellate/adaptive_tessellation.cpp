@@ -257,6 +257,7 @@ StatusOr<Tessellation> TessellateAdaptively(
   sampling.min_edge_radians = options.min_edge_radians;
   sampling.coarse_scale = kCoarseScale;
   sampling.initial_pattern = initial_pattern;
+  sampling.kept_region_only = trimmed.has_value();
   sampling.max_vertices = options.max_samples;
   sampling.progress = [&](int64_t vertices) {
     progress("samples", 1.0 - 1.0 / std::log2(4.0 + vertices / 1000.0));
@@ -290,6 +291,7 @@ StatusOr<Tessellation> TessellateAdaptively(
   verification.lattice = options.lattice;
   verification.min_edge_radians = options.min_edge_radians;
   verification.max_faces = options.max_faces;
+  verification.kept_region_only = trimmed.has_value();
   int64_t measured = 0;
   const int64_t to_measure = samples.pattern.num_faces();
   verification.progress = [&](int64_t n, int64_t) {

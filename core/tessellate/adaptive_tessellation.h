@@ -23,10 +23,10 @@
 // feature arcs (TessellationOptions::initial_pattern) the vertices on the
 // creases are split per side (Tessellation::normals): closed in positions,
 // cut along the creases in indices. With trims (TessellationOptions::trims)
-// the result is the kept region only: open, its boundary the trims. The
-// whole sphere is still refined and verified (the certified distance and the
-// uncertified faces count the faces outside the kept region too: an upper
-// bound of the kept faces' own).
+// the result is the kept region only: open, its boundary the trims. Only
+// the kept region is refined and verified (faces outside are split only
+// where a kept face shares an edge with them); the certified distance and
+// the uncertified faces are the kept faces'.
 #ifndef SDCB_CORE_TESSELLATE_ADAPTIVE_TESSELLATION_H_
 #define SDCB_CORE_TESSELLATE_ADAPTIVE_TESSELLATION_H_
 

@@ -319,6 +319,7 @@ TEST(TrimmedTessellationTest, DiskWhoseHoleIsMoreThanAHemisphere) {
 TEST(TrimmedTessellationTest, DenseTrimPoints) {
   // 4000 points on circles of radius 0.05 rad (sides 8e-5 rad long): a hole,
   // and a kept disk whose hole is all the rest of the sphere.
+  int64_t samples[2] = {0, 0};
   for (const bool keep_cap : {false, true}) {
     const std::vector<Circle> circles = {
         {Eigen::Vector3d(0.2, 0.3, -1.0), std::cos(0.05), 4000, keep_cap}};
@@ -330,7 +331,11 @@ TEST(TrimmedTessellationTest, DenseTrimPoints) {
               << a.t.faces.rows() << " faces\n";
     ExpectTrimmed(circles, a.t, name);
     EXPECT_LE(a.t.certified_distance, kEps);
+    samples[keep_cap] = a.t.samples;
   }
+  // Only the kept region is refined: the disk (0.06 % of the sphere) takes
+  // far fewer samples than its complement.
+  EXPECT_LT(3 * samples[1], samples[0]);
 }
 
 TEST(TrimmedTessellationTest, SameBytesForAnyThreadCount) {
