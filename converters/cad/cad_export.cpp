@@ -36,10 +36,10 @@ namespace {
 
 // A part's network fitted within the options and moved to the input's
 // coordinates; `label` ("" or "part N: ") starts its messages.
-StatusOr<CadNetwork> FitPartNetwork(
-    const SplineModel& model, const CadExportOptions& options,
-    const std::string& label,
-    const std::function<void(const std::string&, double)>& progress) {
+StatusOr<CadNetwork> FitPartNetwork(const SplineModel& model,
+                                    const CadExportOptions& options,
+                                    const std::string& label,
+                                    const ProgressCallback& progress) {
   SDCB_ASSIGN_OR_RETURN(const SphericalSpline spline, SurfaceFromModel(model));
   char message[400];
   // Across a fold the spline's normal turns over: no smooth face follows

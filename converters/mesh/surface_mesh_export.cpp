@@ -274,9 +274,9 @@ struct PartExport {
 };
 
 // `progress` gets this part's own fraction in [0, 1].
-StatusOr<PartExport> ExportPart(
-    const PartView& part, const SurfaceMeshExportOptions& options,
-    const std::function<void(const std::string&, double)>& progress) {
+StatusOr<PartExport> ExportPart(const PartView& part,
+                                const SurfaceMeshExportOptions& options,
+                                const ProgressCallback& progress) {
   const SplineModel& model = *part.spline;
   const bool trimmed = !part.trims->empty();
   const std::string prefix = part.label.empty() ? "" : part.label + ": ";
