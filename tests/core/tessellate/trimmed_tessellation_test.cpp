@@ -144,8 +144,9 @@ double AngleToTrims(const std::vector<Circle>& circles,
       if (a.cross(q).dot(n) >= 0.0 && q.cross(b).dot(n) >= 0.0) {
         angle = std::asin(std::min(1.0, std::abs(p.dot(n))));
       } else {
-        angle = std::min(std::acos(std::min(1.0, p.dot(a))),
-                         std::acos(std::min(1.0, p.dot(b))));
+        // atan2, not acos: exact near 0.
+        angle = std::min(std::atan2(p.cross(a).norm(), p.dot(a)),
+                         std::atan2(p.cross(b).norm(), p.dot(b)));
       }
       best = std::min(best, angle);
     }
@@ -336,6 +337,42 @@ TEST(TrimmedTessellationTest, DenseTrimPoints) {
   // Only the kept region is refined: the disk (0.06 % of the sphere) takes
   // far fewer samples than its complement.
   EXPECT_LT(3 * samples[1], samples[0]);
+}
+
+TEST(TrimmedTessellationTest, HemisphereOfAGreatCircle) {
+  // Every side on one great circle: the trim points are coplanar with the
+  // centre, the degenerate case of the Delaunay hull.
+  const std::vector<Circle> circles = {
+      {Eigen::Vector3d(0.1, -0.2, 1.0), 0.0, 100, true}};
+  EllipsoidSampler sphere(Eigen::Vector3d::Ones());
+  const Outcome o = Tessellate(sphere, circles, kEps);
+  ExpectTrimmed(circles, o.t, "hemisphere");
+  ExpectOnUnitSphere(circles, o.t, kEps, "hemisphere");
+}
+
+TEST(TrimmedTessellationTest, NearlyCoincidentTrimPoints) {
+  // Two consecutive points 1e-11 apart (a scan's boundary, unwelded): the
+  // perturbed hull separates them, and the loop is the boundary as always.
+  TrimLoop loop = LoopOf({Eigen::Vector3d::UnitZ(), 0.5, 32, false});
+  loop.points.row(1) =
+      (loop.points.row(0) + 1e-11 * loop.points.row(2)).normalized();
+  EllipsoidSampler sphere(Eigen::Vector3d::Ones());
+  TessellationOptions options;
+  options.tolerance = kEps;
+  options.trims = {loop};
+  StatusOr<Tessellation> t = TessellateAdaptively(sphere, options);
+  ASSERT_TRUE(t.ok()) << t.status().message();
+  std::set<int> boundary;
+  EXPECT_EQ(CountBoundaryLoops(t->faces, &boundary), 1);
+  EXPECT_GE(boundary.size(), 32u);  // every trim point, maybe midpoints
+  // Both points of the pair are boundary vertices.
+  int pair = 0;
+  for (int v : boundary) {
+    for (int r = 0; r < 2; ++r) {
+      if ((t->directions.row(v) - loop.points.row(r)).norm() == 0.0) ++pair;
+    }
+  }
+  EXPECT_EQ(pair, 2);
 }
 
 TEST(TrimmedTessellationTest, SameBytesForAnyThreadCount) {
