@@ -19,7 +19,7 @@ namespace {
 // would make slivers against the trim.
 constexpr double kClearance = 0.15;
 // A loop's centre is added when it is at least this far (radians) from
-// every trim and extra point.
+// every trim side and added point.
 constexpr double kCentreClearance = 1e-4;
 // A side piece shorter than this (chord) that is still not an edge means
 // another trim point lies on it, up to rounding.
@@ -152,13 +152,12 @@ StatusOr<SphereTriangulation> TrimmedPattern(
       vertex_arc.push_back(SphereTriangulation::kFreeVertex);
     }
   }
-  // Each loop's centre (its points' normalized mean) when it is clear of
-  // every trim: without it a loop's disk is a fan of slivers between its
-  // own points, which a dense loop makes costly to refine and simplify.
-  for (size_t l = 0, first = 0; l < loops.size(); ++l) {
-    const Eigen::Index n = loops[l].points.rows();
+  // Each loop's centre (its points' normalized mean) when it is at least
+  // kCentreClearance from every trim side and added point: without it a
+  // small loop's disk is triangulated by its own points alone (slivers
+  // across it when they are nearly cocircular).
+  for (size_t l = 0; l < loops.size(); ++l) {
     const Eigen::Vector3d c = loops[l].points.colwise().sum().transpose();
-    first += n;
     if (!(c.norm() > 0.0)) continue;
     const Eigen::Vector3d p = c.normalized();
     double clearance = kClearance;
