@@ -12,6 +12,7 @@
 
 #include "sdcb/converters/cage/cage_fbx.h"
 #include "sdcb/converters/cage/subdivision_cage.h"
+#include "sdcb/core/spline/model.h"
 #include "sdcb/io/common/atomic_file.h"
 #include "sdcb/io/sdcb/sdcb_file.h"
 #include "tools/cli.h"
@@ -58,24 +59,45 @@ int RunCage(const std::vector<std::string>& argv) {
   // Outputs are checked before the work (tools/cli.h).
   const Status outputs = PrepareOutputs({output, args.Get("json")});
   if (!outputs.ok()) return ReportError(outputs);
-  StatusOr<SplineModel> model = ReadSdcbFile(path);
-  if (!model.ok()) return ReportError(model.status());
-  StatusOr<SphericalSpline> surface = SurfaceFromModel(*model);
-  if (!surface.ok()) return ReportError(surface.status().WithPrefix(path));
+  StatusOr<SplineModel> read = ReadSdcbFile(path);
+  if (!read.ok()) return ReportError(read.status());
+  // The .sdcb reader returns one closed part until the format holds parts
+  // (issue 54); then it returns the Model itself. Built here rather than by
+  // SinglePartModel, whose file (core/spline/model.cpp) links only with the
+  // trim region's implementation.
+  Model model;
+  model.source = read->source;
+  model.parts.emplace_back();
+  model.parts.back().spline = std::move(read).value();
 
   ProgressBar progress("sdcb cage", args.Has("quiet"));
   options.progress = progress.Callback();
-  StatusOr<CageFit> fit = FitSubdivisionCage(*surface, options);
+  StatusOr<std::vector<PartCage>> cages = FitModelCages(model, options);
   progress.Finish();
-  if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));
-
+  if (!cages.ok()) return ReportError(cages.status().WithPrefix(path));
+  // Several parts: one OBJ with an object per part, or one FBX per part
+  // (OUT-NAME.fbx; the FBX writer holds one mesh). The report and the
+  // summary below are the first part's.
+  Status written = Status::Ok();
+  if (format == ".obj") {
+    written = WriteFileAtomically(CageObjText(*cages), output);
+  } else if (cages->size() == 1) {
+    written = WriteCageFbx((*cages)[0].fit.cage, (*cages)[0].positions, output);
+  } else {
+    const std::filesystem::path out(output);
+    for (size_t i = 0; written.ok() && i < cages->size(); ++i) {
+      const PartCage& part = (*cages)[i];
+      const std::string file =
+          (out.parent_path() /
+           (out.stem().string() + "-" + part.name + out.extension().string()))
+              .string();
+      written = WriteCageFbx(part.fit.cage, part.positions, file);
+    }
+  }
+  if (!written.ok()) return ReportError(written);
+  const CageFit* fit = &(*cages)[0].fit;
   const SubdivisionCage& cage = fit->cage;
   const CageDeviation& d = fit->deviation;
-  const Eigen::MatrixX3d positions = model->transform.ToInput(cage.vertices);
-  Status written = format == ".fbx" ? WriteCageFbx(cage, positions, output)
-                                    : WriteFileAtomically(
-                                          CageObjText(cage, positions), output);
-  if (!written.ok()) return ReportError(written);
   if (args.Has("json")) {
     nlohmann::ordered_json j;
     j["model"] = path;

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sdcb/converters/mesh/surface_mesh_export.h"
+#include "sdcb/core/spline/model.h"
 #include "sdcb/io/common/atomic_file.h"
 #include "sdcb/io/mesh/mesh_reader.h"
 #include "sdcb/io/sdcb/sdcb_file.h"
@@ -132,8 +133,16 @@ int RunExport(const std::vector<std::string>& argv) {
 
   const Status prepared = PrepareOutputs({output, json_path});
   if (!prepared.ok()) return ReportError(prepared);
-  StatusOr<SplineModel> model = ReadSdcbFile(model_path);
-  if (!model.ok()) return ReportError(model.status());
+  StatusOr<SplineModel> read = ReadSdcbFile(model_path);
+  if (!read.ok()) return ReportError(read.status());
+  // The .sdcb reader returns one closed part until the format holds parts
+  // (issue 54); then it returns the Model itself. Built here rather than by
+  // SinglePartModel, whose file (core/spline/model.cpp) links only with the
+  // trim region's implementation.
+  Model model;
+  model.source = read->source;
+  model.parts.emplace_back();
+  model.parts.back().spline = std::move(read).value();
   StatusOr<TriangleMesh> reference = TriangleMesh();
   if (options.colors == VertexColoring::kDistanceToMesh) {
     options.mesh_name = args.Get("mesh");
@@ -143,7 +152,7 @@ int RunExport(const std::vector<std::string>& argv) {
   }
   ProgressBar progress("sdcb export", quiet);
   options.progress = progress.Callback();
-  StatusOr<SurfaceMeshExport> exported = ExportSurfaceMesh(*model, options);
+  StatusOr<SurfaceMeshExport> exported = ExportSurfaceMesh(model, options);
   progress.Finish();
   if (!exported.ok()) {
     // Options the model cannot satisfy (meshopt's 16 bits) are usage.

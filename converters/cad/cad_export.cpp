@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "sdcb/core/common/stopwatch.h"
 #include "sdcb/core/spline/spherical_spline.h"
@@ -28,13 +32,14 @@ CadNetwork ToInput(CadNetwork network, const NormalizingTransform& transform) {
 
 }  // namespace
 
-StatusOr<CadExportReport> WriteCadExport(const SplineModel& model,
-                                         const CadExportOptions& options,
-                                         const std::string& path) {
-  const Stopwatch start;
-  const auto progress = [&](const std::string& stage, double fraction) {
-    if (options.progress) options.progress(stage, fraction);
-  };
+namespace {
+
+// A part's network fitted within the options and moved to the input's
+// coordinates; `label` ("" or "part N: ") starts its messages.
+StatusOr<CadNetwork> FitPartNetwork(const SplineModel& model,
+                                    const CadExportOptions& options,
+                                    const std::string& label,
+                                    const ProgressCallback& progress) {
   SDCB_ASSIGN_OR_RETURN(const SphericalSpline spline, SurfaceFromModel(model));
   char message[400];
   // Across a fold the spline's normal turns over: no smooth face follows
@@ -47,15 +52,12 @@ StatusOr<CadExportReport> WriteCadExport(const SplineModel& model,
                   "(--smoothness-degrees 180 exports it anyway); nothing "
                   "written",
                   folded);
-    return InvalidInputError(message);
+    return InvalidInputError(label + message);
   }
   CadNetworkOptions network_options = options.network;
   network_options.length_unit = 1.0;  // the normalized frame
-  network_options.progress = [&](const std::string& stage, double fraction) {
-    progress(stage, kFitShare * fraction);
-  };
-  SDCB_ASSIGN_OR_RETURN(const CadNetwork fit,
-                        FitCadNetwork(spline, network_options));
+  network_options.progress = progress;
+  SDCB_ASSIGN_OR_RETURN(CadNetwork fit, FitCadNetwork(spline, network_options));
   const CadNetworkOptions& o = network_options;
   if (!fit.within_tolerance) {
     std::snprintf(message, sizeof(message),
@@ -67,39 +69,75 @@ StatusOr<CadExportReport> WriteCadExport(const SplineModel& model,
                   fit.max_distance_percent, fit.max_normal_jump_degrees,
                   o.tolerance_percent, o.smoothness_degrees,
                   fit.stop_reason.c_str());
-    return InvalidInputError(message);
+    return InvalidInputError(label + message);
+  }
+  return ToInput(std::move(fit), model.transform);
+}
+
+StatusOr<CadExportReport> WriteCadParts(
+    const std::vector<const SplineModel*>& parts,
+    const CadExportOptions& options, const std::string& path) {
+  const Stopwatch start;
+  const auto progress = [&](const std::string& stage, double fraction) {
+    if (options.progress) options.progress(stage, fraction);
+  };
+  const double n = static_cast<double>(parts.size());
+  std::vector<CadNetwork> fits;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string label =
+        parts.size() == 1 ? "" : "part " + std::to_string(i + 1) + ": ";
+    SDCB_ASSIGN_OR_RETURN(
+        CadNetwork fit,
+        FitPartNetwork(*parts[i], options, label,
+                       [&](const std::string& stage, double fraction) {
+                         progress(stage, kFitShare * (i + fraction) / n);
+                       }));
+    fits.push_back(std::move(fit));
   }
   SDCB_ASSIGN_OR_RETURN(
       const CadSolidReport solid,
-      WriteCadSolid(ToInput(fit, model.transform), options.format, path,
-                    [&](const std::string& stage, double fraction) {
-                      progress(stage, kFitShare + (1.0 - kFitShare) * fraction);
-                    }));
+      WriteCadSolids(fits, options.format, path,
+                     [&](const std::string& stage, double fraction) {
+                       progress(stage,
+                                kFitShare + (1.0 - kFitShare) * fraction);
+                     }));
 
+  // Several parts: counts add up, distances and angles take the largest
+  // (each in percent of its own part's largest side).
+  const CadNetworkOptions& o = options.network;
   CadExportReport r;
   r.format = options.format == CadFormat::kStep ? "step" : "iges";
-  r.faces = static_cast<int>(fit.faces.size());
-  r.layout = fit.layout.name();
-  r.crease_edges = fit.crease_edges;
-  r.control_points = fit.control_points;
+  r.layout = fits[0].layout.name();
   r.tolerance_percent = o.tolerance_percent;
   r.smoothness_degrees = o.smoothness_degrees;
   r.max_faces = o.max_faces;
-  r.max_distance_percent = fit.max_distance_percent;
-  r.rms_distance_percent = fit.rms_distance_percent;
-  r.measured_points = fit.measured_points;
-  r.max_normal_angle_degrees = fit.max_normal_angle_degrees;
-  r.max_normal_jump_degrees = fit.max_normal_jump_degrees;
-  r.jump_points = fit.jump_points;
-  r.face_max_distance_percent = fit.face_max_distance_percent;
-  r.rounds = fit.rounds;
-  r.stop_reason = fit.stop_reason;
+  r.stop_reason = fits[0].stop_reason;
+  r.solids = static_cast<int>(fits.size());
+  for (const CadNetwork& fit : fits) {
+    r.faces += static_cast<int>(fit.faces.size());
+    r.crease_edges += fit.crease_edges;
+    r.control_points += fit.control_points;
+    r.max_distance_percent =
+        std::max(r.max_distance_percent, fit.max_distance_percent);
+    r.rms_distance_percent =
+        std::max(r.rms_distance_percent, fit.rms_distance_percent);
+    r.measured_points += fit.measured_points;
+    r.max_normal_angle_degrees =
+        std::max(r.max_normal_angle_degrees, fit.max_normal_angle_degrees);
+    r.max_normal_jump_degrees =
+        std::max(r.max_normal_jump_degrees, fit.max_normal_jump_degrees);
+    r.jump_points += fit.jump_points;
+    r.face_max_distance_percent.insert(r.face_max_distance_percent.end(),
+                                       fit.face_max_distance_percent.begin(),
+                                       fit.face_max_distance_percent.end());
+    r.rounds = std::max(r.rounds, fit.rounds);
+    r.seconds.fit += fit.fit_seconds;
+    r.seconds.measure += fit.measure_seconds;
+  }
   r.volume = solid.volume;
   r.area = solid.area;
   r.valid = solid.valid;
   r.bytes = solid.bytes;
-  r.seconds.fit = fit.fit_seconds;
-  r.seconds.measure = fit.measure_seconds;
   r.seconds.build = solid.seconds.build;
   r.seconds.check = solid.seconds.check;
   r.seconds.translate = solid.seconds.translate;
@@ -109,10 +147,43 @@ StatusOr<CadExportReport> WriteCadExport(const SplineModel& model,
   return r;
 }
 
+}  // namespace
+
+StatusOr<CadExportReport> WriteCadExport(const SplineModel& model,
+                                         const CadExportOptions& options,
+                                         const std::string& path) {
+  return WriteCadParts({&model}, options, path);
+}
+
+Status CheckCadParts(const Model& model, CadFormat format) {
+  if (model.parts.empty())
+    return InvalidArgumentError("the model has no parts");
+  for (size_t i = 0; i < model.parts.size(); ++i) {
+    const size_t loops = model.parts[i].trims.size();
+    if (loops == 0) continue;
+    return InvalidInputError(
+        "part " + std::to_string(i + 1) + " is open (" + std::to_string(loops) +
+        (loops == 1 ? " trim loop" : " trim loops") + "); " +
+        (format == CadFormat::kStep ? "STEP" : "IGES") +
+        " of open parts is not supported yet");
+  }
+  return Status::Ok();
+}
+
+StatusOr<CadExportReport> WriteCadExport(const Model& model,
+                                         const CadExportOptions& options,
+                                         const std::string& path) {
+  SDCB_RETURN_IF_ERROR(CheckCadParts(model, options.format));
+  std::vector<const SplineModel*> parts;
+  for (const ModelPart& part : model.parts) parts.push_back(&part.spline);
+  return WriteCadParts(parts, options, path);
+}
+
 nlohmann::ordered_json CadExportReportToJson(const CadExportReport& r) {
   nlohmann::ordered_json j;
   j["format"] = r.format;
   j["unit"] = "mm";
+  if (r.solids > 1) j["solids"] = r.solids;
   j["faces"] = r.faces;
   j["layout"] = r.layout;
   j["crease_edges"] = r.crease_edges;

@@ -18,6 +18,7 @@
 #include "sdcb/converters/cad/cad_network.h"
 #include "sdcb/core/common/progress.h"
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/spline/model.h"
 #include "sdcb/core/spline/spline_model.h"
 
 namespace sdcb {
@@ -34,7 +35,11 @@ struct CadExportOptions {
 
 struct CadExportReport {
   std::string format;  // "step", "iges"
-  int faces = 0;       // B-spline faces
+  // Solids in the file (one per part). With several, counts add up and
+  // distances and angles are the largest, each in percent of its own part's
+  // largest side; face_max_distance_percent lists every part's faces.
+  int solids = 1;
+  int faces = 0;  // B-spline faces
   // The network's layout (CadQuadLayout::name) and its edges on creases.
   std::string layout;
   int crease_edges = 0;
@@ -73,6 +78,19 @@ struct CadExportReport {
 StatusOr<CadExportReport> WriteCadExport(const SplineModel& model,
                                          const CadExportOptions& options,
                                          const std::string& path);
+
+// Every part of `model`, one solid per part in one file (WriteCadSolids),
+// each fitted in its own frame and moved to the input's coordinates; one
+// closed part writes what the SplineModel overload writes. A trimmed part is
+// refused before anything is fitted or written (CheckCadParts); other
+// errors as above, naming the part ("part 2: ...") when there are several.
+StatusOr<CadExportReport> WriteCadExport(const Model& model,
+                                         const CadExportOptions& options,
+                                         const std::string& path);
+
+// Ok, or kInvalidInput naming the first open part: "part 2 is open (1 trim
+// loop); STEP of open parts is not supported yet" (IGES likewise).
+Status CheckCadParts(const Model& model, CadFormat format);
 
 // The report as the JSON object of `sdcb export --json` for STEP and IGES
 // (docs/CLI.md), without the command line's "model" and "output".

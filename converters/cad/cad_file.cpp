@@ -39,6 +39,7 @@
 #include <TCollection_HAsciiString.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
@@ -289,19 +290,19 @@ Status WriteIges(const TopoDS_Shape& solid, const std::string& path,
 
 }  // namespace
 
-StatusOr<CadSolidReport> WriteCadSolid(const CadNetwork& network,
-                                       CadFormat format,
-                                       const std::string& path,
-                                       const ProgressCallback& progress) {
-  const auto stage = [&](const char* name, double fraction) {
-    if (progress) progress(name, fraction);
-  };
+namespace {
+
+// The solid of `network` (see WriteCadSolid), with the report's faces,
+// free edges, tolerance, volume, area, validity and build / check seconds.
+// `path` names the file in messages. OpenCASCADE's exceptions pass through.
+StatusOr<TopoDS_Solid> BuildSolid(const CadNetwork& network,
+                                  const std::string& path,
+                                  CadSolidReport* report) {
   const std::vector<BSplineFace>& faces = network.faces;
   if (faces.empty() || faces.size() != network.face_edges.size()) {
     return InvalidArgumentError(path +
                                 ": no faces, or not four edges per face");
   }
-  CadSolidReport report;
   Stopwatch t0;
   // The faces are counter-clockwise seen from their sphere parameters' side,
   // which is outside unless the model was fitted to a mesh whose faces point
@@ -315,94 +316,143 @@ StatusOr<CadSolidReport> WriteCadSolid(const CadNetwork& network,
   }
   const PatchSetMeasures measures = MeasurePatchSet(patches);
   const bool inward = measures.volume < 0.0;
-  report.volume = std::abs(measures.volume);
-  report.area = measures.area;
+  report->volume = std::abs(measures.volume);
+  report->area = measures.area;
+  // Each face's boundary is its edges' curves (with the face's knots
+  // inserted), so the shared edges are known: the shell is built
+  // topologically (one vertex per corner, one edge per shared side whose
+  // 3D curve is the edge's curve, with a straight pcurve in each of its two
+  // faces), not sewn.
+  report->tolerance = Precision::Confusion();
+  const double tolerance = report->tolerance;
+  BRep_Builder builder;
+  std::vector<TopoDS_Vertex> vertices(network.num_vertices);
+  std::vector<bool> made(network.num_vertices, false);
+  const auto vertex = [&](int index, const Eigen::Vector3d& p) {
+    if (!made[index]) {
+      builder.MakeVertex(vertices[index], ToPoint(p), tolerance);
+      made[index] = true;
+    }
+    return vertices[index];
+  };
+  std::vector<TopoDS_Edge> edges(network.edges.size());
+  std::vector<int> uses(network.edges.size(), 0);
+  TopoDS_Shell shell;
+  builder.MakeShell(shell);
+  for (size_t f = 0; f < faces.size(); ++f) {
+    TopoDS_Face face;
+    builder.MakeFace(face, MakeSurface(faces[f]), tolerance);
+    TopoDS_Wire wire;
+    builder.MakeWire(wire);
+    for (int k = 0; k < 4; ++k) {
+      const int e = network.face_edges[f][k];
+      const CadEdge& curve = network.edges[e];
+      TopoDS_Edge& edge = edges[e];
+      if (uses[e]++ == 0) {
+        builder.MakeEdge(edge, MakeCurve(curve), tolerance);
+        builder.Add(
+            edge,
+            vertex(curve.start, curve.poles.front()).Oriented(TopAbs_FORWARD));
+        builder.Add(
+            edge,
+            vertex(curve.end, curve.poles.back()).Oriented(TopAbs_REVERSED));
+        builder.Range(edge, curve.breaks.front(), curve.breaks.back());
+      }
+      builder.UpdateEdge(edge, SideLine(faces[f], k), face, tolerance);
+      builder.Add(wire,
+                  edge.Oriented(k < 2 ? TopAbs_FORWARD : TopAbs_REVERSED));
+    }
+    wire.Closed(true);
+    builder.Add(face, wire);
+    builder.Add(shell, inward ? TopoDS::Face(face.Reversed()) : face);
+    ++report->faces;
+  }
+  for (const int n : uses) {
+    if (n != 2) ++report->free_edges;
+  }
+  if (report->free_edges != 0) {
+    return InternalError(path + ": the faces do not form a closed shell (" +
+                         std::to_string(report->free_edges) +
+                         " edges not shared by exactly two faces)");
+  }
+  shell.Closed(true);
+  TopoDS_Solid solid;
+  builder.MakeSolid(solid);
+  builder.Add(solid, shell);
+  report->seconds.build = t0.Seconds();
+  t0.Restart();
+  report->valid =
+      BRepCheck_Analyzer(solid, /*GeomControls=*/true, /*theIsParallel=*/true)
+          .IsValid();
+  report->seconds.check = t0.Seconds();
+  if (!report->valid || !(report->volume > 0.0)) {
+    return InternalError(path +
+                         ": the solid is not valid (BRepCheck_Analyzer) or "
+                         "encloses no volume");
+  }
+  return solid;
+}
+
+}  // namespace
+
+StatusOr<CadSolidReport> WriteCadSolid(const CadNetwork& network,
+                                       CadFormat format,
+                                       const std::string& path,
+                                       const ProgressCallback& progress) {
+  return WriteCadSolids({network}, format, path, progress);
+}
+
+StatusOr<CadSolidReport> WriteCadSolids(const std::vector<CadNetwork>& networks,
+                                        CadFormat format,
+                                        const std::string& path,
+                                        const ProgressCallback& progress) {
+  const auto stage = [&](const char* name, double fraction) {
+    if (progress) progress(name, fraction);
+  };
+  if (networks.empty()) return InvalidArgumentError(path + ": no solids");
+  CadSolidReport report;
+  report.valid = true;
   std::string contents;
   try {
-    // Each face's boundary is its edges' curves (with the face's knots
-    // inserted), so the shared edges are known: the shell is built
-    // topologically (one vertex per corner, one edge per shared side whose
-    // 3D curve is the edge's curve, with a straight pcurve in each of its two
-    // faces), not sewn.
-    report.tolerance = Precision::Confusion();
-    const double tolerance = report.tolerance;
-    BRep_Builder builder;
-    std::vector<TopoDS_Vertex> vertices(network.num_vertices);
-    std::vector<bool> made(network.num_vertices, false);
-    const auto vertex = [&](int index, const Eigen::Vector3d& p) {
-      if (!made[index]) {
-        builder.MakeVertex(vertices[index], ToPoint(p), tolerance);
-        made[index] = true;
-      }
-      return vertices[index];
-    };
-    std::vector<TopoDS_Edge> edges(network.edges.size());
-    std::vector<int> uses(network.edges.size(), 0);
-    TopoDS_Shell shell;
-    builder.MakeShell(shell);
-    for (size_t f = 0; f < faces.size(); ++f) {
-      TopoDS_Face face;
-      builder.MakeFace(face, MakeSurface(faces[f]), tolerance);
-      TopoDS_Wire wire;
-      builder.MakeWire(wire);
-      for (int k = 0; k < 4; ++k) {
-        const int e = network.face_edges[f][k];
-        const CadEdge& curve = network.edges[e];
-        TopoDS_Edge& edge = edges[e];
-        if (uses[e]++ == 0) {
-          builder.MakeEdge(edge, MakeCurve(curve), tolerance);
-          builder.Add(edge, vertex(curve.start, curve.poles.front())
-                                .Oriented(TopAbs_FORWARD));
-          builder.Add(
-              edge,
-              vertex(curve.end, curve.poles.back()).Oriented(TopAbs_REVERSED));
-          builder.Range(edge, curve.breaks.front(), curve.breaks.back());
-        }
-        builder.UpdateEdge(edge, SideLine(faces[f], k), face, tolerance);
-        builder.Add(wire,
-                    edge.Oriented(k < 2 ? TopAbs_FORWARD : TopAbs_REVERSED));
-      }
-      wire.Closed(true);
-      builder.Add(face, wire);
-      builder.Add(shell, inward ? TopoDS::Face(face.Reversed()) : face);
-      ++report.faces;
+    std::vector<TopoDS_Solid> solids;
+    for (size_t i = 0; i < networks.size(); ++i) {
+      // The first solid's stage starts as it always did.
+      if (i > 0) stage("checking", 0.2 * i / networks.size());
+      CadSolidReport one;
+      StatusOr<TopoDS_Solid> solid = BuildSolid(networks[i], path, &one);
+      if (!solid.ok()) return solid.status();
+      if (i == 0) stage("checking", 0.2);
+      solids.push_back(*solid);
+      report.faces += one.faces;
+      report.free_edges += one.free_edges;
+      report.tolerance = std::max(report.tolerance, one.tolerance);
+      report.valid = report.valid && one.valid;
+      report.volume += one.volume;
+      report.area += one.area;
+      report.seconds.build += one.seconds.build;
+      report.seconds.check += one.seconds.check;
     }
-    for (const int n : uses) {
-      if (n != 2) ++report.free_edges;
-    }
-    if (report.free_edges != 0) {
-      return InternalError(path + ": the faces do not form a closed shell (" +
-                           std::to_string(report.free_edges) +
-                           " edges not shared by exactly two faces)");
-    }
-    shell.Closed(true);
-    TopoDS_Solid solid;
-    builder.MakeSolid(solid);
-    builder.Add(solid, shell);
-    report.seconds.build = t0.Seconds();
-    t0.Restart();
-    stage("checking", 0.2);
-    report.valid =
-        BRepCheck_Analyzer(solid, /*GeomControls=*/true, /*theIsParallel=*/true)
-            .IsValid();
-    report.seconds.check = t0.Seconds();
-    if (!report.valid || !(report.volume > 0.0)) {
-      return InternalError(path +
-                           ": the solid is not valid (BRepCheck_Analyzer) or "
-                           "encloses no volume");
-    }
-    t0.Restart();
+    Stopwatch t0;
     stage("translating", 0.5);
+    // One solid is written as itself (as always); several as a compound.
+    TopoDS_Shape shape = solids[0];
+    if (solids.size() > 1) {
+      BRep_Builder builder;
+      TopoDS_Compound compound;
+      builder.MakeCompound(compound);
+      for (const TopoDS_Solid& solid : solids) builder.Add(compound, solid);
+      shape = compound;
+    }
     const Status translated = format == CadFormat::kStep
-                                  ? WriteStep(solid, path, &contents)
-                                  : WriteIges(solid, path, &contents);
+                                  ? WriteStep(shape, path, &contents)
+                                  : WriteIges(shape, path, &contents);
     if (!translated.ok()) return translated;
     report.seconds.translate = t0.Seconds();
   } catch (const Standard_Failure& failure) {
     return InternalError(path +
                          ": OpenCASCADE failed: " + failure.GetMessageString());
   }
-  t0.Restart();
+  Stopwatch t0;
   stage("writing", 0.95);
   SDCB_RETURN_IF_ERROR(WriteFileAtomically(contents, path));
   report.seconds.write = t0.Seconds();

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <numeric>
 #include <optional>
+#include <sstream>
 #include <utility>
 
 #include "sdcb/core/common/stopwatch.h"
@@ -500,6 +501,78 @@ std::string CageObjText(const SubdivisionCage& cage,
   for (const auto& [a, b] : cage.creases) {
     text += "t crease 2/1/0 " + std::to_string(a) + ' ' + std::to_string(b) +
             " 10\n";
+  }
+  return text;
+}
+
+Status CheckCageParts(const Model& model) {
+  if (model.parts.empty())
+    return InvalidArgumentError("the model has no parts");
+  for (size_t i = 0; i < model.parts.size(); ++i) {
+    const size_t loops = model.parts[i].trims.size();
+    if (loops == 0) continue;
+    return InvalidInputError("part " + std::to_string(i + 1) + " is open (" +
+                             std::to_string(loops) +
+                             (loops == 1 ? " trim loop" : " trim loops") +
+                             "); cages of open parts are not supported yet");
+  }
+  return Status::Ok();
+}
+
+StatusOr<std::vector<PartCage>> FitModelCages(const Model& model,
+                                              const CageOptions& options) {
+  SDCB_RETURN_IF_ERROR(CheckCageParts(model));
+  std::vector<PartCage> out;
+  for (size_t i = 0; i < model.parts.size(); ++i) {
+    const ModelPart& part = model.parts[i];
+    const std::string label = "part " + std::to_string(i + 1);
+    StatusOr<SphericalSpline> spline = SurfaceFromModel(part.spline);
+    StatusOr<CageFit> fit = spline.ok() ? FitSubdivisionCage(*spline, options)
+                                        : StatusOr<CageFit>(spline.status());
+    if (!fit.ok()) {
+      return model.parts.size() == 1 ? fit.status()
+                                     : fit.status().WithPrefix(label);
+    }
+    PartCage cage;
+    cage.name = part.name.empty() ? "part" + std::to_string(i + 1) : part.name;
+    cage.positions = part.spline.transform.ToInput(fit->cage.vertices);
+    cage.fit = std::move(fit).value();
+    out.push_back(std::move(cage));
+  }
+  return out;
+}
+
+std::string CageObjText(const std::vector<PartCage>& parts) {
+  if (parts.size() == 1) {
+    return CageObjText(parts[0].fit.cage, parts[0].positions);
+  }
+  std::string text;
+  Eigen::Index offset = 0;
+  for (const PartCage& part : parts) {
+    const SubdivisionCage& cage = part.fit.cage;
+    std::istringstream lines(CageObjText(cage, part.positions));
+    std::string line;
+    bool first = true;
+    while (std::getline(lines, line)) {
+      if (line.rfind("f ", 0) == 0) {
+        std::istringstream corners(line.substr(2));
+        line = "f";
+        for (Eigen::Index c; corners >> c;) {
+          line += ' ' + std::to_string(c + offset);
+        }
+      } else if (line.rfind("t crease 2/1/0 ", 0) == 0) {
+        std::istringstream tag(line.substr(15));
+        Eigen::Index a, b;
+        std::string sharpness;
+        tag >> a >> b >> sharpness;
+        line = "t crease 2/1/0 " + std::to_string(a + offset) + ' ' +
+               std::to_string(b + offset) + ' ' + sharpness;
+      }
+      text += line + '\n';
+      if (first) text += "o " + part.name + '\n';
+      first = false;
+    }
+    offset += part.positions.rows();
   }
   return text;
 }

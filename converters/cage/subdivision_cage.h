@@ -31,6 +31,7 @@
 #include "sdcb/core/common/progress.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/measure/surface_sampler.h"
+#include "sdcb/core/spline/model.h"
 #include "sdcb/core/spline/spherical_spline.h"
 
 namespace sdcb {
@@ -142,6 +143,31 @@ std::vector<std::array<int, 4>> OutwardCageFaces(
 // do not know it skip.
 std::string CageObjText(const SubdivisionCage& cage,
                         const Eigen::MatrixX3d& positions);
+
+// One cage per part of a model (docs/CAGE.md): the part's name in files
+// (its own, or "part1", "part2", ...), its fit, and the cage's vertices in
+// the input's coordinates (the part's transform).
+struct PartCage {
+  std::string name;
+  CageFit fit;
+  Eigen::MatrixX3d positions;
+};
+
+// Ok, or kInvalidInput naming the first open part: "part 2 is open (1 trim
+// loop); cages of open parts are not supported yet".
+Status CheckCageParts(const Model& model);
+
+// CheckCageParts, then FitSubdivisionCage for every part in order, each in
+// its part's normalized frame (options.length_unit as given); errors name
+// the part ("part 2: ...") when there are several.
+StatusOr<std::vector<PartCage>> FitModelCages(const Model& model,
+                                              const CageOptions& options = {});
+
+// Several cages in one OBJ: each as CageObjText writes it alone, with
+// "o NAME" after its header line and its face and crease indices offset by
+// the vertices of the cages before it (OBJ indices are file-wide). One cage
+// gives CageObjText's text.
+std::string CageObjText(const std::vector<PartCage>& parts);
 
 }  // namespace sdcb
 

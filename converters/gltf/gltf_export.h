@@ -1,5 +1,6 @@
 // Writes a SurfaceMesh as glTF 2.0 (.gltf with the buffer embedded as a data
-// URI, or .glb): one mesh, one node, one scene, asset generator "sdcb";
+// URI, or .glb): one mesh, one node, one scene, asset generator "sdcb" (or
+// several meshes, one node each: EncodeGltfParts);
 // POSITION (with min / max), NORMAL, COLOR_0 when the mesh has colors, and
 // triangle indices. Three encodings:
 //   - plain: float32 attributes through tinygltf;
@@ -18,6 +19,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "sdcb/converters/mesh/surface_mesh.h"
 #include "sdcb/core/common/status.h"
@@ -64,6 +66,17 @@ struct EncodedGltf {
 // vectors.
 StatusOr<EncodedGltf> EncodeGltf(const SurfaceMesh& mesh,
                                  const GltfExportOptions& options, bool binary);
+
+// Several meshes in one file: mesh i encoded as EncodeGltf encodes it alone
+// with options[i] (its own quantization), then all of them gathered into
+// one buffer with one node and one mesh per part, both named names[i], and
+// one scene of every node. `meshes`, `names` and `options` have the same
+// size >= 1 (else kInvalidArgument). The result's errors and step are the
+// largest over the meshes; bytes the file's.
+StatusOr<EncodedGltf> EncodeGltfParts(
+    const std::vector<SurfaceMesh>& meshes,
+    const std::vector<std::string>& names,
+    const std::vector<GltfExportOptions>& options, bool binary);
 
 // EncodeGltf written to `path`, which ends in .gltf or .glb (else
 // kInvalidArgument); kIoError if the file cannot be written (nothing is left

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "sdcb/converters/mesh/color_ramp.h"
@@ -243,10 +245,41 @@ bool ExportFormatOfExtension(const std::string& extension,
   return false;
 }
 
-StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
-    const SplineModel& model, const SurfaceMeshExportOptions& options) {
-  const Stopwatch start;
-  SDCB_RETURN_IF_ERROR(CheckOptions(options));
+namespace {
+
+// One part of a model as the export sees it.
+struct PartView {
+  const SplineModel* spline;
+  const std::vector<TrimLoop>* trims;
+  // How messages name the part: "" for a model of one part, else "part N"
+  // (counted from 1); and its name in the file (ExportPartName).
+  std::string label;
+  std::string name;
+};
+
+// A part tessellated, measured and mapped to input coordinates: everything
+// but the file's bytes.
+struct PartExport {
+  SurfaceMesh mesh;
+  Tessellation tessellation;  // its figures (the mesh holds its geometry)
+  TessellationDeviation measured;
+  CurvatureIntegrals curvature_integrals;
+  double optimum = 0.0;  // 0 for a trimmed part (see below)
+  double quantization_budget = 0.0, surface_tolerance = 0.0;
+  double scale = 1.0;  // the part's normalized frame -> input
+  int feature_arcs = 0;
+  SurfaceMeshExportReport::Colors colors;
+  double seconds_tessellate = 0.0, seconds_measure = 0.0, seconds_optimum = 0.0,
+         seconds_mesh = 0.0;
+};
+
+// `progress` gets this part's own fraction in [0, 1].
+StatusOr<PartExport> ExportPart(const PartView& part,
+                                const SurfaceMeshExportOptions& options,
+                                const ProgressCallback& progress) {
+  const SplineModel& model = *part.spline;
+  const bool trimmed = !part.trims->empty();
+  const std::string prefix = part.label.empty() ? "" : part.label + ": ";
   // Across a fold the surface's normal turns over: no flat triangle holds a
   // tolerance there, and the tessellation would refine the fold without
   // end. The fit measured the folds; a uniform mesh has no tolerance to
@@ -259,11 +292,14 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
                   "measured), and no mesh holds a tolerance across a fold: "
                   "refit the mesh, or export a uniform mesh (--uniform N)",
                   folded);
-    return InvalidInputError(message);
+    return InvalidInputError(prefix + message);
   }
-  const auto progress = [&](const std::string& stage, double fraction) {
-    if (options.progress) options.progress(stage, fraction);
-  };
+  if (trimmed && options.uniform_vertices > 0) {
+    return InvalidInputError(
+        prefix + "the part is open (" + std::to_string(part.trims->size()) +
+        " trim loops) and a uniform mesh does not follow trims yet: export "
+        "it adaptively (without --uniform)");
+  }
   SDCB_ASSIGN_OR_RETURN(const SphericalSpline spline, SurfaceFromModel(model));
   // Positions and normals from the per-piece polynomials (fast; equal to
   // the spline's to rounding), curvature from the spline.
@@ -273,8 +309,8 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
   const bool quantized = options.compression != GltfCompression::kNone;
   const bool meshopt = options.compression == GltfCompression::kMeshopt;
 
-  SurfaceMeshExport out;
-  SurfaceMeshExportReport& report = out.report;
+  PartExport out;
+  out.scale = transform.scale;
   // Tolerances in the normalized frame (largest side 1): PCT / 100.
   const double tolerance = options.tolerance_percent / 100.0;
   double quantization_budget = quantized && options.position_bits == 0
@@ -289,15 +325,17 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
                     "positions alone are off by up to %.3g %% (use Draco, or "
                     "16 position bits to accept that)",
                     options.tolerance_percent, 100.0 * floor);
-      return InvalidArgumentError(message);
+      return InvalidArgumentError(prefix + message);
     }
     quantization_budget = std::max(quantization_budget, floor);
   }
   const double surface_tolerance = tolerance - quantization_budget;
+  out.quantization_budget = quantization_budget;
+  out.surface_tolerance = surface_tolerance;
 
   progress("tessellate", 0.0);
   Stopwatch t0;
-  Tessellation t;
+  Tessellation& t = out.tessellation;
   std::optional<SphereTriangulation> feature_pattern;
   if (options.uniform_vertices > 0) {
     t = TessellateUniformly(sampler,
@@ -307,41 +345,47 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
     tessellation.tolerance = surface_tolerance;
     // Creases along the knots' feature arcs: a pattern whose edges follow
     // them (arcs that do not cut the sphere into simple faces are left to
-    // the plain pattern, which crosses them).
+    // the plain pattern, which crosses them). A trimmed part starts from
+    // its trims' pattern instead, which does not follow creases yet.
     const KnotFeatureArcs arcs = FeatureArcsOfKnots(model.knots);
-    if (!arcs.arcs.empty()) {
+    if (!arcs.arcs.empty() && !trimmed) {
       StatusOr<SphereTriangulation> pattern =
           FeatureAlignedPattern(arcs.corner_directions, arcs.arcs);
       if (pattern.ok()) {
         feature_pattern = std::move(pattern).value();
-        report.feature_arcs = static_cast<int>(arcs.arcs.size());
+        out.feature_arcs = static_cast<int>(arcs.arcs.size());
       }
     }
     if (feature_pattern) tessellation.initial_pattern = &*feature_pattern;
+    if (trimmed) tessellation.trims = *part.trims;
     tessellation.angle_degrees = options.angle_degrees;
     tessellation.progress = [&](const std::string& stage, double fraction) {
       progress(stage, 0.8 * fraction);
     };
-    SDCB_ASSIGN_OR_RETURN(t, TessellateAdaptively(sampler, tessellation));
+    StatusOr<Tessellation> made = TessellateAdaptively(sampler, tessellation);
+    if (!made.ok()) {
+      return part.label.empty() ? made.status()
+                                : made.status().WithPrefix(part.label);
+    }
+    t = std::move(made).value();
   }
-  report.seconds.tessellate = t0.Seconds();
-  report.seconds.samples = t.seconds.samples;
-  report.seconds.simplify = t.seconds.simplify;
-  report.seconds.verify = t.seconds.verify;
-  report.samples = t.samples;
+  out.seconds_tessellate = t0.Seconds();
 
   progress("measure", 0.8);
   t0.Restart();
-  const TessellationDeviation measured = MeasureTessellationDeviation(
-      sampler, t, options.measure_samples_per_face);
-  report.seconds.measure = t0.Seconds();
+  out.measured = MeasureTessellationDeviation(sampler, t,
+                                              options.measure_samples_per_face);
+  out.seconds_measure = t0.Seconds();
   progress("optimum", 0.9);
   t0.Restart();
-  SDCB_ASSIGN_OR_RETURN(report.curvature_integrals,
+  SDCB_ASSIGN_OR_RETURN(out.curvature_integrals,
                         IntegrateCurvatureOverSurface(sampler));
-  const double optimum =
-      OptimalTriangleCount(report.curvature_integrals, surface_tolerance);
-  report.seconds.optimum = t0.Seconds();
+  // The optimum integrates over the whole sphere: for a trimmed part it
+  // would count the region the trims remove, so it is not given.
+  out.optimum = trimmed ? 0.0
+                        : OptimalTriangleCount(out.curvature_integrals,
+                                               surface_tolerance);
+  out.seconds_optimum = t0.Seconds();
 
   progress("encode", 0.95);
   t0.Restart();
@@ -350,76 +394,283 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
   mesh.normals = CompleteNormals(t);
   mesh.faces = t.faces;
   // A model fitted to a mesh stored inward turns its faces as that mesh
-  // did (its sphere is mirrored); the file's faces turn outward.
-  if (SignedVolume(mesh.positions, mesh.faces) < 0) {
+  // did (its sphere is mirrored); the file's faces turn outward. An open
+  // mesh has no volume: a trimmed part asks its whole (closed) surface,
+  // from a coarse uniform mesh.
+  double volume = 0.0;
+  if (trimmed) {
+    const Tessellation whole = TessellateUniformly(sampler, 3);
+    volume = SignedVolume(transform.ToInput(whole.positions), whole.faces);
+  } else {
+    volume = SignedVolume(mesh.positions, mesh.faces);
+  }
+  if (volume < 0) {
     mesh.faces.col(1).swap(mesh.faces.col(2));
     mesh.normals = -mesh.normals;
   }
   SDCB_RETURN_IF_ERROR(
-      ColorVertices(options, sampler, t, transform, &mesh, &report.colors));
-  if (report.feature_arcs > 0 && !IsGltf(options.format)) {
+      ColorVertices(options, sampler, t, transform, &mesh, &out.colors));
+  if (out.feature_arcs > 0 && !IsGltf(options.format)) {
     WeldCreaseCopies(t.directions, &mesh);
   }
+  out.seconds_mesh = t0.Seconds();
+  // The geometry now lives in `mesh`; keep the tessellation's figures only.
+  t.directions.resize(0, 3);
+  t.positions.resize(0, 3);
+  t.normals.resize(0, 3);
+  return out;
+}
+
+// The OBJ of several parts: `obj` (all parts' vertices, then all faces, as
+// EncodeSurfaceMesh writes them) with "o NAME" before each part's first
+// face.
+std::string NameObjParts(const std::string& obj,
+                         const std::vector<Eigen::Index>& first_faces,
+                         const std::vector<std::string>& names) {
+  std::string out;
+  out.reserve(obj.size() + 32 * names.size());
+  Eigen::Index face = 0;
+  size_t next = 0;
+  size_t at = 0;
+  while (at < obj.size()) {
+    size_t end = obj.find('\n', at);
+    end = end == std::string::npos ? obj.size() : end + 1;
+    if (obj.compare(at, 2, "f ") == 0) {
+      while (next < names.size() && first_faces[next] == face) {
+        out += "o " + names[next++] + "\n";
+      }
+      ++face;
+    }
+    out.append(obj, at, end - at);
+    at = end;
+  }
+  return out;
+}
+
+StatusOr<SurfaceMeshExport> ExportParts(
+    const std::vector<PartView>& parts,
+    const SurfaceMeshExportOptions& options) {
+  const Stopwatch start;
+  SDCB_RETURN_IF_ERROR(CheckOptions(options));
+  if (parts.empty()) return InvalidArgumentError("the model has no parts");
+  const auto progress = [&](const std::string& stage, double fraction) {
+    if (options.progress) options.progress(stage, fraction);
+  };
+  const bool quantized = options.compression != GltfCompression::kNone;
+  const bool meshopt = options.compression == GltfCompression::kMeshopt;
+  const double n = static_cast<double>(parts.size());
+
+  SurfaceMeshExport out;
+  SurfaceMeshExportReport& report = out.report;
+  std::vector<PartExport> done;
+  done.reserve(parts.size());
+  for (size_t i = 0; i < parts.size(); ++i) {
+    SDCB_ASSIGN_OR_RETURN(
+        PartExport part,
+        ExportPart(parts[i], options,
+                   [&](const std::string& stage, double fraction) {
+                     progress(stage, (i + fraction) / n);
+                   }));
+    done.push_back(std::move(part));
+  }
+
+  const Stopwatch t0;
+  // Every part's mesh, one after the other: what PLY and STL hold.
+  SurfaceMesh& mesh = out.mesh;
+  if (done.size() == 1) {
+    mesh = std::move(done[0].mesh);
+  } else {
+    Eigen::Index nv = 0, nf = 0;
+    for (const PartExport& p : done) {
+      nv += p.mesh.positions.rows();
+      nf += p.mesh.faces.rows();
+    }
+    const bool colors = done[0].mesh.colors.rows() > 0;
+    mesh.positions.resize(nv, 3);
+    mesh.normals.resize(nv, 3);
+    mesh.faces.resize(nf, 3);
+    if (colors) mesh.colors.resize(nv, 3);
+    nv = nf = 0;
+    for (const PartExport& p : done) {
+      out.part_vertices.push_back(nv);
+      out.part_faces.push_back(nf);
+      const Eigen::Index v = p.mesh.positions.rows(), f = p.mesh.faces.rows();
+      mesh.positions.middleRows(nv, v) = p.mesh.positions;
+      mesh.normals.middleRows(nv, v) = p.mesh.normals;
+      if (colors) mesh.colors.middleRows(nv, v) = p.mesh.colors;
+      mesh.faces.middleRows(nf, f) =
+          p.mesh.faces.array() + static_cast<int>(nv);
+      nv += v;
+      nf += f;
+    }
+  }
+  if (out.part_vertices.empty()) out.part_vertices = {0};
+  if (out.part_faces.empty()) out.part_faces = {0};
+  std::vector<std::string> names;
+  for (const PartView& p : parts) names.push_back(p.name);
+
   GltfExportResult gltf;
   int bits = 0;
   if (IsGltf(options.format)) {
-    GltfExportOptions gltf_options;
-    gltf_options.compression = options.compression;
-    bits = options.position_bits;
-    if (quantized && bits == 0) {
-      bits =
-          PositionBitsFor(mesh.positions, quantization_budget * transform.scale,
-                          meshopt ? 16 : 30);
+    std::vector<GltfExportOptions> per_part;
+    for (const PartExport& p : done) {
+      GltfExportOptions gltf_options;
+      gltf_options.compression = options.compression;
+      int part_bits = options.position_bits;
+      const SurfaceMesh& part_mesh = done.size() == 1 ? mesh : p.mesh;
+      if (quantized && part_bits == 0) {
+        part_bits =
+            PositionBitsFor(part_mesh.positions,
+                            p.quantization_budget * p.scale, meshopt ? 16 : 30);
+      }
+      bits = std::max(bits, part_bits);
+      gltf_options.position_bits = std::max(part_bits, 1);
+      gltf_options.draco_level = options.draco_level;
+      per_part.push_back(gltf_options);
     }
-    gltf_options.position_bits = std::max(bits, 1);
-    gltf_options.draco_level = options.draco_level;
-    SDCB_ASSIGN_OR_RETURN(
-        EncodedGltf encoded,
-        EncodeGltf(mesh, gltf_options, options.format == ExportFormat::kGlb));
+    const bool glb = options.format == ExportFormat::kGlb;
+    EncodedGltf encoded;
+    if (done.size() == 1) {
+      SDCB_ASSIGN_OR_RETURN(encoded, EncodeGltf(mesh, per_part[0], glb));
+    } else {
+      std::vector<SurfaceMesh> meshes;
+      for (PartExport& p : done) meshes.push_back(std::move(p.mesh));
+      SDCB_ASSIGN_OR_RETURN(encoded,
+                            EncodeGltfParts(meshes, names, per_part, glb));
+    }
     out.bytes = std::move(encoded.bytes);
     gltf = encoded.result;
   } else {
     SDCB_ASSIGN_OR_RETURN(
         out.bytes,
         EncodeSurfaceMesh(mesh, std::string(".") + FormatName(options.format)));
+    if (options.format == ExportFormat::kObj && done.size() > 1) {
+      out.bytes = NameObjParts(out.bytes, out.part_faces, names);
+    }
   }
   report.seconds.write = t0.Seconds();
 
-  const double measured_max =
-      std::max(measured.surface_to_mesh, measured.mesh_to_surface);
-  const double quantization_percent =
-      100.0 * gltf.quantization_error / transform.scale;
+  // The figures over the parts: counts add up, distances (percent of each
+  // part's own largest side) and quantization take the largest.
+  double measured_max = 0.0, surface_to_mesh = 0.0, mesh_to_surface = 0.0;
+  double certified = 0.0, quantization_percent = 0.0, optimum = 0.0;
+  double surface_tolerance = 1e300;
+  bool all_closed = true;
+  for (size_t i = 0; i < done.size(); ++i) {
+    const PartExport& p = done[i];
+    const Tessellation& t = p.tessellation;
+    report.triangles += t.faces.rows();
+    report.max_normal_angle_degrees =
+        std::max(report.max_normal_angle_degrees, t.max_normal_angle_degrees);
+    report.uncertified_triangles += t.uncertified_faces;
+    report.feature_arcs += p.feature_arcs;
+    report.evaluations += t.evaluations;
+    report.samples += t.samples;
+    report.seconds.tessellate += p.seconds_tessellate;
+    report.seconds.samples += t.seconds.samples;
+    report.seconds.simplify += t.seconds.simplify;
+    report.seconds.verify += t.seconds.verify;
+    report.seconds.measure += p.seconds_measure;
+    report.seconds.optimum += p.seconds_optimum;
+    report.seconds.write += p.seconds_mesh;
+    report.curvature_integrals.convex += p.curvature_integrals.convex;
+    report.curvature_integrals.saddle += p.curvature_integrals.saddle;
+    report.curvature_integrals.area += p.curvature_integrals.area;
+    certified = std::max(certified, t.certified_distance);
+    surface_to_mesh = std::max(surface_to_mesh, p.measured.surface_to_mesh);
+    mesh_to_surface = std::max(mesh_to_surface, p.measured.mesh_to_surface);
+    surface_tolerance = std::min(surface_tolerance, p.surface_tolerance);
+    optimum += p.optimum;
+    all_closed = all_closed && !parts[i].trims->size();
+    report.trim_loops += static_cast<int>(parts[i].trims->size());
+  }
+  measured_max = std::max(surface_to_mesh, mesh_to_surface);
+  // One part: its scale; several: the encoder's largest error against the
+  // smallest part's scale (a bound for every part).
+  double scale = done[0].scale;
+  for (const PartExport& p : done) scale = std::min(scale, p.scale);
+  quantization_percent = 100.0 * gltf.quantization_error / scale;
+  report.parts = static_cast<int>(done.size());
   report.format = FormatName(options.format);
   report.compression = options.compression == GltfCompression::kDraco ? "draco"
                        : meshopt ? "meshopt"
                                  : "none";
   report.mode = options.uniform_vertices > 0 ? "uniform" : "adaptive";
-  report.triangles = t.faces.rows();
   report.vertices = mesh.positions.rows();
   report.bytes = static_cast<int64_t>(out.bytes.size());
   report.tolerance_percent = options.tolerance_percent;
   report.surface_tolerance_percent = 100.0 * surface_tolerance;
   report.angle_degrees = options.angle_degrees;
-  report.certified_distance_percent = 100.0 * t.certified_distance;
-  report.max_normal_angle_degrees = t.max_normal_angle_degrees;
-  report.uncertified_triangles = t.uncertified_faces;
+  report.certified_distance_percent = 100.0 * certified;
   report.max_distance_percent = 100.0 * measured_max;
-  report.spline_to_mesh_percent = 100.0 * measured.surface_to_mesh;
-  report.mesh_to_spline_percent = 100.0 * measured.mesh_to_surface;
+  report.spline_to_mesh_percent = 100.0 * surface_to_mesh;
+  report.mesh_to_spline_percent = 100.0 * mesh_to_surface;
   report.total_error_bound_percent =
       100.0 * measured_max + quantization_percent;
-  report.optimal_triangles = optimum;
+  report.optimal_triangles = all_closed ? optimum : 0.0;
   report.triangles_vs_optimum =
-      optimum > 0 ? static_cast<double>(t.faces.rows()) / optimum : 0.0;
+      all_closed && optimum > 0
+          ? static_cast<double>(report.triangles) / optimum
+          : 0.0;
+  report.colors = done[0].colors;
   report.quantization.bits = quantized ? bits : 0;
   report.quantization.step = gltf.quantization_step;
   report.quantization.error_percent = quantization_percent;
   report.quantization.float32_error_percent =
-      100.0 * gltf.float32_error / transform.scale;
-  report.evaluations = t.evaluations;
+      100.0 * gltf.float32_error / scale;
   report.seconds.total = start.Seconds();
   progress("done", 1.0);
   return out;
+}
+
+std::vector<PartView> PartsOf(const Model& model) {
+  std::vector<PartView> parts;
+  for (size_t i = 0; i < model.parts.size(); ++i) {
+    parts.push_back({&model.parts[i].spline, &model.parts[i].trims,
+                     model.parts.size() == 1 ? std::string()
+                                             : "part " + std::to_string(i + 1),
+                     ExportPartName(model, i)});
+  }
+  return parts;
+}
+
+}  // namespace
+
+std::string ExportPartName(const Model& model, size_t part) {
+  const std::string& name = model.parts[part].name;
+  return name.empty() ? "part" + std::to_string(part + 1) : name;
+}
+
+StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
+    const Model& model, const SurfaceMeshExportOptions& options) {
+  return ExportParts(PartsOf(model), options);
+}
+
+StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
+    const SplineModel& model, const SurfaceMeshExportOptions& options) {
+  static const std::vector<TrimLoop> kNoTrims;
+  return ExportParts({{&model, &kNoTrims, "", "part1"}}, options);
+}
+
+StatusOr<SurfaceMeshExportReport> WriteSurfaceMeshExport(
+    const Model& model, const SurfaceMeshExportOptions& options,
+    const std::string& path) {
+  const Stopwatch start;
+  SurfaceMeshExportOptions o = options;
+  const std::string extension =
+      std::filesystem::path(path).extension().string();
+  if (!ExportFormatOfExtension(extension, &o.format)) {
+    return InvalidArgumentError(path + ": unknown mesh extension '" +
+                                extension +
+                                "' (use .obj, .ply, .stl, .gltf or .glb)");
+  }
+  SDCB_ASSIGN_OR_RETURN(SurfaceMeshExport exported,
+                        ExportSurfaceMesh(model, o));
+  const Stopwatch t0;
+  SDCB_RETURN_IF_ERROR(WriteFileAtomically(exported.bytes, path));
+  exported.report.seconds.write += t0.Seconds();
+  exported.report.seconds.total = start.Seconds();
+  return exported.report;
 }
 
 StatusOr<SurfaceMeshExportReport> WriteSurfaceMeshExport(
@@ -487,6 +738,10 @@ nlohmann::ordered_json SurfaceMeshExportReportToJson(
       colors["scale_rule"] = r.colors.scale_rule;
   }
   j["colors"] = colors;
+  if (r.parts > 1 || r.trim_loops > 0) {
+    j["parts"] = r.parts;
+    j["trim_loops"] = r.trim_loops;
+  }
   j["evaluations"] = r.evaluations;
   j["samples"] = r.samples;
   j["seconds"] = {

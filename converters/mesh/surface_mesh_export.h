@@ -23,12 +23,14 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "sdcb/converters/gltf/gltf_export.h"
 #include "sdcb/converters/mesh/surface_mesh.h"
 #include "sdcb/core/common/progress.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/core/spline/model.h"
 #include "sdcb/core/spline/spline_model.h"
 #include "sdcb/core/tessellate/adaptive_tessellation.h"
 #include "sdcb/core/tessellate/optimal_triangle_count.h"
@@ -123,6 +125,11 @@ struct SurfaceMeshExportReport {
     std::string quantity, unit, ramp, scale_rule, mesh;
     double min = 0.0, max = 0.0;  // the ramp's ends, in `unit`
   } colors;
+  // The model's parts and their trim loops (a model of several parts adds
+  // counts, and takes the largest of every distance, each in percent of its
+  // own part's largest side; the colors' ramp is the first part's).
+  int parts = 1;
+  int trim_loops = 0;
   int64_t evaluations = 0;  // surface points the tessellator sampled
   int64_t samples = 0;      // surface samples the tessellation certified on
   struct Seconds {
@@ -133,9 +140,13 @@ struct SurfaceMeshExportReport {
 };
 
 struct SurfaceMeshExport {
-  SurfaceMesh mesh;   // what the file holds, input coordinates
+  // What the file holds, input coordinates: every part's mesh, one after
+  // the other (glTF keeps them apart, one mesh per part).
+  SurfaceMesh mesh;
   std::string bytes;  // the file
   SurfaceMeshExportReport report;
+  // Per part, its first row in mesh.positions and in mesh.faces.
+  std::vector<Eigen::Index> part_vertices, part_faces;
 };
 
 // Exports `model`'s surface. kInvalidArgument for options that do not go
@@ -149,16 +160,37 @@ struct SurfaceMeshExport {
 StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
     const SplineModel& model, const SurfaceMeshExportOptions& options);
 
+// Exports every part of `model`, each tessellated in its own normalized
+// frame (the tolerance is percent of the part's own largest side) and
+// mapped to input coordinates by its transform; a trimmed part's kept
+// region only (TessellationOptions::trims), its trims as the mesh's
+// boundary. A model of one closed part writes exactly the bytes of the
+// SplineModel overload. Several parts: OBJ has "o NAME" before each part's
+// faces (ExportPartName), PLY and STL one mesh of all parts, glTF one node
+// and one mesh per part named alike (EncodeGltfParts). Errors as above,
+// naming the part ("part 2: ..."); a trimmed part is refused with
+// --uniform (kInvalidInput).
+StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
+    const Model& model, const SurfaceMeshExportOptions& options);
+
+// The name of part `part` (counted from 0) in the files: its own, or
+// "part1", "part2", ... when it has none.
+std::string ExportPartName(const Model& model, size_t part);
+
 // ExportSurfaceMesh in the format of `path`'s extension (options.format is
 // ignored), written to `path` atomically; the report's seconds.write and
 // total include the write. Messages start with `path` where it is to blame.
 StatusOr<SurfaceMeshExportReport> WriteSurfaceMeshExport(
     const SplineModel& model, const SurfaceMeshExportOptions& options,
     const std::string& path);
+StatusOr<SurfaceMeshExportReport> WriteSurfaceMeshExport(
+    const Model& model, const SurfaceMeshExportOptions& options,
+    const std::string& path);
 
 // The report as the JSON object of `sdcb export --json` (docs/CLI.md), keys
 // in the order listed there, without the command line's "file" and
-// "output".
+// "output"; "parts" and "trim_loops" only for a model of several parts or
+// with trims.
 nlohmann::ordered_json SurfaceMeshExportReportToJson(
     const SurfaceMeshExportReport& report);
 

@@ -15,6 +15,7 @@
 #include "sdcb/core/tessellate/sampled_certificate.h"
 #include "sdcb/core/tessellate/sampled_simplification.h"
 #include "sdcb/core/tessellate/surface_samples.h"
+#include "sdcb/core/tessellate/trim_pattern.h"
 
 namespace sdcb {
 namespace {
@@ -167,6 +168,38 @@ void SplitAlongCreases(const SphereTriangulation& pattern,
   }
 }
 
+// The faces of a trimmed pattern's kept region (KeptFaceSlots) and their
+// vertices, in the order of the pattern's slots and vertices.
+Status KeepTrimmedFaces(const SphereTriangulation& pattern,
+                        const SurfaceSamples& samples, Tessellation* out) {
+  SDCB_ASSIGN_OR_RETURN(const std::vector<char> kept, KeptFaceSlots(pattern));
+  std::vector<int> row(pattern.num_vertices(), -1);
+  int nf = 0;
+  for (int f = 0; f < pattern.num_face_slots(); ++f) {
+    if (!kept[f]) continue;
+    ++nf;
+    for (int v : pattern.face(f)) row[v] = 1;  // used
+  }
+  int nv = 0;
+  for (int& r : row) r = r > 0 ? nv++ : -1;
+  out->directions.resize(nv, 3);
+  out->positions.resize(nv, 3);
+  out->normals.resize(nv, 3);
+  for (int v = 0; v < pattern.num_vertices(); ++v) {
+    if (row[v] < 0) continue;
+    out->directions.row(row[v]) = pattern.vertex(v).transpose();
+    out->positions.row(row[v]) = samples.positions[v].transpose();
+    out->normals.row(row[v]) = samples.normals[v].transpose();
+  }
+  out->faces.resize(nf, 3);
+  for (int f = 0, r = 0; f < pattern.num_face_slots(); ++f) {
+    if (!kept[f]) continue;
+    const SphereTriangulation::Face& t = pattern.face(f);
+    out->faces.row(r++) << row[t[0]], row[t[1]], row[t[2]];
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 StatusOr<Tessellation> TessellateAdaptively(
@@ -200,8 +233,18 @@ StatusOr<Tessellation> TessellateAdaptively(
     options.progress(stage, reported);
   };
 
+  std::optional<SphereTriangulation> trimmed;
+  if (!options.trims.empty()) {
+    if (options.initial_pattern != nullptr) {
+      return InvalidArgumentError(
+          "a tessellation with both creases and trims is not supported yet");
+    }
+    SDCB_ASSIGN_OR_RETURN(trimmed, TrimmedPattern(options.trims));
+  }
+  const SphereTriangulation* initial_pattern =
+      trimmed ? &*trimmed : options.initial_pattern;
   std::optional<CreaseSampler> creases;
-  if (options.initial_pattern != nullptr &&
+  if (!trimmed && options.initial_pattern != nullptr &&
       options.initial_pattern->has_features()) {
     creases.emplace(surface_in, *options.initial_pattern);
   }
@@ -213,7 +256,8 @@ StatusOr<Tessellation> TessellateAdaptively(
   sampling.error_fraction = kSampleErrorFraction;
   sampling.min_edge_radians = options.min_edge_radians;
   sampling.coarse_scale = kCoarseScale;
-  sampling.initial_pattern = options.initial_pattern;
+  sampling.initial_pattern = initial_pattern;
+  sampling.kept_region_only = trimmed.has_value();
   sampling.max_vertices = options.max_samples;
   sampling.progress = [&](int64_t vertices) {
     progress("samples", 1.0 - 1.0 / std::log2(4.0 + vertices / 1000.0));
@@ -247,6 +291,7 @@ StatusOr<Tessellation> TessellateAdaptively(
   verification.lattice = options.lattice;
   verification.min_edge_radians = options.min_edge_radians;
   verification.max_faces = options.max_faces;
+  verification.kept_region_only = trimmed.has_value();
   int64_t measured = 0;
   const int64_t to_measure = samples.pattern.num_faces();
   verification.progress = [&](int64_t n, int64_t) {
@@ -258,19 +303,23 @@ StatusOr<Tessellation> TessellateAdaptively(
   out.seconds.verify = Since(start);
 
   const SphereTriangulation& pattern = samples.pattern;
-  const std::vector<int> vertices = pattern.AliveVertices();
-  out.faces = pattern.Faces();
-  const int nv = static_cast<int>(vertices.size());
-  out.directions.resize(nv, 3);
-  out.positions.resize(nv, 3);
-  out.normals.resize(nv, 3);
-  for (int i = 0; i < nv; ++i) {
-    const int v = vertices[i];
-    out.directions.row(i) = pattern.vertex(v).transpose();
-    out.positions.row(i) = samples.positions[v].transpose();
-    out.normals.row(i) = samples.normals[v].transpose();
+  if (trimmed) {
+    SDCB_RETURN_IF_ERROR(KeepTrimmedFaces(pattern, samples, &out));
+  } else {
+    const std::vector<int> vertices = pattern.AliveVertices();
+    out.faces = pattern.Faces();
+    const int nv = static_cast<int>(vertices.size());
+    out.directions.resize(nv, 3);
+    out.positions.resize(nv, 3);
+    out.normals.resize(nv, 3);
+    for (int i = 0; i < nv; ++i) {
+      const int v = vertices[i];
+      out.directions.row(i) = pattern.vertex(v).transpose();
+      out.positions.row(i) = samples.positions[v].transpose();
+      out.normals.row(i) = samples.normals[v].transpose();
+    }
+    if (pattern.has_features()) SplitAlongCreases(pattern, vertices, &out);
   }
-  if (pattern.has_features()) SplitAlongCreases(pattern, vertices, &out);
   out.certified_distance = verified.max_distance;
   out.max_normal_angle_degrees = verified.max_angle * 180.0 / kPi;
   out.uncertified_faces = verified.uncertified_faces;

@@ -22,7 +22,11 @@
 // analytic normals. Deterministic for any thread count. From a pattern with
 // feature arcs (TessellationOptions::initial_pattern) the vertices on the
 // creases are split per side (Tessellation::normals): closed in positions,
-// cut along the creases in indices.
+// cut along the creases in indices. With trims (TessellationOptions::trims)
+// the result is the kept region only: open, its boundary the trims. Only
+// the kept region is refined and verified (faces outside are split only
+// where a kept face shares an edge with them); the certified distance and
+// the uncertified faces are the kept faces'.
 #ifndef SDCB_CORE_TESSELLATE_ADAPTIVE_TESSELLATION_H_
 #define SDCB_CORE_TESSELLATE_ADAPTIVE_TESSELLATION_H_
 
@@ -30,10 +34,12 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "sdcb/core/common/progress.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/measure/surface_sampler.h"
+#include "sdcb/core/sphere/trim_region.h"
 #include "sdcb/core/tessellate/sphere_triangulation.h"
 
 namespace sdcb {
@@ -64,6 +70,13 @@ struct TessellationOptions {
   // chain of edges, and its faces lie on one side of every crease. Must
   // outlive the call.
   const SphereTriangulation* initial_pattern = nullptr;
+  // Trim loops (core/sphere/trim_region.h; empty: the whole sphere): only
+  // the region they keep is tessellated. The pattern starts from
+  // TrimmedPattern (core/tessellate/trim_pattern.h) and the result keeps the
+  // faces on the kept side, so its boundary (edges with one face) is the
+  // trim loops mapped by the surface, one boundary loop per trim loop, and
+  // no face crosses a trim. Not with an initial_pattern yet.
+  std::vector<TrimLoop> trims;
   // Called with the stage ("samples", "simplify", "verify") and the
   // fraction of the whole tessellation done (an estimate that never goes
   // back: the stages hold [0, 0.2), [0.2, 0.9) and [0.9, 1]).

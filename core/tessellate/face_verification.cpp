@@ -12,6 +12,7 @@
 
 #include "sdcb/core/measure/sample_lattice.h"
 #include "sdcb/core/tessellate/mesh_side_distance.h"
+#include "sdcb/core/tessellate/trim_pattern.h"
 
 namespace sdcb {
 namespace {
@@ -625,6 +626,16 @@ Status VerifyFaces(const SurfaceSampler& surface,
     SampledFaces* faces;
     ~NoLattice() { faces->SetLattice(nullptr, 0); }
   } no_lattice{faces};
+  std::vector<char> kept;
+  const auto keep_region = [&]() -> Status {
+    if (!options.kept_region_only) return Status::Ok();
+    SDCB_ASSIGN_OR_RETURN(kept, KeptFaceSlots(pattern));
+    pending.erase(std::remove_if(pending.begin(), pending.end(),
+                                 [&](int f) { return !kept[f]; }),
+                  pending.end());
+    return Status::Ok();
+  };
+  SDCB_RETURN_IF_ERROR(keep_region());
   while (!pending.empty()) {
     const std::vector<LatticeMeasure> measured =
         MeasurePending(surface, *faces, pending, options, &result->evaluations);
@@ -652,12 +663,14 @@ Status VerifyFaces(const SurfaceSampler& surface,
     result->splits += splits;
     if (options.progress) options.progress(pending.size(), splits);
     pending = std::move(next);
+    SDCB_RETURN_IF_ERROR(keep_region());
   }
+  SDCB_RETURN_IF_ERROR(keep_region());
   result->max_distance = 0.0;
   result->max_angle = 0.0;
   result->uncertified_faces = 0;
   for (int f = 0; f < pattern.num_face_slots(); ++f) {
-    if (!pattern.alive(f)) continue;
+    if (!pattern.alive(f) || (options.kept_region_only && !kept[f])) continue;
     result->max_distance = std::max(
         {result->max_distance, state.lattice_error[f], faces->error(f)});
     result->max_angle = std::max(result->max_angle, state.angle[f]);

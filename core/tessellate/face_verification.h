@@ -35,6 +35,10 @@ struct VerificationOptions {
   double min_edge_radians = 1e-7;
   // kInvalidInput rather than more faces than this.
   int64_t max_faces = 20'000'000;
+  // The pattern's feature arcs are trims (core/tessellate/trim_pattern.h):
+  // only faces of the kept region (KeptFaceSlots) are measured, split and
+  // counted in the result.
+  bool kept_region_only = false;
   // Called after each round with the faces measured and the faces split.
   std::function<void(int64_t measured, int64_t split)> progress;
 };

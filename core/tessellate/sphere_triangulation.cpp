@@ -108,6 +108,13 @@ void SphereTriangulation::SetFeatures(std::vector<std::array<int, 2>> arc_ends,
   arc_ends_ = std::move(arc_ends);
   vertex_arc_ = std::move(vertex_arc);
   vertex_arc_.resize(vertices_.size(), kFreeVertex);
+  corner_pairs_.clear();
+  for (int arc = 0; arc < static_cast<int>(arc_ends_.size()); ++arc) {
+    const uint32_t a = arc_ends_[arc][0], b = arc_ends_[arc][1];
+    corner_pairs_.push_back(
+        {(uint64_t(std::min(a, b)) << 32) | std::max(a, b), arc});
+  }
+  std::sort(corner_pairs_.begin(), corner_pairs_.end());
 }
 
 int SphereTriangulation::CommonArc(int a, int b) const {
@@ -116,12 +123,12 @@ int SphereTriangulation::CommonArc(int a, int b) const {
   if (ta == kFreeVertex || tb == kFreeVertex) return -1;
   if (ta >= 0) return OnArc(b, ta) ? ta : -1;
   if (tb >= 0) return OnArc(a, tb) ? tb : -1;
-  // Two corners: the arc between them, if any.
-  for (int arc = 0; arc < static_cast<int>(arc_ends_.size()); ++arc) {
-    const auto& e = arc_ends_[arc];
-    if ((e[0] == a && e[1] == b) || (e[0] == b && e[1] == a)) return arc;
-  }
-  return -1;
+  // Two corners: the arc between them, if any (the first when several).
+  const uint64_t key =
+      (uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b));
+  const auto it = std::lower_bound(corner_pairs_.begin(), corner_pairs_.end(),
+                                   std::make_pair(key, -1));
+  return it != corner_pairs_.end() && it->first == key ? it->second : -1;
 }
 
 int SphereTriangulation::SplitEdge(int h, const Eigen::Vector3d& direction) {

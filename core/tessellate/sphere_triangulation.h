@@ -18,6 +18,8 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "sdcb/core/common/status.h"
@@ -109,6 +111,8 @@ class SphereTriangulation {
   bool IsFeatureVertex(int v) const { return vertex_arc(v) != kFreeVertex; }
   // Whether edge (a, b) lies on an arc (both ends on the same arc).
   bool IsFeatureEdge(int a, int b) const { return CommonArc(a, b) >= 0; }
+  // The arc edge (a, b) lies on (both ends on it), or -1.
+  int EdgeArc(int a, int b) const { return CommonArc(a, b); }
 
   // Whether (x, y, z) is a positively oriented spherical triangle, with a
   // small relative margin against rounding.
@@ -156,6 +160,9 @@ class SphereTriangulation {
   int num_alive_ = 0;
   std::vector<std::array<int, 2>> arc_ends_;
   std::vector<int> vertex_arc_;  // per vertex, when there are arcs
+  // (min corner << 32 | max corner, arc), sorted: the arc between two
+  // corners without a scan of all arcs (a trim has thousands).
+  std::vector<std::pair<uint64_t, int>> corner_pairs_;
 };
 
 }  // namespace sdcb

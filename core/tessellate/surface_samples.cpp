@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "sdcb/core/common/constants.h"
+#include "sdcb/core/tessellate/trim_pattern.h"
 
 namespace sdcb {
 namespace {
@@ -191,6 +192,13 @@ class Refiner {
   Status Refine(std::vector<int> pending) {
     std::vector<char> failing;
     while (!pending.empty()) {
+      if (options_.kept_region_only) {
+        SDCB_ASSIGN_OR_RETURN(const std::vector<char> kept,
+                              KeptFaceSlots(s_.pattern));
+        pending.erase(std::remove_if(pending.begin(), pending.end(),
+                                     [&](int f) { return !kept[f]; }),
+                      pending.end());
+      }
       failing.assign(pending.size(), 0);
       tbb::parallel_for(size_t{0}, pending.size(), [&](size_t i) {
         failing[i] = s_.pattern.alive(pending[i]) && Fails(pending[i]);

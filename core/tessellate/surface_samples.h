@@ -57,6 +57,10 @@ struct SurfaceSampleOptions {
   // ... or this pattern (core/tessellate/feature_pattern.h), whose feature
   // arcs the refinement keeps as chains of edges.
   const SphereTriangulation* initial_pattern = nullptr;
+  // The initial pattern's feature arcs are trims (core/tessellate/
+  // trim_pattern.h): only faces of the kept region (KeptFaceSlots) are
+  // refined; the others are split only where a kept face shares an edge.
+  bool kept_region_only = false;
   // Edges shorter than this on the domain (radians) are not split.
   double min_edge_radians = 1e-7;
   // kInvalidInput rather than more vertices than this.
