@@ -79,7 +79,8 @@ void Boundary(const sdcb::TriangleMesh& mesh, double step,
         edges[e][1], edges[e][1];
     const Eigen::Vector3d a = mesh.vertices.row(edges[e][0]);
     const Eigen::Vector3d b = mesh.vertices.row(edges[e][1]);
-    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / step)));
+    const int n =
+        std::max(1, static_cast<int>(std::ceil((b - a).norm() / step)));
     for (int i = 0; i < n; ++i) along.push_back(a + (b - a) * (double(i) / n));
   }
   points->resize(static_cast<Eigen::Index>(along.size()), 3);
@@ -96,9 +97,8 @@ double PointSegmentsDistance(const Eigen::Vector3d& p,
     const Eigen::Vector3d a = segments.vertices.row(segments.faces(e, 0));
     const Eigen::Vector3d b = segments.vertices.row(segments.faces(e, 1));
     const Eigen::Vector3d d = b - a;
-    const double t =
-        std::clamp(d.squaredNorm() > 0 ? (p - a).dot(d) / d.squaredNorm() : 0.0,
-                   0.0, 1.0);
+    const double t = std::clamp(
+        d.squaredNorm() > 0 ? (p - a).dot(d) / d.squaredNorm() : 0.0, 0.0, 1.0);
     best = std::min(best, (a + t * d - p).norm());
   }
   return best;
@@ -108,8 +108,8 @@ double OneWayBoundary(const Eigen::MatrixX3d& points,
                       const sdcb::TriangleMesh& segments) {
   double worst = 0;
   for (Eigen::Index i = 0; i < points.rows(); ++i) {
-    worst = std::max(worst, PointSegmentsDistance(points.row(i).transpose(),
-                                                  segments));
+    worst = std::max(
+        worst, PointSegmentsDistance(points.row(i).transpose(), segments));
   }
   return worst;
 }
@@ -118,17 +118,17 @@ double OneWayBoundary(const Eigen::MatrixX3d& points,
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: open_parts_bench INPUT EXPORT.obj [SAMPLES]\n");
+    std::fprintf(stderr,
+                 "usage: open_parts_bench INPUT EXPORT.obj [SAMPLES]\n");
     return 2;
   }
   const int samples = argc > 3 ? std::atoi(argv[3]) : 400000;
   auto input = sdcb::ReadMesh(argv[1]);
   auto exported = sdcb::ReadMesh(argv[2]);
   if (!input.ok() || !exported.ok()) {
-    std::fprintf(stderr, "open_parts_bench: %s\n",
-                 (!input.ok() ? input.status() : exported.status())
-                     .message()
-                     .c_str());
+    std::fprintf(
+        stderr, "open_parts_bench: %s\n",
+        (!input.ok() ? input.status() : exported.status()).message().c_str());
     return 1;
   }
   auto in_parts = sdcb::SplitIntoParts(*input, 0);

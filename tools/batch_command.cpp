@@ -32,6 +32,7 @@
 #include <sstream>
 #include <thread>
 
+#include "sdcb/core/spline/model.h"
 #include "sdcb/io/batch/batch_manifest.h"
 #include "sdcb/io/common/atomic_file.h"
 #include "sdcb/io/mesh/mesh_reader.h"
@@ -284,10 +285,10 @@ bool IsUpToDate(const std::string& path,
 }
 
 // The model at `path` if it is up to date with `sources` and reads back.
-std::optional<SplineModel> FinishedModel(
-    const std::string& path, const std::vector<std::string>& sources) {
+std::optional<Model> FinishedModel(const std::string& path,
+                                   const std::vector<std::string>& sources) {
   if (!IsUpToDate(path, sources)) return std::nullopt;
-  StatusOr<SplineModel> model = ReadSdcbFile(path);
+  StatusOr<Model> model = ReadSdcbModelFile(path);
   if (!model.ok()) return std::nullopt;
   return std::move(model).value();
 }
@@ -453,15 +454,30 @@ struct BatchSettings {
   int threads_per_child = 0;   // 0: the child's default (every core)
 };
 
-void PutModelNumbers(const SplineModel& model, Json* line) {
-  const FitStatistics& s = model.statistics;
+// A model's numbers on its line: one part's as they are; several parts'
+// knots and control points summed, rounds, rms and maximum the largest (each
+// part's in percent of its own size), reached when every part reached.
+void PutModelNumbers(const Model& model, Json* line) {
+  int knots = 0, control_points = 0;
+  size_t rounds = 0;
+  double rmse = 0, max = 0;
+  bool reached = true;
+  for (const ModelPart& part : model.parts) {
+    const FitStatistics& s = part.spline.statistics;
+    knots += s.final_result.knots;
+    control_points += s.final_result.control_points;
+    rounds = std::max(rounds, s.rounds.size());
+    rmse = std::max(rmse, s.final_result.rmse_percent);
+    max = std::max(max, s.final_result.max_error_percent);
+    reached = reached && s.reached_target;
+  }
   (*line)["vertices"] = model.source.num_vertices;
-  (*line)["knots"] = s.final_result.knots;
-  (*line)["control_points"] = s.final_result.control_points;
-  (*line)["rounds"] = s.rounds.size();
-  (*line)["rmse_percent"] = s.final_result.rmse_percent;
-  (*line)["max_error_percent"] = s.final_result.max_error_percent;
-  (*line)["reached_target"] = s.reached_target;
+  (*line)["knots"] = knots;
+  (*line)["control_points"] = control_points;
+  (*line)["rounds"] = rounds;
+  (*line)["rmse_percent"] = rmse;
+  (*line)["max_error_percent"] = max;
+  (*line)["reached_target"] = reached;
 }
 
 Json ReadJsonFile(const std::string& path) {
@@ -498,13 +514,12 @@ Json RunAsset(const Asset& a, const BatchSettings& settings) {
   // Finished already? (docs/BATCH.md, "Reruns")
   if (!settings.force) {
     if (!a.exports) {
-      if (std::optional<SplineModel> model =
-              FinishedModel(a.output, {a.input})) {
+      if (std::optional<Model> model = FinishedModel(a.output, {a.input})) {
         PutModelNumbers(*model, &line);
         return finish("skipped", "");
       }
     } else if (FinishedExport(a.output, {a.input, a.model})) {
-      StatusOr<SplineModel> model = ReadSdcbFile(a.model);
+      StatusOr<Model> model = ReadSdcbModelFile(a.model);
       if (model.ok()) PutModelNumbers(*model, &line);
       return finish("skipped", "");
     }
@@ -553,7 +568,7 @@ Json RunAsset(const Asset& a, const BatchSettings& settings) {
   bool fit_needed = true;
   if (a.exports && !settings.force) {
     // The model of an earlier run that stopped before its export.
-    if (std::optional<SplineModel> model = FinishedModel(a.model, {a.input})) {
+    if (std::optional<Model> model = FinishedModel(a.model, {a.input})) {
       PutModelNumbers(*model, &line);
       fit_needed = false;
     }
@@ -568,16 +583,11 @@ Json RunAsset(const Asset& a, const BatchSettings& settings) {
     Json report;
     const std::string error = run("fit", args, &report);
     if (!error.empty()) return finish("failed", error);
+    // The model's numbers, as for a skipped row (the file the fit wrote).
+    StatusOr<Model> model = ReadSdcbModelFile(a.model);
+    if (!model.ok()) return finish("failed", model.status().message());
+    PutModelNumbers(*model, &line);
     line["vertices"] = report.value("vertices", Json());
-    const Json final_round = report.value("final", Json::object());
-    for (const char* key : {"knots", "control_points"}) {
-      line[key] = final_round.value(key, Json());
-    }
-    line["rounds"] = report.value("rounds", Json::array()).size();
-    for (const char* key : {"rmse_percent", "max_error_percent"}) {
-      line[key] = final_round.value(key, Json());
-    }
-    line["reached_target"] = report.value("reached_target", Json());
   }
   if (a.exports) {
     std::vector<std::string> args = {"export", a.model, "-o", a.output};

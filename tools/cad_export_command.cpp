@@ -51,16 +51,9 @@ int RunCadExport(const Args& args, const std::string& ext) {
 
   const Status prepared = PrepareOutputs({output, json_path});
   if (!prepared.ok()) return ReportError(prepared);
-  StatusOr<SplineModel> read = ReadSdcbFile(model_path);
+  StatusOr<Model> read = ReadSdcbModelFile(model_path);
   if (!read.ok()) return ReportError(read.status());
-  // The .sdcb reader returns one closed part until the format holds parts
-  // (issue 54); then it returns the Model itself. Built here rather than by
-  // SinglePartModel, whose file (core/spline/model.cpp) links only with the
-  // trim region's implementation.
-  Model model;
-  model.source = read->source;
-  model.parts.emplace_back();
-  model.parts.back().spline = std::move(read).value();
+  const Model model = std::move(read).value();
 
   ProgressBar progress("sdcb export", quiet);
   options.progress = progress.Callback();

@@ -59,16 +59,9 @@ int RunCage(const std::vector<std::string>& argv) {
   // Outputs are checked before the work (tools/cli.h).
   const Status outputs = PrepareOutputs({output, args.Get("json")});
   if (!outputs.ok()) return ReportError(outputs);
-  StatusOr<SplineModel> read = ReadSdcbFile(path);
+  StatusOr<Model> read = ReadSdcbModelFile(path);
   if (!read.ok()) return ReportError(read.status());
-  // The .sdcb reader returns one closed part until the format holds parts
-  // (issue 54); then it returns the Model itself. Built here rather than by
-  // SinglePartModel, whose file (core/spline/model.cpp) links only with the
-  // trim region's implementation.
-  Model model;
-  model.source = read->source;
-  model.parts.emplace_back();
-  model.parts.back().spline = std::move(read).value();
+  const Model model = std::move(read).value();
 
   ProgressBar progress("sdcb cage", args.Has("quiet"));
   options.progress = progress.Callback();

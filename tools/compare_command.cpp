@@ -57,8 +57,7 @@ StatusOr<SurfaceDeviation> MeasurePart(const ModelPart& part,
                                        const TriangleMesh& mesh,
                                        DeviationOptions options) {
   const SplineModel& model = part.spline;
-  SDCB_ASSIGN_OR_RETURN(const SphericalSpline surface,
-                        SurfaceFromModel(model));
+  SDCB_ASSIGN_OR_RETURN(const SphericalSpline surface, SurfaceFromModel(model));
   SDCB_ASSIGN_OR_RETURN(const TrimRegion region,
                         TrimRegion::Create(part.trims));
   // Both in the model's normalized frame; 100 % = the mesh's largest side.

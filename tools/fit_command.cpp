@@ -301,8 +301,7 @@ int RunFit(const std::vector<std::string>& argv) {
                             "), which a surface that follows it does too";
     }
   }
-  const std::string file_name =
-      std::filesystem::path(path).filename().string();
+  const std::string file_name = std::filesystem::path(path).filename().string();
   fit->model.source.file_name = file_name;
   for (ModelPart& part : fit->model.parts) {
     part.spline.source.file_name = file_name;
@@ -348,11 +347,11 @@ int RunFit(const std::vector<std::string>& argv) {
   }
   if (args.Has("plot")) {
     // The first part's rounds (the plot is of one fit).
-    written = WriteConvergencePlot(
-        fit->parts[0].fit.model.statistics,
-        file_name + ", degree " + std::to_string(options.degree) +
-            (one_part ? "" : ", part 1"),
-        args.Get("plot"));
+    written = WriteConvergencePlot(fit->parts[0].fit.model.statistics,
+                                   file_name + ", degree " +
+                                       std::to_string(options.degree) +
+                                       (one_part ? "" : ", part 1"),
+                                   args.Get("plot"));
     if (!written.ok()) return ReportError(written);
   }
   if (!args.Has("quiet") && args.Get("json") != "-") {

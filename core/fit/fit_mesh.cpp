@@ -59,7 +59,8 @@ FitMesh NormalizedFitMesh(const TriangleMesh& map_mesh,
 
 FitMesh NormalizedOpenFitMesh(const FilledMesh& filled,
                               const NormalizingTransform& transform) {
-  FitMesh fit = NormalizedFitMesh(filled.mesh, transform, filled.input_vertices);
+  FitMesh fit =
+      NormalizedFitMesh(filled.mesh, transform, filled.input_vertices);
   if (filled.boundary_loops.empty()) return fit;
   fit.input_faces = filled.input_faces;
   fit.boundary_loops = filled.boundary_loops;

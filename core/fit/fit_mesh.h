@@ -43,9 +43,9 @@ struct FitMesh {
   // A closed part: input_faces = all, no loops, region empty.
   Eigen::Index input_faces = 0;
   std::vector<std::vector<int>> boundary_loops;  // rows of `mesh`
-  std::optional<TriangleMesh> part;  // open parts: the part alone
-  Eigen::VectorXd face_weights;      // open parts: per face of `mesh`
-  TrimRegion region;                 // the loops' images under u
+  std::optional<TriangleMesh> part;              // open parts: the part alone
+  Eigen::VectorXd face_weights;  // open parts: per face of `mesh`
+  TrimRegion region;             // the loops' images under u
 
   bool trimmed() const { return !boundary_loops.empty(); }
   // The mesh the errors are measured against: `part` for an open part,

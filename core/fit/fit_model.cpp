@@ -63,13 +63,18 @@ StatusOr<ModelFit> FitModel(const TriangleMesh& mesh,
   std::mutex done_mutex;
   int done = 0;
   const int total = static_cast<int>(parts.size());
-  tbb::parallel_for(size_t{0}, parts.size(), [&](size_t i) {
+  const auto fit_part = [&](size_t i) {
     fits[i].emplace(FitPart(parts[i], reports[i], part_options));
     if (total > 1 && options.part_done) {
       const std::lock_guard<std::mutex> lock(done_mutex);
       options.part_done(++done, total);
     }
-  });
+  };
+  if (total == 1) {
+    fit_part(0);
+  } else {
+    tbb::parallel_for(size_t{0}, parts.size(), fit_part);
+  }
 
   ModelFit out;
   out.model.source.num_vertices = mesh.num_vertices();

@@ -32,12 +32,12 @@ struct PartFit {
   PartReport report;        // the part's intake (PartReport::number 1-based)
   int fill_faces = 0;       // triangles added to close its holes
   double fill_seconds = 0;  // filling them
-  FitResult fit;  // its model and trims are the model part's too
+  FitResult fit;            // its model and trims are the model part's too
 };
 
 struct ModelFit {
-  Model model;                // parts in the mesh's order
-  std::vector<PartFit> parts;  // one per model part
+  Model model;                  // parts in the mesh's order
+  std::vector<PartFit> parts;   // one per model part
   bool reached_target() const;  // every part reached its target
 };
 

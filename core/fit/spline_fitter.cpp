@@ -136,9 +136,8 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   const int automatic = tbb::task_arena::automatic;
   s.arena =
       std::make_unique<tbb::task_arena>(o.threads > 0 ? o.threads : automatic);
-  SDCB_RETURN_IF_ERROR(s.arena->execute([&] {
-    return RequireClosedGenusZero(filled ? filled->mesh : mesh);
-  }));
+  SDCB_RETURN_IF_ERROR(s.arena->execute(
+      [&] { return RequireClosedGenusZero(filled ? filled->mesh : mesh); }));
 
   SplineModel& model = s.result.model;
   model.degree = o.degree;
@@ -163,7 +162,9 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   s.fit = filled ? NormalizedOpenFitMesh(*filled, model.transform)
                  : NormalizedFitMesh(map_mesh, model.transform,
                                      mesh.num_vertices());
-  s.result.map_vertices = static_cast<int>(map_mesh.num_vertices());
+  // An open part's fill is not a split of it: the map is of its vertices.
+  s.result.map_vertices = filled ? mesh.num_vertices()
+                                 : static_cast<int>(map_mesh.num_vertices());
   model.statistics.options = RecordFitOptions(o);
   model.statistics.error_measure = ErrorMeasure::kDenseTwoSided;
 

@@ -480,14 +480,14 @@ void MeasureSurfaceSide(const SurfaceSampler& evaluator,
   out->surface_sample_weight = std::move(weight);
   if (options.region != nullptr && !options.region->empty()) {
     std::vector<char> kept(ns, 0);
-    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, ns, 1024),
-                      [&](const tbb::blocked_range<Eigen::Index>& range) {
-                        for (Eigen::Index i = range.begin(); i < range.end();
-                             ++i) {
-                          kept[i] = options.region->Contains(
-                              lattice.points.row(i).transpose());
-                        }
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<Eigen::Index>(0, ns, 1024),
+        [&](const tbb::blocked_range<Eigen::Index>& range) {
+          for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
+            kept[i] =
+                options.region->Contains(lattice.points.row(i).transpose());
+          }
+        });
     out->surface_sample_kept.assign(kept.begin(), kept.end());
   }
   std::vector<char> folded(ns, 0);

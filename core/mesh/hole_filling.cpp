@@ -3,15 +3,14 @@
 #include <CGAL/Polygon_mesh_processing/border.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <queue>
-#include <exception>
-#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -173,7 +172,8 @@ void LiftFoldedFills(FilledMesh* filled) {
   std::map<int, std::vector<int>> vertices;
   for (int f = first_fill; f < nf; ++f) {
     const int root = fills.Find(f);
-    if (cos_count[root] == 0 || cos_sum[root] / cos_count[root] > kFoldBackCosine) {
+    if (cos_count[root] == 0 ||
+        cos_sum[root] / cos_count[root] > kFoldBackCosine) {
       continue;
     }
     const Eigen::Vector3d a = mesh.vertices.row(mesh.faces(f, 0));

@@ -95,27 +95,27 @@ int GridCoordinate(double u, int n) {
 }  // namespace
 
 Status ValidateTrimLoop(const TrimLoop& loop) {
+  // Points counted from 1, as parts and loops are in every message.
   const Eigen::Index n = loop.points.rows();
+  const auto str = [](Eigen::Index i) { return std::to_string(i); };
   if (n < 3) {
-    return InvalidArgumentError("trim loop has " + std::to_string(n) +
-                                " points; it needs at least 3");
+    return InvalidArgumentError("it has " + str(n) +
+                                " points; a loop needs at least 3");
   }
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d p = loop.points.row(i);
-    if (!p.allFinite() || std::abs(p.norm() - 1) > 1e-9) {
-      return InvalidArgumentError("trim loop point " + std::to_string(i) +
-                                  " is not a unit vector");
+    if (!p.allFinite() || !(std::abs(p.norm() - 1) <= 1e-9)) {
+      return InvalidArgumentError("point " + str(i + 1) +
+                                  " is not a finite unit vector");
     }
   }
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d a = loop.points.row(i);
     const Eigen::Vector3d b = loop.points.row((i + 1) % n);
     if (a.cross(b).norm() == 0) {
-      return InvalidArgumentError("trim loop points " + std::to_string(i) +
-                                  " and " + std::to_string((i + 1) % n) +
-                                  " are " +
-                                  (a.dot(b) > 0 ? "equal" : "antipodal") +
-                                  "; consecutive points must span a great arc");
+      return InvalidArgumentError("points " + str(i + 1) + " and " +
+                                  str((i + 1) % n + 1) +
+                                  " are equal or antipodal");
     }
   }
   return Status::Ok();

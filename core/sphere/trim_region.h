@@ -25,9 +25,9 @@ struct TrimLoop {
   Eigen::MatrixX3d points;  // #points by 3 unit vectors, >= 3 rows
 };
 
-// Ok, or kInvalidArgument naming the problem: fewer than 3 rows, a row that
-// is not a finite unit vector (|norm - 1| <= 1e-9), consecutive rows equal
-// or antipodal.
+// Ok, or kInvalidArgument naming the problem (rows counted from 1): fewer
+// than 3 rows, a row that is not a finite unit vector (|norm - 1| <= 1e-9),
+// consecutive rows parallel (equal or antipodal).
 Status ValidateTrimLoop(const TrimLoop& loop);
 
 // Which sphere points a set of trim loops keeps. Immutable after Create;

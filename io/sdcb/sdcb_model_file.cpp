@@ -66,27 +66,10 @@ std::string NameProblem(std::string_view name) {
   return utf8.empty() ? "" : "its name is not UTF-8: " + utf8;
 }
 
-// The rules of ValidateTrimLoop (core/sphere/trim_region.h), checked here
-// until that function is implemented (another branch); then this should
-// call it. "" if `points` is a valid loop.
+// ValidateTrimLoop's sentence, "" if `points` is a valid loop.
 std::string TrimLoopProblem(const Eigen::MatrixX3d& points) {
-  if (points.rows() < 3) {
-    return "it has " + Str(points.rows()) + " points; a loop needs at least 3";
-  }
-  for (Eigen::Index i = 0; i < points.rows(); ++i) {
-    const Eigen::Vector3d p = points.row(i).transpose();
-    if (!p.allFinite() || !(std::abs(p.norm() - 1) <= 1e-9)) {
-      return "point " + Str(i + 1) + " is not a finite unit vector";
-    }
-  }
-  for (Eigen::Index i = 0; i < points.rows(); ++i) {
-    const Eigen::Index j = (i + 1) % points.rows();
-    if (points.row(i) == points.row(j) || points.row(i) == -points.row(j)) {
-      return "points " + Str(i + 1) + " and " + Str(j + 1) +
-             " are equal or antipodal";
-    }
-  }
-  return "";
+  const Status valid = ValidateTrimLoop(TrimLoop{points});
+  return valid.ok() ? "" : valid.message();
 }
 
 bool SameSource(const SourceMeshInfo& a, const SourceMeshInfo& b) {
@@ -310,14 +293,7 @@ StatusOr<Model> ParseSdcbModel(std::string_view bytes, SdcbFileInfo* info) {
     }
   }
   SDCB_ASSIGN_OR_RETURN(SplineModel spline, ParseSdcb(bytes, info));
-  // SinglePartModel(spline) (core/spline/model.h), built here so that io
-  // does not link core/spline/model.cpp, which needs ValidateTrimLoop (being
-  // implemented on another branch).
-  Model model;
-  model.source = spline.source;
-  model.parts.emplace_back();
-  model.parts.back().spline = std::move(spline);
-  return model;
+  return SinglePartModel(std::move(spline));
 }
 
 Status WriteSdcbModelFile(const Model& model, const std::string& path,

@@ -79,14 +79,14 @@ TEST(FitModel, ADiskIsOnePartTrimmedAtItsOneLoop) {
 }
 
 TEST(FitModel, ATubeHasTwoTrimsAndThreeHolesThree) {
-  const TriangleMesh tube =
-      OpenEllipsoid(3, kAxes, {{Eigen::Vector3d::UnitZ(), 0.7},
-                               {-Eigen::Vector3d::UnitZ(), 0.7}});
-  const TriangleMesh holes = OpenEllipsoid(
+  const TriangleMesh tube = OpenEllipsoid(
       3, kAxes,
-      {{Eigen::Vector3d::UnitX(), 0.9},
-       {Eigen::Vector3d::UnitY(), 0.9},
-       {Eigen::Vector3d(-1, -1, 1).normalized(), 0.9}});
+      {{Eigen::Vector3d::UnitZ(), 0.7}, {-Eigen::Vector3d::UnitZ(), 0.7}});
+  const TriangleMesh holes =
+      OpenEllipsoid(3, kAxes,
+                    {{Eigen::Vector3d::UnitX(), 0.9},
+                     {Eigen::Vector3d::UnitY(), 0.9},
+                     {Eigen::Vector3d(-1, -1, 1).normalized(), 0.9}});
   for (const auto& [mesh, loops] :
        {std::pair<const TriangleMesh*, size_t>{&tube, 2},
         std::pair<const TriangleMesh*, size_t>{&holes, 3}}) {
@@ -103,8 +103,7 @@ TEST(FitModel, ATubeHasTwoTrimsAndThreeHolesThree) {
 
 TEST(FitModel, TwoClosedPartsAreFittedEachInItsOwnFrame) {
   TriangleMesh far = MakeIcosphere(2);
-  far.vertices = (far.vertices * 0.25).rowwise() +
-                 Eigen::RowVector3d(10, 0, 0);
+  far.vertices = (far.vertices * 0.25).rowwise() + Eigen::RowVector3d(10, 0, 0);
   const TriangleMesh both =
       testing::Concatenated(OpenEllipsoid(2, kAxes, {}), far);
   StatusOr<ModelFit> fit = FitModel(both, CoarseOptions());
@@ -146,7 +145,8 @@ TEST(FitModel, APartOfHigherGenusRefusesTheMeshBeforeAnyFit) {
       torus.vertices.row(i * m + j) << (3 + std::cos(b)) * std::cos(a),
           (3 + std::cos(b)) * std::sin(a), std::sin(b);
       const int v00 = i * m + j, v10 = ((i + 1) % n) * m + j;
-      const int v01 = i * m + (j + 1) % m, v11 = ((i + 1) % n) * m + (j + 1) % m;
+      const int v01 = i * m + (j + 1) % m,
+                v11 = ((i + 1) % n) * m + (j + 1) % m;
       torus.faces.row(2 * (i * m + j)) << v00, v10, v11;
       torus.faces.row(2 * (i * m + j) + 1) << v00, v11, v01;
     }
