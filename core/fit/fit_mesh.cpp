@@ -67,6 +67,10 @@ FitMesh NormalizedOpenFitMesh(const FilledMesh& filled,
   fit.part.emplace();
   fit.part->vertices = fit.mesh.vertices.topRows(filled.input_vertices);
   fit.part->faces = fit.mesh.faces.topRows(filled.input_faces);
+  fit.on_boundary.assign(fit.mesh.vertices.rows(), 0);
+  for (const std::vector<int>& loop : filled.boundary_loops) {
+    for (const int v : loop) fit.on_boundary[v] = 1;
+  }
   fit.face_weights = Eigen::VectorXd::Ones(fit.mesh.faces.rows());
   fit.face_weights.tail(fit.mesh.faces.rows() - filled.input_faces)
       .setConstant(kFillWeight);

@@ -45,6 +45,7 @@ struct FitMesh {
   std::vector<std::vector<int>> boundary_loops;  // rows of `mesh`
   std::optional<TriangleMesh> part;              // open parts: the part alone
   Eigen::VectorXd face_weights;  // open parts: per face of `mesh`
+  std::vector<char> on_boundary;  // open parts: per vertex of `mesh`
   TrimRegion region;             // the loops' images under u
 
   bool trimmed() const { return !boundary_loops.empty(); }
@@ -77,6 +78,10 @@ FitMesh NormalizedFitMesh(const TriangleMesh& map_mesh,
 // nothing is measured), too little to bend it off the part along the
 // boundary.
 constexpr double kFillWeight = 0.05;
+
+// The data term's weight of an open part's boundary vertex, relative to its
+// area (core/fit/round_problem.cpp).
+constexpr double kBoundaryWeight = 30.0;
 
 // The open part `filled` (core/mesh/hole_filling.h) in the normalized frame
 // of `transform`: NormalizedFitMesh of its closed mesh, with the part, its

@@ -467,6 +467,10 @@ void NextDensity(const FitOptions& options, const RoundProblem& p,
   // An open part's fill is not measured: no knots are placed for it.
   if (fit->trimmed()) {
     error.tail(error.size() - fit->input_vertices).setZero();
+    // The boundary counts double: the export's boundary follows it.
+    for (Eigen::Index v = 0; v < fit->input_vertices; ++v) {
+      if (fit->on_boundary[v]) error[v] *= 2;
+    }
   }
   const double worst =
       std::max(error.maxCoeff(),

@@ -19,6 +19,38 @@
 namespace sdcb {
 namespace {
 
+// An open part's boundary is pinned: its vertex rows weigh kBoundaryWeight
+// times their area, and rows on its edges (kBoundaryRowsAlong per edge, on
+// the edge's arc, the mean row's weight times kBoundaryWeight) follow it
+// between the vertices. The boundary is where the spline, held on one side
+// only, leaves the part first, and the trims put it in the export.
+constexpr int kBoundaryRowsAlong = 3;
+
+void PinBoundary(const FitMesh& fit, FitSamples* samples) {
+  const double mean_weight = samples->weights.mean();
+  for (Eigen::Index r = 0; r < samples->weights.size(); ++r) {
+    int vertex = -1;
+    if (samples->thinned) {
+      vertex = samples->row_vertex[r];
+    } else if (r < samples->num_vertices) {
+      vertex = static_cast<int>(r);
+    }
+    if (vertex >= 0 && vertex < fit.input_vertices &&
+        fit.on_boundary[vertex]) {
+      samples->weights[r] *= kBoundaryWeight;
+    }
+  }
+  std::vector<std::array<int, 2>> edges;
+  for (const std::vector<int>& loop : fit.boundary_loops) {
+    for (size_t i = 0; i < loop.size(); ++i) {
+      const int a = loop[i], b = loop[(i + 1) % loop.size()];
+      edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  }
+  AppendEdgeBandSamples(fit.mesh, fit.u, edges, {0.0}, kBoundaryRowsAlong,
+                        kBoundaryWeight * mean_weight, samples);
+}
+
 // Data-term pieces of split triangles per control point at most
 // (FitSampleOptions::max_pieces).
 constexpr int64_t kMaxPiecesPerControlPoint = 128;
@@ -175,6 +207,7 @@ StatusOr<RoundProblem> BuildRoundProblem(
   SDCB_ASSIGN_OR_RETURN(DcbBasis basis, std::move(basis_or));
   SDCB_RETURN_IF_ERROR(knots_covered);
   FitSamples samples = std::move(*samples_or);
+  if (fit.trimmed()) PinBoundary(fit, &samples);
   if (feature_round) {
     // The thin triangles between a corner's cluster and the next corner
     // (up to the cluster's gap wide) carry basis functions that the
