@@ -270,12 +270,17 @@ int RunFit(const std::vector<std::string>& argv) {
   StatusOr<TriangleMesh> mesh =
       arena.execute([&] { return ReadMeshToFit(args, path); });
   if (!mesh.ok()) return ReportError(mesh.status());
-  SelfIntersectionsBeside intersections(*mesh);
-
-  ProgressBar progress("sdcb fit", args.Has("quiet"));
   ModelFitOptions model_options;
   model_options.max_parts =
       args.GetInt("max-parts", model_options.max_parts, 0, INT_MAX);
+  // Every part checked before any work, with the sentences of `sdcb check`
+  // (core/mesh/mesh_parts.h).
+  StatusOr<PartsIntake> intake = arena.execute(
+      [&] { return TakeInParts(*mesh, model_options.max_parts); });
+  if (!intake.ok()) return ReportError(intake.status().WithPrefix(path));
+  SelfIntersectionsBeside intersections(*mesh);
+
+  ProgressBar progress("sdcb fit", args.Has("quiet"));
   options.progress = [bar = progress.Callback()](const FitProgress& p) {
     bar((p.retry.empty() ? "" : p.retry + ", ") + FitStageName(p.stage),
         p.fraction);
@@ -286,7 +291,7 @@ int RunFit(const std::vector<std::string>& argv) {
         static_cast<double>(done) / total);
   };
   StatusOr<ModelFit> fit =
-      arena.execute([&] { return FitModel(*mesh, model_options); });
+      arena.execute([&] { return FitModel(*mesh, *intake, model_options); });
   progress.Finish();
   const long long intersecting_pairs = intersections.Warn(path);
   if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));

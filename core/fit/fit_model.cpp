@@ -44,18 +44,30 @@ bool ModelFit::reached_target() const {
   return true;
 }
 
+StatusOr<PartsIntake> TakeInParts(const TriangleMesh& mesh, int max_parts) {
+  PartsIntake intake;
+  SDCB_ASSIGN_OR_RETURN(intake.parts, SplitIntoParts(mesh, max_parts));
+  intake.reports.reserve(intake.parts.size());
+  for (size_t i = 0; i < intake.parts.size(); ++i) {
+    SDCB_ASSIGN_OR_RETURN(PartReport report,
+                          ReportPart(intake.parts[i], static_cast<int>(i) + 1));
+    if (!report.fittable()) return UnsupportedError(report.problem);
+    intake.reports.push_back(std::move(report));
+  }
+  return intake;
+}
+
 StatusOr<ModelFit> FitModel(const TriangleMesh& mesh,
                             const ModelFitOptions& options) {
-  SDCB_ASSIGN_OR_RETURN(const std::vector<MeshPart> parts,
-                        SplitIntoParts(mesh, options.max_parts));
-  std::vector<PartReport> reports;
-  reports.reserve(parts.size());
-  for (size_t i = 0; i < parts.size(); ++i) {
-    SDCB_ASSIGN_OR_RETURN(PartReport report,
-                          ReportPart(parts[i], static_cast<int>(i) + 1));
-    if (!report.fittable()) return UnsupportedError(report.problem);
-    reports.push_back(std::move(report));
-  }
+  SDCB_ASSIGN_OR_RETURN(const PartsIntake intake,
+                        TakeInParts(mesh, options.max_parts));
+  return FitModel(mesh, intake, options);
+}
+
+StatusOr<ModelFit> FitModel(const TriangleMesh& mesh, const PartsIntake& intake,
+                            const ModelFitOptions& options) {
+  const std::vector<MeshPart>& parts = intake.parts;
+  const std::vector<PartReport>& reports = intake.reports;
   FitOptions part_options = options.fit;
   if (parts.size() > 1) part_options.progress = nullptr;
 

@@ -41,10 +41,26 @@ struct ModelFit {
   bool reached_target() const;  // every part reached its target
 };
 
-// Splits `mesh` into parts, checks each (a part sdcb cannot fit refuses the
-// whole mesh with kUnsupported and the part's sentence, before any fit
-// runs), and fits them. A mesh of one closed part without unreferenced
-// vertices is fitted exactly as FitSphericalSpline(mesh, options.fit).
+// A mesh's parts, each fittable, with their reports.
+struct PartsIntake {
+  std::vector<MeshPart> parts;
+  std::vector<PartReport> reports;
+};
+
+// Splits `mesh` into parts (at most `max_parts`) and checks each: a part
+// sdcb cannot fit refuses the whole mesh with kUnsupported and the part's
+// sentence (PartReport::problem).
+StatusOr<PartsIntake> TakeInParts(const TriangleMesh& mesh, int max_parts);
+
+// Fits the parts of `intake` (TakeInParts of `mesh`).
+StatusOr<ModelFit> FitModel(const TriangleMesh& mesh, const PartsIntake& intake,
+                            const ModelFitOptions& options);
+
+// TakeInParts, then FitModel: splits `mesh` into parts, checks each (a part
+// sdcb cannot fit refuses the whole mesh with kUnsupported and the part's
+// sentence, before any fit runs), and fits them. A mesh of one closed part
+// without unreferenced vertices is fitted exactly as FitSphericalSpline(mesh,
+// options.fit).
 StatusOr<ModelFit> FitModel(const TriangleMesh& mesh,
                             const ModelFitOptions& options);
 

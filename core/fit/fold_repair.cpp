@@ -58,7 +58,8 @@ std::vector<int> ColumnsNear(const ChartGradientRows& rows,
 }
 
 // The lattice samples the repair constrains: the folded ones and their
-// lattice ring, in the order they were added.
+// lattice ring (in the kept region of a trimmed surface), in the order they
+// were added.
 class ConstrainedSamples {
  public:
   explicit ConstrainedSamples(Eigen::Index lattice_samples)
@@ -72,6 +73,12 @@ class ConstrainedSamples {
       mark[i] = measured.surface_sample_folded[i];
     }
     GrowByOneRing(measured.surface_sample_triangles, &mark);
+    // Outside a trimmed surface's kept region nothing was measured (no
+    // closest point): nothing to constrain.
+    const std::vector<bool>& kept = measured.surface_sample_kept;
+    for (Eigen::Index i = 0; i < ns; ++i) {
+      if (!kept.empty() && !kept[i]) mark[i] = 0;
+    }
     for (Eigen::Index i = 0; i < ns; ++i) {
       if (mark[i] && !constrained_[i]) {
         constrained_[i] = 1;

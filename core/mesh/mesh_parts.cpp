@@ -1,5 +1,6 @@
 #include "sdcb/core/mesh/mesh_parts.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -74,6 +75,14 @@ std::string DescribePartProblem(const PartReport& report, bool too_large) {
     return part + " has genus " + std::to_string(t.genus) + loops +
            "; sdcb fits genus-0 parts";
   }
+  if (report.max_vertex_triangles > kMaxVertexTriangles) {
+    return part + " has a vertex of " +
+           GroupDigits(report.max_vertex_triangles) +
+           " triangles (a fan of needles); sdcb fits parts whose vertices "
+           "have at most " +
+           GroupDigits(kMaxVertexTriangles) +
+           " triangles: remesh the fan first";
+  }
   if (t.degenerate_faces > 0) {
     return part + " has " +
            Count(t.degenerate_faces, "degenerate (zero-area) triangle",
@@ -147,6 +156,13 @@ StatusOr<PartReport> ReportPart(const MeshPart& part, int number) {
   report.number = number;
   SDCB_ASSIGN_OR_RETURN(report.topology, AnalyzeMeshTopology(part.mesh));
   report.closed = report.topology.boundary_edges == 0;
+  std::vector<int> triangles(part.mesh.num_vertices(), 0);
+  for (Eigen::Index f = 0; f < part.mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) ++triangles[part.mesh.faces(f, k)];
+  }
+  for (const int n : triangles) {
+    report.max_vertex_triangles = std::max(report.max_vertex_triangles, n);
+  }
   // The fit's own tests of the coordinates, by the fit's functions: the
   // parameterization's area scale (a total area > 0 and finite) and the
   // normalized frame (a finite bounding box of more than one point).

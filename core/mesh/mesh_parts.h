@@ -18,6 +18,13 @@ namespace sdcb {
 // (`--max-parts`).
 constexpr int kDefaultMaxParts = 1000;
 
+// The most triangles a vertex of a fittable part may have. A fan of more
+// needles (a CAD tessellation's cone apex or disk centre) maps to a sphere
+// region no spline of a bounded size follows (a double cone of 5,000
+// triangles per apex: 247 s, then a folded surface); CGAL's meshes have at
+// most 44.
+constexpr int kMaxVertexTriangles = 1000;
+
 struct MeshPart {
   // The part's triangles and the vertices they use: vertices in ascending
   // order of their input index, faces in input order. A mesh of one part
@@ -34,6 +41,7 @@ struct PartReport {
   bool closed = false;          // no boundary edges
   // In the input's units squared; +infinity when the sum overflows.
   double area = 0.0;
+  int max_vertex_triangles = 0;  // the most triangles around one vertex
   // Empty when sdcb can fit the part; else one sentence naming it, e.g.
   // "part 1 (428 triangles) has genus 2 and 3 boundary loops; sdcb fits
   // genus-0 parts". The first problem of: coordinates too large or too

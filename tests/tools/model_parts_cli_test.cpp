@@ -162,12 +162,20 @@ TEST(ModelPartsCliTest, EvalTakesAPart) {
       << lone_part2.err;
 }
 
-TEST(ModelPartsCliTest, OnePartCommandsRefuseSeveralPartsInOneSentence) {
+TEST(ModelPartsCliTest, ExportWritesEachPartAndStepRefusesTheTrimmedOne) {
   const std::string dir = FreshTestDir();
   const std::string model = WriteTwoPartModel(dir);
-  const RunResult r = RunSdcb({"export", model, "-o", dir + "/out.obj"}, dir);
+  RunResult r = RunSdcb(
+      {"export", model, "-o", dir + "/out.obj", "--tolerance", "1", "--quiet"},
+      dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string obj = ReadBytes(dir + "/out.obj");
+  EXPECT_NE(obj.find("\no part1\n"), std::string::npos);
+  EXPECT_NE(obj.find("\no lid\n"), std::string::npos);
+  r = RunSdcb({"export", model, "-o", dir + "/out.step"}, dir);
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("holds 2 parts;"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("part 2 is open (2 trim loops)"), std::string::npos)
+      << r.err;
   testing::ExpectOneSentenceNaming(r, model);
 }
 

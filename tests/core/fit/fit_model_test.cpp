@@ -78,6 +78,37 @@ TEST(FitModel, ADiskIsOnePartTrimmedAtItsOneLoop) {
   ExpectHonestTrimmedPart(disk, part, 4000);
 }
 
+TEST(FitModel, AnOpenPartIsTheSameForAnyThreadCount) {
+  // A flat square's hole folds back over it (its fill is lifted into a
+  // dome) and its rounds repair small folds next to the trims.
+  TriangleMesh square;
+  const int n = 12;
+  square.vertices.resize((n + 1) * (n + 1), 3);
+  square.faces.resize(2 * n * n, 3);
+  for (int i = 0; i <= n; ++i) {
+    for (int j = 0; j <= n; ++j) {
+      square.vertices.row(i * (n + 1) + j) << i, j, 0.0;
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const int a = i * (n + 1) + j, b = a + n + 1;
+      square.faces.row(2 * (i * n + j)) << a, b, b + 1;
+      square.faces.row(2 * (i * n + j) + 1) << a, b + 1, a + 1;
+    }
+  }
+  ModelFitOptions one = CoarseOptions(), two = CoarseOptions();
+  one.fit.threads = 1;
+  two.fit.threads = 2;
+  StatusOr<ModelFit> a = FitModel(square, one);
+  StatusOr<ModelFit> b = FitModel(square, two);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a->model.parts[0].spline.control_points,
+            b->model.parts[0].spline.control_points);
+  EXPECT_EQ(a->model.parts[0].trims[0].points,
+            b->model.parts[0].trims[0].points);
+}
+
 TEST(FitModel, ATubeHasTwoTrimsAndThreeHolesThree) {
   const TriangleMesh tube = OpenEllipsoid(
       3, kAxes,
