@@ -407,7 +407,21 @@ StatusOr<FitResult> FitSphericalSpline(const FilledMesh& filled,
   if (filled.boundary_loops.empty()) {
     return FitSphericalSpline(filled.mesh, options);
   }
-  return RunFit(filled, options);
+  const FitRunner run = [&filled](const FitOptions& o) {
+    return RunFit(filled, o);
+  };
+  SDCB_ASSIGN_OR_RETURN(FitResult first, run(options));
+  if (options.map_vertices > 0 || options.retry_map_vertices == 0) {
+    return first;  // one fit asked for
+  }
+  // A thin part's fits with a smaller lambda; never split (the fill's faces
+  // follow the part's own).
+  FitOptions again = options;
+  again.retry_map_vertices = 0;
+  TriangleMesh part;
+  part.vertices = filled.mesh.vertices.topRows(filled.input_vertices);
+  part.faces = filled.mesh.faces.topRows(filled.input_faces);
+  return FitAgain(part, again, std::move(first), run);
 }
 
 }  // namespace sdcb

@@ -88,7 +88,9 @@ class SplineFitter {
 StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
                                        const FitOptions& options = {});
 // Fits an open part with its holes filled (SplineFitter::Create(filled)):
-// the loop once, without the further fits (a closed `filled`: the above).
+// the loop, then, unless FitOptions::map_vertices or retry_map_vertices ask
+// for one fit, the fits with a smaller lambda while it misses and folds (a
+// thin part), never on a split. A closed `filled`: the above.
 StatusOr<FitResult> FitSphericalSpline(const FilledMesh& filled,
                                        const FitOptions& options = {});
 
