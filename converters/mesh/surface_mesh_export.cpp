@@ -676,22 +676,7 @@ StatusOr<SurfaceMeshExportReport> WriteSurfaceMeshExport(
 StatusOr<SurfaceMeshExportReport> WriteSurfaceMeshExport(
     const SplineModel& model, const SurfaceMeshExportOptions& options,
     const std::string& path) {
-  const Stopwatch start;
-  SurfaceMeshExportOptions o = options;
-  const std::string extension =
-      std::filesystem::path(path).extension().string();
-  if (!ExportFormatOfExtension(extension, &o.format)) {
-    return InvalidArgumentError(path + ": unknown mesh extension '" +
-                                extension +
-                                "' (use .obj, .ply, .stl, .gltf or .glb)");
-  }
-  SDCB_ASSIGN_OR_RETURN(SurfaceMeshExport exported,
-                        ExportSurfaceMesh(model, o));
-  const Stopwatch t0;
-  SDCB_RETURN_IF_ERROR(WriteFileAtomically(exported.bytes, path));
-  exported.report.seconds.write += t0.Seconds();
-  exported.report.seconds.total = start.Seconds();
-  return exported.report;
+  return WriteSurfaceMeshExport(SinglePartModel(model), options, path);
 }
 
 nlohmann::ordered_json SurfaceMeshExportReportToJson(

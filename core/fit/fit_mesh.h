@@ -44,9 +44,9 @@ struct FitMesh {
   Eigen::Index input_faces = 0;
   std::vector<std::vector<int>> boundary_loops;  // rows of `mesh`
   std::optional<TriangleMesh> part;              // open parts: the part alone
-  Eigen::VectorXd face_weights;  // open parts: per face of `mesh`
+  Eigen::VectorXd face_weights;   // open parts: per face of `mesh`
   std::vector<char> on_boundary;  // open parts: per vertex of `mesh`
-  TrimRegion region;             // the loops' images under u
+  TrimRegion region;              // the loops' images under u
 
   bool trimmed() const { return !boundary_loops.empty(); }
   // The mesh the errors are measured against: `part` for an open part,

@@ -35,8 +35,7 @@ void PinBoundary(const FitMesh& fit, FitSamples* samples) {
     } else if (r < samples->num_vertices) {
       vertex = static_cast<int>(r);
     }
-    if (vertex >= 0 && vertex < fit.input_vertices &&
-        fit.on_boundary[vertex]) {
+    if (vertex >= 0 && vertex < fit.input_vertices && fit.on_boundary[vertex]) {
       samples->weights[r] *= kBoundaryWeight;
     }
   }

@@ -163,8 +163,8 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
                  : NormalizedFitMesh(map_mesh, model.transform,
                                      mesh.num_vertices());
   // An open part's fill is not a split of it: the map is of its vertices.
-  s.result.map_vertices = filled ? mesh.num_vertices()
-                                 : static_cast<int>(map_mesh.num_vertices());
+  s.result.map_vertices =
+      filled ? mesh.num_vertices() : static_cast<int>(map_mesh.num_vertices());
   model.statistics.options = RecordFitOptions(o);
   model.statistics.error_measure = ErrorMeasure::kDenseTwoSided;
 
