@@ -118,10 +118,7 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
 StatusOr<SplineFitter> SplineFitter::Create(const FilledMesh& filled,
                                             FitOptions options) {
   if (filled.boundary_loops.empty()) return Create(filled.mesh, options);
-  TriangleMesh part;
-  part.vertices = filled.mesh.vertices.topRows(filled.input_vertices);
-  part.faces = filled.mesh.faces.topRows(filled.input_faces);
-  return Create(part, &filled, std::move(options));
+  return Create(filled.Part(), &filled, std::move(options));
 }
 
 StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
@@ -418,10 +415,7 @@ StatusOr<FitResult> FitSphericalSpline(const FilledMesh& filled,
   // follow the part's own).
   FitOptions again = options;
   again.retry_map_vertices = 0;
-  TriangleMesh part;
-  part.vertices = filled.mesh.vertices.topRows(filled.input_vertices);
-  part.faces = filled.mesh.faces.topRows(filled.input_faces);
-  return FitAgain(part, again, std::move(first), run);
+  return FitAgain(filled.Part(), again, std::move(first), run);
 }
 
 }  // namespace sdcb

@@ -304,6 +304,13 @@ const char* HoleFillMethodName(HoleFillMethod method) {
   return "?";
 }
 
+TriangleMesh FilledMesh::Part() const {
+  TriangleMesh part;
+  part.vertices = mesh.vertices.topRows(input_vertices);
+  part.faces = mesh.faces.topRows(input_faces);
+  return part;
+}
+
 StatusOr<FilledMesh> FillHoles(const TriangleMesh& part) {
   SDCB_RETURN_IF_ERROR(CheckFaceIndices(part));
   try {

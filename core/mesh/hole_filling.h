@@ -38,6 +38,9 @@ struct FilledMesh {
   std::vector<std::vector<int>> boundary_loops;
   // Per boundary loop (same order), how its hole was filled.
   std::vector<HoleFillMethod> fill_methods;
+
+  // The part alone: the first input_vertices rows and input_faces faces.
+  TriangleMesh Part() const;
 };
 
 // Fills every hole of `part`, an open, manifold, consistently oriented

@@ -5,10 +5,13 @@
 #define SDCB_TESTS_TESTING_OPEN_SPHERE_H_
 
 #include <Eigen/Core>
+#include <cmath>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/icosphere.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
+#include "testing/icosphere_patches.h"
 
 namespace sdcb::testing {
 
@@ -23,37 +26,14 @@ struct Hole {
 inline TriangleMesh OpenEllipsoid(int subdivisions, const Eigen::Vector3d& axes,
                                   const std::vector<Hole>& holes) {
   const TriangleMesh sphere = MakeIcosphere(subdivisions);
-  std::vector<int> kept_faces;
-  std::vector<int> used(sphere.num_vertices(), 0);
-  for (int f = 0; f < sphere.num_faces(); ++f) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) c += sphere.vertices.row(sphere.faces(f, k));
-    c.normalize();
-    bool cut = false;
-    for (const Hole& h : holes) cut = cut || c.dot(h.direction) > h.cos_radius;
-    if (cut) continue;
-    kept_faces.push_back(f);
-    for (int k = 0; k < 3; ++k) used[sphere.faces(f, k)] = 1;
-  }
-  std::vector<int> row(sphere.num_vertices(), -1);
-  TriangleMesh out;
-  int n = 0;
-  for (int v = 0; v < sphere.num_vertices(); ++v) n += used[v];
-  out.vertices.resize(n, 3);
-  n = 0;
-  for (int v = 0; v < sphere.num_vertices(); ++v) {
-    if (!used[v]) continue;
-    row[v] = n;
-    out.vertices.row(n++) =
-        sphere.vertices.row(v).cwiseProduct(axes.transpose());
-  }
-  out.faces.resize(static_cast<Eigen::Index>(kept_faces.size()), 3);
-  for (size_t i = 0; i < kept_faces.size(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      out.faces(static_cast<Eigen::Index>(i), k) =
-          row[sphere.faces(kept_faces[i], k)];
-    }
-  }
+  TriangleMesh out =
+      Submesh(sphere, FacesWhere(sphere, [&](const Eigen::Vector3d& c) {
+                for (const Hole& h : holes) {
+                  if (c.dot(h.direction) > h.cos_radius) return false;
+                }
+                return true;
+              }));
+  out.vertices = out.vertices * axes.asDiagonal();
   return out;
 }
 
@@ -65,6 +45,29 @@ inline TriangleMesh Concatenated(const TriangleMesh& a, const TriangleMesh& b) {
   out.faces.resize(a.num_faces() + b.num_faces(), 3);
   out.faces << a.faces, (b.faces.array() + a.num_vertices()).matrix();
   return out;
+}
+
+// A torus (genus 1) of n x m quads, each cut into two triangles, oriented
+// outward: tube radius 1 around a circle of radius `major` centred at
+// (shift_x, 0, 0) in the xy plane.
+inline TriangleMesh GridTorus(int n, int m, double major, double shift_x) {
+  TriangleMesh torus;
+  torus.vertices.resize(n * m, 3);
+  torus.faces.resize(2 * n * m, 3);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const double a = 2 * kPi * i / n, b = 2 * kPi * j / m;
+      torus.vertices.row(i * m + j)
+          << shift_x + (major + std::cos(b)) * std::cos(a),
+          (major + std::cos(b)) * std::sin(a), std::sin(b);
+      const int v00 = i * m + j, v10 = ((i + 1) % n) * m + j;
+      const int v01 = i * m + (j + 1) % m,
+                v11 = ((i + 1) % n) * m + (j + 1) % m;
+      torus.faces.row(2 * (i * m + j)) << v00, v10, v11;
+      torus.faces.row(2 * (i * m + j) + 1) << v00, v11, v01;
+    }
+  }
+  return torus;
 }
 
 }  // namespace sdcb::testing

@@ -111,21 +111,7 @@ TEST(OpenPartsCliTest, TwoPartsComeOutAsTwoObjects) {
 TEST(OpenPartsCliTest, AnUnfittablePartRefusesTheMeshWithNoOutput) {
   const std::string dir = FreshTestDir();
   // Part 2: a torus of 8 x 6 quads (genus 1).
-  TriangleMesh torus;
-  torus.vertices.resize(48, 3);
-  torus.faces.resize(96, 3);
-  for (int i = 0; i < 8; ++i) {
-    for (int j = 0; j < 6; ++j) {
-      const double a = 2 * kPi * i / 8, b = 2 * kPi * j / 6;
-      torus.vertices.row(i * 6 + j) << 5 + (2 + std::cos(b)) * std::cos(a),
-          (2 + std::cos(b)) * std::sin(a), std::sin(b);
-      const int v00 = i * 6 + j, v10 = ((i + 1) % 8) * 6 + j;
-      const int v01 = i * 6 + (j + 1) % 6,
-                v11 = ((i + 1) % 8) * 6 + (j + 1) % 6;
-      torus.faces.row(2 * (i * 6 + j)) << v00, v10, v11;
-      torus.faces.row(2 * (i * 6 + j) + 1) << v00, v11, v01;
-    }
-  }
+  const TriangleMesh torus = testing::GridTorus(8, 6, 2.0, 5.0);
   const std::string mesh = WriteOff(
       testing::Concatenated(testing::OpenEllipsoid(2, kAxes, {}), torus),
       dir + "/with_torus.off");

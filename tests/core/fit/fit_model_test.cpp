@@ -166,22 +166,7 @@ TEST(FitModel, OneClosedPartIsTheFitOfTheMesh) {
 
 TEST(FitModel, APartOfHigherGenusRefusesTheMeshBeforeAnyFit) {
   // A torus of 8 x 6 quads, beside a sphere: part 2 has genus 1.
-  TriangleMesh torus;
-  const int n = 8, m = 6;
-  torus.vertices.resize(n * m, 3);
-  torus.faces.resize(2 * n * m, 3);
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < m; ++j) {
-      const double a = 2 * kPi * i / n, b = 2 * kPi * j / m;
-      torus.vertices.row(i * m + j) << (3 + std::cos(b)) * std::cos(a),
-          (3 + std::cos(b)) * std::sin(a), std::sin(b);
-      const int v00 = i * m + j, v10 = ((i + 1) % n) * m + j;
-      const int v01 = i * m + (j + 1) % m,
-                v11 = ((i + 1) % n) * m + (j + 1) % m;
-      torus.faces.row(2 * (i * m + j)) << v00, v10, v11;
-      torus.faces.row(2 * (i * m + j) + 1) << v00, v11, v01;
-    }
-  }
+  const TriangleMesh torus = testing::GridTorus(8, 6, 3.0, 0.0);
   const TriangleMesh both =
       testing::Concatenated(OpenEllipsoid(2, kAxes, {}), torus);
   StatusOr<ModelFit> fit = FitModel(both, CoarseOptions());
