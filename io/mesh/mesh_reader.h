@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
@@ -39,6 +40,11 @@ struct MeshReadLimits {
 struct MeshReadInfo {
   int polygons = 0;               // faces in the file before triangulation
   int triangulated_polygons = 0;  // faces with more than three corners
+  // What was read despite not following the format, one sentence each
+  // without the file name, e.g. "line 3 of the header ('Created by
+  // Blender3D 247') is not a PLY keyword line; ignored". The library never
+  // prints them; the CLI does.
+  std::vector<std::string> warnings;
 };
 
 // The format named by the extension of `path` (.obj .off .ply .stl, any
