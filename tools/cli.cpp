@@ -275,11 +275,52 @@ long long WarnAboutSelfIntersections(
   return report->intersecting_pairs;
 }
 
-StatusOr<TriangleMesh> ReadMeshToFit(const Args& args,
-                                     const std::string& path) {
+void WarnAboutRead(const std::string& path, const MeshReadInfo& info) {
+  for (const std::string& warning : info.warnings) {
+    std::cerr << "sdcb: " << path << ": warning: " << warning << "\n";
+  }
+}
+
+StatusOr<SeamWeldReport> WeldSeamsUnlessRepairing(const Args& args,
+                                                  const std::string& path,
+                                                  TriangleMesh* mesh) {
+  SeamWeldReport seams;
+  if (args.Has("repair")) return seams;
+  StatusOr<WeldedMesh> welded = WeldSeams(*mesh, &seams);
+  if (!welded.ok()) return welded.status().WithPrefix(path);
+  if (seams.merged_vertices > 0) {
+    *mesh = std::move(welded->mesh);
+    std::cerr << "sdcb: " << path << ": " << seams.Describe() << "\n";
+  } else if (seams.declined_vertices > 0) {
+    std::cerr << "sdcb: " << path << ": warning: " << SeamsLeftApart(seams)
+              << "\n";
+  }
+  return seams;
+}
+
+std::string SeamsLeftApart(const SeamWeldReport& seams) {
+  const int n = seams.declined_vertices;
+  return std::to_string(n) +
+         (n == 1 ? " vertex at the position of another was"
+                 : " vertices at the positions of others were") +
+         " left apart (" + seams.declined_because + "): --repair merges them";
+}
+
+std::string WithSeamHint(const std::string& refusal,
+                         const SeamWeldReport& seams) {
+  if (seams.declined_vertices == 0) return refusal;
+  return refusal + "; " + SeamsLeftApart(seams);
+}
+
+StatusOr<TriangleMesh> ReadMeshToFit(const Args& args, const std::string& path,
+                                     MeshIntakeNotes* notes) {
+  MeshIntakeNotes local;
+  MeshIntakeNotes* n = notes != nullptr ? notes : &local;
   SDCB_ASSIGN_OR_RETURN(TriangleMesh mesh,
-                        ReadMesh(path, nullptr, MeshReadLimitsFromArgs(args)));
+                        ReadMesh(path, &n->read, MeshReadLimitsFromArgs(args)));
+  WarnAboutRead(path, n->read);
   SDCB_RETURN_IF_ERROR(RepairIfAsked(args, path, &mesh));
+  SDCB_ASSIGN_OR_RETURN(n->seams, WeldSeamsUnlessRepairing(args, path, &mesh));
   return mesh;
 }
 

@@ -12,6 +12,7 @@
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/core/mesh/vertex_welding.h"
 #include "sdcb/io/mesh/mesh_reader.h"
 
 namespace sdcb::cli {
@@ -101,9 +102,39 @@ long long WarnAboutSelfIntersections(
     const std::string& path, const StatusOr<SelfIntersectionReport>& report,
     std::string* skipped_because = nullptr);
 
-// What `fit` reads: the MESH with the limits of the options, repaired if
-// asked; its parts are checked by the fit (core/fit/fit_model.h).
-StatusOr<TriangleMesh> ReadMeshToFit(const Args& args, const std::string& path);
+// Prints the reader's warnings on stderr ("sdcb: PATH: warning: ...").
+void WarnAboutRead(const std::string& path, const MeshReadInfo& info);
+
+// Without --repair (which merges equal positions itself): welds the
+// vertices split at UV or normal seams when that is all it does
+// (WeldSeams, core/mesh/vertex_welding.h) and prints what it merged, or,
+// when the weld was declined, a warning naming --repair.
+StatusOr<SeamWeldReport> WeldSeamsUnlessRepairing(const Args& args,
+                                                  const std::string& path,
+                                                  TriangleMesh* mesh);
+
+// "16 vertices at the positions of others were left apart (merging them
+// would make 2 edges non-manifold): --repair merges them".
+std::string SeamsLeftApart(const SeamWeldReport& seams);
+
+// A refusal of the mesh taken in, with the seams left apart named: "...;
+// 16 vertices at the positions of others were left apart (merging them
+// would make 2 edges non-manifold): --repair merges them". `refusal`
+// unchanged when no weld was declined.
+std::string WithSeamHint(const std::string& refusal,
+                         const SeamWeldReport& seams);
+
+// What the intake learned besides the mesh.
+struct MeshIntakeNotes {
+  MeshReadInfo read;
+  SeamWeldReport seams;
+};
+
+// What `check` and `fit` read: the MESH with the limits of the options
+// (warnings printed), repaired if asked, else its seams welded; its parts
+// are checked by the caller (core/mesh/mesh_parts.h, core/fit/fit_model.h).
+StatusOr<TriangleMesh> ReadMeshToFit(const Args& args, const std::string& path,
+                                     MeshIntakeNotes* notes = nullptr);
 
 // What `param` reads: the MESH with the limits of the options,
 // repaired if asked, checked to be closed genus 0 (one sentence naming

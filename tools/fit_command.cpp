@@ -267,8 +267,9 @@ int RunFit(const std::vector<std::string>& argv) {
   // beside the fit, in its idle cycles.
   tbb::task_arena arena(options.threads > 0 ? options.threads
                                             : int{tbb::task_arena::automatic});
+  MeshIntakeNotes notes;
   StatusOr<TriangleMesh> mesh =
-      arena.execute([&] { return ReadMeshToFit(args, path); });
+      arena.execute([&] { return ReadMeshToFit(args, path, &notes); });
   if (!mesh.ok()) return ReportError(mesh.status());
   ModelFitOptions model_options;
   model_options.max_parts =
@@ -277,7 +278,12 @@ int RunFit(const std::vector<std::string>& argv) {
   // (core/mesh/mesh_parts.h).
   StatusOr<PartsIntake> intake = arena.execute(
       [&] { return TakeInParts(*mesh, model_options.max_parts); });
-  if (!intake.ok()) return ReportError(intake.status().WithPrefix(path));
+  if (!intake.ok()) {
+    return ReportError(
+        Status(intake.status().code(),
+               WithSeamHint(intake.status().message(), notes.seams))
+            .WithPrefix(path));
+  }
   SelfIntersectionsBeside intersections(*mesh);
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
@@ -325,6 +331,7 @@ int RunFit(const std::vector<std::string>& argv) {
     report["output"] = output;
     report["vertices"] = mesh->num_vertices();
     report["faces"] = mesh->num_faces();
+    report["seam_vertices_merged"] = notes.seams.merged_vertices;
     report["output_bytes"] = file_info.file_bytes;
     if (!quantization.lossless()) {
       // The stored surface is within this of the fitted one everywhere

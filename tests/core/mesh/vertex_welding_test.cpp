@@ -1,0 +1,182 @@
+// Tests core/mesh/vertex_welding.*: equal positions numbered in order of
+// first appearance, and the intake's seam rule (weld what only closes
+// boundary edges, leave apart what would make the mesh worse), against
+// meshes and results written by hand.
+#include "sdcb/core/mesh/vertex_welding.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "sdcb/core/mesh/mesh_topology.h"
+
+namespace sdcb {
+namespace {
+
+// The unit cube's corners and its six faces as outward (counter-clockwise
+// seen from outside) quads of corner numbers.
+const double kCorners[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                               {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+const int kQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                          {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+
+// The cube as an OBJ writer with per-face normals stores it: each quad has
+// its own four vertices (24), so the faces share no vertex. Quad q's
+// vertices are rows 4q..4q+3; `lift` raises the top quad (q = 1) off the
+// sides by that much.
+TriangleMesh SeamSplitCube(double lift = 0) {
+  TriangleMesh mesh;
+  mesh.vertices.resize(24, 3);
+  mesh.faces.resize(12, 3);
+  for (int q = 0; q < 6; ++q) {
+    for (int k = 0; k < 4; ++k) {
+      const double* c = kCorners[kQuads[q][k]];
+      mesh.vertices.row(4 * q + k) << c[0], c[1], c[2] + (q == 1 ? lift : 0);
+    }
+    mesh.faces.row(2 * q) << 4 * q, 4 * q + 1, 4 * q + 2;
+    mesh.faces.row(2 * q + 1) << 4 * q, 4 * q + 2, 4 * q + 3;
+  }
+  return mesh;
+}
+
+TEST(VertexWeldingTest, EqualPositionsNumberedInOrderOfFirstAppearance) {
+  Eigen::MatrixX3d v(6, 3);
+  v << 1, 0, 0,      //
+      0, 0, 0,       //
+      -0.0, 0, 0,    // equal to row 1: -0 == +0
+      1, 0, 0,       //
+      1, 0, 1e-300,  //
+      0, 0, 0;
+  EXPECT_EQ(EqualPositionNumbers(v), (std::vector<int>{0, 1, 1, 0, 2, 1}));
+  EXPECT_TRUE(EqualPositionNumbers(Eigen::MatrixX3d(0, 3)).empty());
+}
+
+TEST(VertexWeldingTest, SeamSplitCubeWeldsToTheEightCornerCube) {
+  const TriangleMesh split = SeamSplitCube();
+  // Unwelded: six open quads.
+  auto before = AnalyzeMeshTopology(split);
+  ASSERT_TRUE(before.ok());
+  EXPECT_EQ(before->components, 6);
+  EXPECT_EQ(before->boundary_loops, 6);
+
+  SeamWeldReport report;
+  auto welded = WeldSeams(split, &report);
+  ASSERT_TRUE(welded.ok()) << welded.status().message();
+  EXPECT_EQ(report.merged_vertices, 16);
+  EXPECT_EQ(report.declined_vertices, 0);
+  EXPECT_EQ(report.Describe(),
+            "merged 16 vertices split at equal positions (UV or normal "
+            "seams)");
+  // Corners in order of first appearance in the quad list: 0, 3, 2, 1
+  // (bottom quad), then 4, 5, 6, 7 (top quad).
+  const int new_of_corner[8] = {0, 3, 2, 1, 4, 5, 6, 7};
+  const TriangleMesh& cube = welded->mesh;
+  ASSERT_EQ(cube.num_vertices(), 8);
+  ASSERT_EQ(cube.num_faces(), 12);
+  for (int c = 0; c < 8; ++c) {
+    EXPECT_EQ(
+        cube.vertices.row(new_of_corner[c]),
+        Eigen::RowVector3d(kCorners[c][0], kCorners[c][1], kCorners[c][2]));
+  }
+  for (int q = 0; q < 6; ++q) {
+    const int* c = kQuads[q];
+    EXPECT_EQ(cube.faces.row(2 * q),
+              Eigen::RowVector3i(new_of_corner[c[0]], new_of_corner[c[1]],
+                                 new_of_corner[c[2]]));
+    EXPECT_EQ(cube.faces.row(2 * q + 1),
+              Eigen::RowVector3i(new_of_corner[c[0]], new_of_corner[c[2]],
+                                 new_of_corner[c[3]]));
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_EQ(welded->new_vertex[4 * q + k], new_of_corner[c[k]]);
+    }
+  }
+  auto after = AnalyzeMeshTopology(cube);
+  ASSERT_TRUE(after.ok());
+  EXPECT_TRUE(after->ok) << DescribeTopologyProblem(*after);
+  // The unit cube, outward: volume 1.
+  EXPECT_DOUBLE_EQ(SignedVolume(cube.vertices, cube.faces), 1.0);
+}
+
+TEST(VertexWeldingTest, AGenuineCrackStaysOpen) {
+  // The top quad lifted by 1e-6: its corners are at other positions than
+  // the sides' top corners. The bottom corners (3 copies each: bottom and
+  // two sides) and the sides' top corners (2 copies each) weld, 8 + 4
+  // merges; the crack between the sides' top rim and the top quad stays:
+  // 12 vertices, two boundary loops of 4 edges.
+  SeamWeldReport report;
+  auto welded = WeldSeams(SeamSplitCube(1e-6), &report);
+  ASSERT_TRUE(welded.ok());
+  EXPECT_EQ(report.merged_vertices, 12);
+  EXPECT_EQ(welded->mesh.num_vertices(), 12);
+  auto r = AnalyzeMeshTopology(welded->mesh);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->boundary_edges, 8);
+  EXPECT_EQ(r->boundary_loops, 2);
+  EXPECT_EQ(r->components, 2);
+  EXPECT_EQ(r->non_manifold_edges, 0);
+}
+
+TEST(VertexWeldingTest, AMeshWithoutEqualPositionsComesBackBitForBit) {
+  TriangleMesh tetrahedron;
+  tetrahedron.vertices.resize(4, 3);
+  tetrahedron.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  tetrahedron.faces.resize(4, 3);
+  tetrahedron.faces << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
+  SeamWeldReport report;
+  auto welded = WeldSeams(tetrahedron, &report);
+  ASSERT_TRUE(welded.ok());
+  EXPECT_EQ(report.merged_vertices, 0);
+  EXPECT_EQ(report.declined_vertices, 0);
+  EXPECT_EQ(welded->mesh.vertices, tetrahedron.vertices);
+  EXPECT_EQ(welded->mesh.faces, tetrahedron.faces);
+  EXPECT_EQ(welded->new_vertex, (std::vector<int>{0, 1, 2, 3}));
+}
+
+TEST(VertexWeldingTest, AWeldThatMakesAnEdgeNonManifoldIsNotDone) {
+  // Three fins on the segment (0,0,0)-(0,0,1), each triangle with its own
+  // copies of the segment's ends: welding would give that edge three
+  // triangles.
+  TriangleMesh fins;
+  fins.vertices.resize(9, 3);
+  fins.faces.resize(3, 3);
+  const double tips[3][3] = {{1, 0, 0}, {0, 1, 0}, {-1, -1, 0}};
+  for (int i = 0; i < 3; ++i) {
+    fins.vertices.row(3 * i) << 0, 0, 0;
+    fins.vertices.row(3 * i + 1) << 0, 0, 1;
+    fins.vertices.row(3 * i + 2) << tips[i][0], tips[i][1], tips[i][2] + 0.5;
+    fins.faces.row(i) << 3 * i, 3 * i + 1, 3 * i + 2;
+  }
+  SeamWeldReport report;
+  auto welded = WeldSeams(fins, &report);
+  ASSERT_TRUE(welded.ok());
+  EXPECT_EQ(report.merged_vertices, 0);
+  EXPECT_EQ(report.declined_vertices, 4);
+  EXPECT_EQ(report.declined_because,
+            "merging them would make 1 edge non-manifold");
+  EXPECT_EQ(welded->mesh.vertices, fins.vertices);
+  EXPECT_EQ(welded->mesh.faces, fins.faces);
+}
+
+TEST(VertexWeldingTest, AWeldThatPinchesTwoSurfacesAtAVertexIsNotDone) {
+  // Two tetrahedra, each closed, touching at the origin through two
+  // vertices there: welding would make the origin a non-manifold vertex
+  // and close no boundary edge.
+  TriangleMesh two;
+  two.vertices.resize(8, 3);
+  two.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1,  //
+      0, 0, 0, -1, 0, 0, 0, -1, 0, 0, 0, -1;
+  two.faces.resize(8, 3);
+  two.faces << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3,  //
+      4, 6, 5, 4, 5, 7, 4, 7, 6, 5, 6, 7;
+  SeamWeldReport report;
+  auto welded = WeldSeams(two, &report);
+  ASSERT_TRUE(welded.ok());
+  EXPECT_EQ(report.merged_vertices, 0);
+  EXPECT_EQ(report.declined_vertices, 1);
+  EXPECT_EQ(report.declined_because,
+            "merging them would make 1 vertex non-manifold");
+  EXPECT_EQ(welded->mesh.num_vertices(), 8);
+}
+
+}  // namespace
+}  // namespace sdcb
