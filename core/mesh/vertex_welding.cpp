@@ -97,9 +97,6 @@ std::string WeldHarm(const MeshTopologyReport& before,
     return "merging them would join " + Count(oriented, "edge", "edges") +
            " between triangles of opposite orientations";
   }
-  if (after.boundary_edges >= before.boundary_edges) {
-    return "merging them would close no boundary edge";
-  }
   return "";
 }
 
@@ -117,12 +114,16 @@ StatusOr<WeldedMesh> WeldSeams(const TriangleMesh& mesh,
   SDCB_ASSIGN_OR_RETURN(const MeshTopologyReport after,
                         AnalyzeMeshTopology(welded.mesh));
   const std::string harm = WeldHarm(before, after);
-  if (harm.empty()) {
+  if (harm.empty() && after.boundary_edges < before.boundary_edges) {
     report->merged_vertices = merged;
     return welded;
   }
-  report->declined_vertices = merged;
-  report->declined_because = harm;
+  // Harmful, or of no use (unreferenced copies, say): left as it is, and
+  // only a harmful weld is reported.
+  if (!harm.empty()) {
+    report->declined_vertices = merged;
+    report->declined_because = harm;
+  }
   WeldedMesh unchanged;
   unchanged.mesh = mesh;
   unchanged.new_vertex.resize(mesh.num_vertices());

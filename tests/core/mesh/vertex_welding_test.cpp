@@ -132,6 +132,23 @@ TEST(VertexWeldingTest, AMeshWithoutEqualPositionsComesBackBitForBit) {
   EXPECT_EQ(welded->new_vertex, (std::vector<int>{0, 1, 2, 3}));
 }
 
+TEST(VertexWeldingTest, CopiesNoTriangleUsesAreLeftWithoutAWord) {
+  // A tetrahedron and an unreferenced copy of its vertex 2: welding would
+  // close no boundary edge (there is none), so it is neither done nor
+  // reported.
+  TriangleMesh mesh;
+  mesh.vertices.resize(5, 3);
+  mesh.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 0;
+  mesh.faces.resize(4, 3);
+  mesh.faces << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
+  SeamWeldReport report;
+  auto welded = WeldSeams(mesh, &report);
+  ASSERT_TRUE(welded.ok());
+  EXPECT_EQ(report.merged_vertices, 0);
+  EXPECT_EQ(report.declined_vertices, 0);
+  EXPECT_EQ(welded->mesh.num_vertices(), 5);
+}
+
 TEST(VertexWeldingTest, AWeldThatMakesAnEdgeNonManifoldIsNotDone) {
   // Three fins on the segment (0,0,0)-(0,0,1), each triangle with its own
   // copies of the segment's ends: welding would give that edge three
