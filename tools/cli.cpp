@@ -308,7 +308,7 @@ std::string SeamsLeftApart(const SeamWeldReport& seams) {
 
 std::string WithSeamHint(const std::string& refusal,
                          const SeamWeldReport& seams) {
-  if (seams.declined_vertices == 0) return refusal;
+  if (seams.declined_vertices == 0 || refusal.empty()) return refusal;
   return refusal + "; " + SeamsLeftApart(seams);
 }
 

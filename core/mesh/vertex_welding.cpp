@@ -113,14 +113,16 @@ StatusOr<WeldedMesh> WeldSeams(const TriangleMesh& mesh,
                         AnalyzeMeshTopology(mesh));
   SDCB_ASSIGN_OR_RETURN(const MeshTopologyReport after,
                         AnalyzeMeshTopology(welded.mesh));
-  const std::string harm = WeldHarm(before, after);
-  if (harm.empty() && after.boundary_edges < before.boundary_edges) {
+  // A weld that closes no boundary edge (of a closed mesh's stray copies,
+  // or of copies no triangle uses) gains nothing: neither done nor
+  // reported.
+  const bool closes = after.boundary_edges < before.boundary_edges;
+  const std::string harm = closes ? WeldHarm(before, after) : "";
+  if (closes && harm.empty()) {
     report->merged_vertices = merged;
     return welded;
   }
-  // Harmful, or of no use (unreferenced copies, say): left as it is, and
-  // only a harmful weld is reported.
-  if (!harm.empty()) {
+  if (closes) {
     report->declined_vertices = merged;
     report->declined_because = harm;
   }

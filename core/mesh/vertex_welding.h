@@ -62,10 +62,12 @@ struct SeamWeldReport {
 // split: when vertices at equal positions exist and welding them all turns
 // boundary edges into interior edges without adding any non-manifold edge,
 // non-manifold vertex or inconsistently oriented edge, returns the welded
-// mesh; otherwise `mesh` unchanged with the identity map (and, if the weld
-// would have made the mesh worse, how in `report`; a weld that closes no
-// boundary edge, of unreferenced copies say, is neither done nor reported).
-// kInvalidInput for indices out of range.
+// mesh; otherwise `mesh` unchanged with the identity map, and, when the
+// weld would have closed boundary edges but made the mesh worse, how in
+// `report`. A weld that closes no boundary edge (a closed mesh's stray
+// copies, copies no triangle uses) is neither done nor reported, so closed
+// meshes always come back as they are. kInvalidInput for indices out of
+// range.
 StatusOr<WeldedMesh> WeldSeams(const TriangleMesh& mesh,
                                SeamWeldReport* report);
 

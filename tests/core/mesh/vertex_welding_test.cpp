@@ -174,10 +174,10 @@ TEST(VertexWeldingTest, AWeldThatMakesAnEdgeNonManifoldIsNotDone) {
   EXPECT_EQ(welded->mesh.faces, fins.faces);
 }
 
-TEST(VertexWeldingTest, AWeldThatPinchesTwoSurfacesAtAVertexIsNotDone) {
+TEST(VertexWeldingTest, AClosedMeshIsNeverWelded) {
   // Two tetrahedra, each closed, touching at the origin through two
-  // vertices there: welding would make the origin a non-manifold vertex
-  // and close no boundary edge.
+  // vertices there: welding would close no boundary edge (and make the
+  // origin a non-manifold vertex), so it is neither done nor reported.
   TriangleMesh two;
   two.vertices.resize(8, 3);
   two.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1,  //
@@ -189,10 +189,31 @@ TEST(VertexWeldingTest, AWeldThatPinchesTwoSurfacesAtAVertexIsNotDone) {
   auto welded = WeldSeams(two, &report);
   ASSERT_TRUE(welded.ok());
   EXPECT_EQ(report.merged_vertices, 0);
-  EXPECT_EQ(report.declined_vertices, 1);
+  EXPECT_EQ(report.declined_vertices, 0);
+  EXPECT_EQ(welded->mesh.vertices, two.vertices);
+  EXPECT_EQ(welded->mesh.faces, two.faces);
+}
+
+// Two fins hinged on one segment plus a third fin whose far end touches
+// the first fin's tip: welding closes the hinge's boundary edges but pinches
+// the tip into a non-manifold vertex, so nothing is welded and the report
+// says why.
+TEST(VertexWeldingTest, AWeldThatPinchesAVertexIsNotDone) {
+  TriangleMesh fins;
+  fins.vertices.resize(9, 3);
+  fins.vertices << 0, 0, 0, 0, 0, 1, 1, 0, 0.5,  // fin 1
+      0, 0, 0, 0, 0, 1, 0, 1, 0.5,               // fin 2, hinged on 0-1
+      1, 0, 0.5, 3, 0, 0, 3, 0, 1;               // fin 3 at fin 1's tip
+  fins.faces.resize(3, 3);
+  fins.faces << 0, 1, 2, 4, 3, 5, 6, 7, 8;
+  SeamWeldReport report;
+  auto welded = WeldSeams(fins, &report);
+  ASSERT_TRUE(welded.ok());
+  EXPECT_EQ(report.merged_vertices, 0);
+  EXPECT_EQ(report.declined_vertices, 3);
   EXPECT_EQ(report.declined_because,
             "merging them would make 1 vertex non-manifold");
-  EXPECT_EQ(welded->mesh.num_vertices(), 8);
+  EXPECT_EQ(welded->mesh.vertices, fins.vertices);
 }
 
 }  // namespace

@@ -298,6 +298,24 @@ TEST(MeshReaderTest, ObjNegativeIndicesCountBackFromTheLastVertex) {
   }
 }
 
+// Text starting with a byte-order mark: UTF-8's is skipped (the first
+// vertex is not lost), UTF-16 is refused by name (assimp's
+// box_UTF16BE.obj read as a file without faces).
+TEST(MeshReaderTest, ByteOrderMarks) {
+  auto mesh = ReadMeshFromBuffer(
+      "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", MeshFileFormat::kObj);
+  ASSERT_TRUE(mesh.ok()) << mesh.status().message();
+  EXPECT_EQ(mesh->num_vertices(), 3);
+  EXPECT_EQ(mesh->vertices.row(1), Eigen::RowVector3d(1, 0, 0));
+  auto utf16 = ReadMeshFromBuffer(std::string("\xFE\xFF\0v\0 \0"
+                                              "0",
+                                              7),
+                                  MeshFileFormat::kObj);
+  ASSERT_FALSE(utf16.ok());
+  EXPECT_EQ(utf16.status().message().rfind("the file is UTF-16 text", 0), 0u)
+      << utf16.status().message();
+}
+
 // Blender 2.47 wrote a free-text line into its PLY headers (assimp's
 // Wuson.ply): read with a warning naming the line; an error that follows
 // names the ignored line, which may be a misspelt keyword.
