@@ -79,12 +79,10 @@ PartReport ReportWhole(const TriangleMesh& mesh, int number = 1) {
 // genus 0 by the counts (V - E + F = 3 - 3 + 2), but no sphere map embeds
 // them: refused with a sentence that says so, not the parameterization's.
 TEST(MeshPartsTest, TwoTrianglesBackToBackAreRefused) {
-  TriangleMesh pillow;
-  pillow.vertices.resize(3, 3);
-  pillow.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0;
-  pillow.faces.resize(2, 3);
-  pillow.faces << 0, 1, 2, 0, 2, 1;
-  const PartReport report = ReportWhole(pillow);
+  const PartReport report = ReportWhole(
+      testing::MakeMesh({Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
+                         Eigen::Vector3d(0, 1, 0)},
+                        {Eigen::Vector3i(0, 1, 2), Eigen::Vector3i(0, 2, 1)}));
   EXPECT_TRUE(report.closed);
   EXPECT_FALSE(report.fittable());
   EXPECT_EQ(report.problem,

@@ -6,9 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
 #include <vector>
 
 #include "sdcb/core/mesh/mesh_topology.h"
+#include "testing/make_mesh.h"
 
 namespace sdcb {
 namespace {
@@ -116,104 +118,76 @@ TEST(VertexWeldingTest, AGenuineCrackStaysOpen) {
   EXPECT_EQ(r->non_manifold_edges, 0);
 }
 
-TEST(VertexWeldingTest, AMeshWithoutEqualPositionsComesBackBitForBit) {
-  TriangleMesh tetrahedron;
-  tetrahedron.vertices.resize(4, 3);
-  tetrahedron.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
-  tetrahedron.faces.resize(4, 3);
-  tetrahedron.faces << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
-  SeamWeldReport report;
-  auto welded = WeldSeams(tetrahedron, &report);
-  ASSERT_TRUE(welded.ok());
-  EXPECT_EQ(report.merged_vertices, 0);
-  EXPECT_EQ(report.declined_vertices, 0);
-  EXPECT_EQ(welded->mesh.vertices, tetrahedron.vertices);
-  EXPECT_EQ(welded->mesh.faces, tetrahedron.faces);
-  EXPECT_EQ(welded->new_vertex, (std::vector<int>{0, 1, 2, 3}));
-}
-
-TEST(VertexWeldingTest, CopiesNoTriangleUsesAreLeftWithoutAWord) {
-  // A tetrahedron and an unreferenced copy of its vertex 2: welding would
-  // close no boundary edge (there is none), so it is neither done nor
-  // reported.
-  TriangleMesh mesh;
-  mesh.vertices.resize(5, 3);
-  mesh.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 0;
-  mesh.faces.resize(4, 3);
-  mesh.faces << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
+// WeldSeams leaves `mesh` as it is, reporting `declined` vertices left
+// apart `because` (0 and "": nothing reported).
+void ExpectLeftAsItIs(const TriangleMesh& mesh, int declined,
+                      const std::string& because) {
   SeamWeldReport report;
   auto welded = WeldSeams(mesh, &report);
   ASSERT_TRUE(welded.ok());
   EXPECT_EQ(report.merged_vertices, 0);
-  EXPECT_EQ(report.declined_vertices, 0);
-  EXPECT_EQ(welded->mesh.num_vertices(), 5);
+  EXPECT_EQ(report.declined_vertices, declined);
+  EXPECT_EQ(report.declined_because, because);
+  EXPECT_EQ(welded->mesh.vertices, mesh.vertices);
+  EXPECT_EQ(welded->mesh.faces, mesh.faces);
+  std::vector<int> identity(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) identity[v] = v;
+  EXPECT_EQ(welded->new_vertex, identity);
+}
+
+using V = Eigen::Vector3d;
+using F = Eigen::Vector3i;
+
+TEST(VertexWeldingTest, AMeshWithoutEqualPositionsComesBackBitForBit) {
+  ExpectLeftAsItIs(
+      testing::MakeMesh({V(0, 0, 0), V(1, 0, 0), V(0, 1, 0), V(0, 0, 1)},
+                        {F(0, 2, 1), F(0, 1, 3), F(0, 3, 2), F(1, 2, 3)}),
+      0, "");
+}
+
+TEST(VertexWeldingTest, CopiesNoTriangleUsesAreLeftWithoutAWord) {
+  // A tetrahedron and an unreferenced copy of its vertex 2.
+  ExpectLeftAsItIs(
+      testing::MakeMesh(
+          {V(0, 0, 0), V(1, 0, 0), V(0, 1, 0), V(0, 0, 1), V(0, 1, 0)},
+          {F(0, 2, 1), F(0, 1, 3), F(0, 3, 2), F(1, 2, 3)}),
+      0, "");
 }
 
 TEST(VertexWeldingTest, AWeldThatMakesAnEdgeNonManifoldIsNotDone) {
   // Three fins on the segment (0,0,0)-(0,0,1), each triangle with its own
   // copies of the segment's ends: welding would give that edge three
   // triangles.
-  TriangleMesh fins;
-  fins.vertices.resize(9, 3);
-  fins.faces.resize(3, 3);
-  const double tips[3][3] = {{1, 0, 0}, {0, 1, 0}, {-1, -1, 0}};
-  for (int i = 0; i < 3; ++i) {
-    fins.vertices.row(3 * i) << 0, 0, 0;
-    fins.vertices.row(3 * i + 1) << 0, 0, 1;
-    fins.vertices.row(3 * i + 2) << tips[i][0], tips[i][1], tips[i][2] + 0.5;
-    fins.faces.row(i) << 3 * i, 3 * i + 1, 3 * i + 2;
-  }
-  SeamWeldReport report;
-  auto welded = WeldSeams(fins, &report);
-  ASSERT_TRUE(welded.ok());
-  EXPECT_EQ(report.merged_vertices, 0);
-  EXPECT_EQ(report.declined_vertices, 4);
-  EXPECT_EQ(report.declined_because,
-            "merging them would make 1 edge non-manifold");
-  EXPECT_EQ(welded->mesh.vertices, fins.vertices);
-  EXPECT_EQ(welded->mesh.faces, fins.faces);
+  const V bottom(0, 0, 0), top(0, 0, 1);
+  ExpectLeftAsItIs(
+      testing::MakeMesh({bottom, top, V(1, 0, 0.5), bottom, top, V(0, 1, 0.5),
+                         bottom, top, V(-1, -1, 0.5)},
+                        {F(0, 1, 2), F(3, 4, 5), F(6, 7, 8)}),
+      4, "merging them would make 1 edge non-manifold");
 }
 
 TEST(VertexWeldingTest, AClosedMeshIsNeverWelded) {
   // Two tetrahedra, each closed, touching at the origin through two
   // vertices there: welding would close no boundary edge (and make the
   // origin a non-manifold vertex), so it is neither done nor reported.
-  TriangleMesh two;
-  two.vertices.resize(8, 3);
-  two.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1,  //
-      0, 0, 0, -1, 0, 0, 0, -1, 0, 0, 0, -1;
-  two.faces.resize(8, 3);
-  two.faces << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3,  //
-      4, 6, 5, 4, 5, 7, 4, 7, 6, 5, 6, 7;
-  SeamWeldReport report;
-  auto welded = WeldSeams(two, &report);
-  ASSERT_TRUE(welded.ok());
-  EXPECT_EQ(report.merged_vertices, 0);
-  EXPECT_EQ(report.declined_vertices, 0);
-  EXPECT_EQ(welded->mesh.vertices, two.vertices);
-  EXPECT_EQ(welded->mesh.faces, two.faces);
+  ExpectLeftAsItIs(
+      testing::MakeMesh({V(0, 0, 0), V(1, 0, 0), V(0, 1, 0), V(0, 0, 1),
+                         V(0, 0, 0), V(-1, 0, 0), V(0, -1, 0), V(0, 0, -1)},
+                        {F(0, 2, 1), F(0, 1, 3), F(0, 3, 2), F(1, 2, 3),
+                         F(4, 6, 5), F(4, 5, 7), F(4, 7, 6), F(5, 6, 7)}),
+      0, "");
 }
 
-// Two fins hinged on one segment plus a third fin whose far end touches
-// the first fin's tip: welding closes the hinge's boundary edges but pinches
-// the tip into a non-manifold vertex, so nothing is welded and the report
-// says why.
 TEST(VertexWeldingTest, AWeldThatPinchesAVertexIsNotDone) {
-  TriangleMesh fins;
-  fins.vertices.resize(9, 3);
-  fins.vertices << 0, 0, 0, 0, 0, 1, 1, 0, 0.5,  // fin 1
-      0, 0, 0, 0, 0, 1, 0, 1, 0.5,               // fin 2, hinged on 0-1
-      1, 0, 0.5, 3, 0, 0, 3, 0, 1;               // fin 3 at fin 1's tip
-  fins.faces.resize(3, 3);
-  fins.faces << 0, 1, 2, 4, 3, 5, 6, 7, 8;
-  SeamWeldReport report;
-  auto welded = WeldSeams(fins, &report);
-  ASSERT_TRUE(welded.ok());
-  EXPECT_EQ(report.merged_vertices, 0);
-  EXPECT_EQ(report.declined_vertices, 3);
-  EXPECT_EQ(report.declined_because,
-            "merging them would make 1 vertex non-manifold");
-  EXPECT_EQ(welded->mesh.vertices, fins.vertices);
+  // Two fins hinged on one segment, and a third fin whose corner touches
+  // the first fin's tip: welding closes the hinge's boundary edge but
+  // pinches the tip into a non-manifold vertex.
+  const V bottom(0, 0, 0), top(0, 0, 1), tip(1, 0, 0.5);
+  ExpectLeftAsItIs(
+      testing::MakeMesh({bottom, top, tip, bottom, top, V(0, 1, 0.5), tip,
+                         V(3, 0, 0), V(3, 0, 1)},
+                        {F(0, 1, 2), F(4, 3, 5), F(6, 7, 8)}),
+      3, "merging them would make 1 vertex non-manifold");
 }
 
 }  // namespace
