@@ -56,7 +56,8 @@ StatusOr<MeshFileFormat> MeshFileFormatFromPath(const std::string& path);
 // shared vertices: its vertices are numbered in order of first appearance,
 // exactly equal positions merged). Polygons are triangulated as fans from
 // their first corner, except non-convex ones (of at most 64 corners), which
-// are ear-clipped in their plane so no triangle is inverted. Coordinates are
+// are ear-clipped in their plane so no triangle is inverted. OFF, OBJ and PLY
+// skip a UTF-8 byte-order mark and refuse UTF-16 text. Coordinates are
 // parsed as doubles (text: locale-independent, decimal or hexadecimal; binary:
 // the stored type). Errors (kCorruptFile, kInvalidInput, kUnsupported) are one
 // sentence without a file name, e.g. "line 12: face 3 refers to vertex 900, but

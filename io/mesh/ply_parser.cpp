@@ -439,7 +439,10 @@ Status ParseBody(const PlyHeader& header, std::string_view bytes,
         }
         int64_t count = 0;
         if (!values.ReadInteger(p.count_type, &count) || count < 0) {
-          return CorruptFileError(truncated + where());
+          // Assimp's issue623.ply declares vertex_indices in the vertex
+          // element: the next vertex's x is read as a count.
+          return CorruptFileError(truncated + where() + " (its list '" +
+                                  p.name + "' has no count of items)");
         }
         if (!is_face || static_cast<int>(pi) != corner_slot) {
           if (!values.Skip(p.type, count)) {
