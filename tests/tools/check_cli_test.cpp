@@ -7,6 +7,7 @@
 #include <random>
 
 #include "testing/run_sdcb.h"
+#include "testing/seam_split_cube.h"
 
 namespace sdcb {
 namespace {
@@ -343,16 +344,12 @@ TEST(CheckCliTest, UnwritableJsonIsExitOne) {
 // six open quads; welded, the 8-corner cube.
 TEST(CheckCliTest, SeamSplitCubeIsWeldedWithoutRepair) {
   const std::string dir = FreshTestDir();
-  const double corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                                {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
-  const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                           {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
   std::string obj = "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n";
-  for (const auto& quad : quads) {
+  for (const auto& quad : testing::kCubeQuads) {
     for (int c : quad) {
-      obj += "v " + std::to_string(corners[c][0]) + " " +
-             std::to_string(corners[c][1]) + " " +
-             std::to_string(corners[c][2]) + "\n";
+      const double* p = testing::kCubeCorners[c];
+      obj += "v " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " +
+             std::to_string(p[2]) + "\n";
     }
     obj += "f -4/1/1 -3/2/1 -2/3/1 -1/4/1\n";
   }

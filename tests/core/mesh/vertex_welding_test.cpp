@@ -11,35 +11,14 @@
 
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "testing/make_mesh.h"
+#include "testing/seam_split_cube.h"
 
 namespace sdcb {
 namespace {
 
-// The unit cube's corners and its six faces as outward (counter-clockwise
-// seen from outside) quads of corner numbers.
-const double kCorners[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                               {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
-const int kQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                          {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
-
-// The cube as an OBJ writer with per-face normals stores it: each quad has
-// its own four vertices (24), so the faces share no vertex. Quad q's
-// vertices are rows 4q..4q+3; `lift` raises the top quad (q = 1) off the
-// sides by that much.
-TriangleMesh SeamSplitCube(double lift = 0) {
-  TriangleMesh mesh;
-  mesh.vertices.resize(24, 3);
-  mesh.faces.resize(12, 3);
-  for (int q = 0; q < 6; ++q) {
-    for (int k = 0; k < 4; ++k) {
-      const double* c = kCorners[kQuads[q][k]];
-      mesh.vertices.row(4 * q + k) << c[0], c[1], c[2] + (q == 1 ? lift : 0);
-    }
-    mesh.faces.row(2 * q) << 4 * q, 4 * q + 1, 4 * q + 2;
-    mesh.faces.row(2 * q + 1) << 4 * q, 4 * q + 2, 4 * q + 3;
-  }
-  return mesh;
-}
+using testing::kCubeCorners;
+using testing::kCubeQuads;
+using testing::SeamSplitCube;
 
 TEST(VertexWeldingTest, EqualPositionsNumberedInOrderOfFirstAppearance) {
   Eigen::MatrixX3d v(6, 3);
@@ -76,12 +55,12 @@ TEST(VertexWeldingTest, SeamSplitCubeWeldsToTheEightCornerCube) {
   ASSERT_EQ(cube.num_vertices(), 8);
   ASSERT_EQ(cube.num_faces(), 12);
   for (int c = 0; c < 8; ++c) {
-    EXPECT_EQ(
-        cube.vertices.row(new_of_corner[c]),
-        Eigen::RowVector3d(kCorners[c][0], kCorners[c][1], kCorners[c][2]));
+    EXPECT_EQ(cube.vertices.row(new_of_corner[c]),
+              Eigen::RowVector3d(kCubeCorners[c][0], kCubeCorners[c][1],
+                                 kCubeCorners[c][2]));
   }
   for (int q = 0; q < 6; ++q) {
-    const int* c = kQuads[q];
+    const int* c = kCubeQuads[q];
     EXPECT_EQ(cube.faces.row(2 * q),
               Eigen::RowVector3i(new_of_corner[c[0]], new_of_corner[c[1]],
                                  new_of_corner[c[2]]));
