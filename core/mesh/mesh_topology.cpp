@@ -4,8 +4,6 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
-#include <array>
-#include <numeric>
 #include <vector>
 
 #include "sdcb/core/common/union_find.h"
