@@ -103,7 +103,7 @@ int RunCheck(const std::vector<std::string>& argv) {
 
   MeshReadInfo read_info;
   StatusOr<TriangleMesh> mesh =
-      ReadMesh(path, &read_info, MeshReadLimitsFromArgs(args));
+      ReadInputMesh(path, MeshReadLimitsFromArgs(args), &read_info);
   if (!mesh.ok()) return ReportError(mesh.status());
   const Status repaired = RepairIfAsked(args, path, &*mesh);
   if (!repaired.ok()) return ReportError(repaired);

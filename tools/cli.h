@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/mesh/mesh_parts.h"
 #include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/io/mesh/mesh_reader.h"
@@ -101,9 +102,37 @@ long long WarnAboutSelfIntersections(
     const std::string& path, const StatusOr<SelfIntersectionReport>& report,
     std::string* skipped_because = nullptr);
 
+// Where the faces of a mesh read from glTF came from: per face, the index of
+// its primitive in `primitive_names` (GltfPrimitive::name). Empty for the
+// other formats, and after --repair (which renumbers the faces).
+struct MeshOrigin {
+  std::vector<int> face_primitive;
+  std::vector<std::string> primitive_names;
+};
+
+// Any mesh file sdcb reads: .gltf / .glb through converters/gltf/
+// gltf_import.h, every triangle primitive of the default scene in one mesh
+// (ConcatenatePrimitives: mesh-local coordinates, primitives sharing no
+// vertex), with a warning line on stderr for skipped points and lines
+// primitives; the other formats through ReadMesh (`info` is theirs). Errors
+// start with the path.
+StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
+                                     const MeshReadLimits& limits = {},
+                                     MeshReadInfo* info = nullptr,
+                                     MeshOrigin* origin = nullptr);
+
+// The names of the parts (SplitIntoParts) of a mesh read with `origin`: the
+// name of the primitive of a part's first face, with " (k)" appended (k =
+// 1, 2, ... in part order) when that primitive has several parts. All ""
+// when `origin` is empty.
+std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,
+                                   const MeshOrigin& origin);
+
 // What `fit` reads: the MESH with the limits of the options, repaired if
-// asked; its parts are checked by the fit (core/fit/fit_model.h).
-StatusOr<TriangleMesh> ReadMeshToFit(const Args& args, const std::string& path);
+// asked; its parts are checked by the fit (core/fit/fit_model.h). `origin`
+// as ReadInputMesh's.
+StatusOr<TriangleMesh> ReadMeshToFit(const Args& args, const std::string& path,
+                                     MeshOrigin* origin = nullptr);
 
 // What `param` reads: the MESH with the limits of the options,
 // repaired if asked, checked to be closed genus 0 (one sentence naming

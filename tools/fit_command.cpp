@@ -187,6 +187,31 @@ nlohmann::ordered_json PartJson(const PartFit& part) {
   return j;
 }
 
+// The sentence of a glTF input's refused part, led by the name of the part
+// (its primitive's, PartNames): "part \"Duck\": part 1 (...) is not ...".
+// Other refusals and inputs as they are.
+Status NameRefusedPrimitive(const Status& refused, const TriangleMesh& mesh,
+                            const MeshOrigin& origin,
+                            const ModelFitOptions& options) {
+  if (origin.face_primitive.empty() ||
+      refused.code() != StatusCode::kUnsupported) {
+    return refused;
+  }
+  StatusOr<std::vector<MeshPart>> parts =
+      SplitIntoParts(mesh, options.max_parts);
+  if (!parts.ok()) return refused;
+  const std::vector<std::string> names = PartNames(*parts, origin);
+  for (size_t i = 0; i < parts->size(); ++i) {
+    StatusOr<PartReport> report =
+        ReportPart((*parts)[i], static_cast<int>(i) + 1);
+    if (report.ok() && !report->fittable()) {
+      return Status(refused.code(),
+                    "part \"" + names[i] + "\": " + refused.message());
+    }
+  }
+  return refused;
+}
+
 }  // namespace
 
 const std::vector<OptionSpec>& FitOptionSpecs() {
@@ -267,8 +292,9 @@ int RunFit(const std::vector<std::string>& argv) {
   // beside the fit, in its idle cycles.
   tbb::task_arena arena(options.threads > 0 ? options.threads
                                             : int{tbb::task_arena::automatic});
+  MeshOrigin origin;
   StatusOr<TriangleMesh> mesh =
-      arena.execute([&] { return ReadMeshToFit(args, path); });
+      arena.execute([&] { return ReadMeshToFit(args, path, &origin); });
   if (!mesh.ok()) return ReportError(mesh.status());
   ModelFitOptions model_options;
   model_options.max_parts =
@@ -277,7 +303,11 @@ int RunFit(const std::vector<std::string>& argv) {
   // (core/mesh/mesh_parts.h).
   StatusOr<PartsIntake> intake = arena.execute(
       [&] { return TakeInParts(*mesh, model_options.max_parts); });
-  if (!intake.ok()) return ReportError(intake.status().WithPrefix(path));
+  if (!intake.ok()) {
+    return ReportError(
+        NameRefusedPrimitive(intake.status(), *mesh, origin, model_options)
+            .WithPrefix(path));
+  }
   SelfIntersectionsBeside intersections(*mesh);
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
@@ -306,6 +336,9 @@ int RunFit(const std::vector<std::string>& argv) {
                             "), which a surface that follows it does too";
     }
   }
+  // A glTF input's parts are named after their primitives.
+  const std::vector<std::string> names = PartNames(intake->parts, origin);
+  for (size_t i = 0; i < names.size(); ++i) fit->model.parts[i].name = names[i];
   const std::string file_name = std::filesystem::path(path).filename().string();
   fit->model.source.file_name = file_name;
   for (ModelPart& part : fit->model.parts) {

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <vector>
 
+#include "sdcb/converters/gltf/glb_container.h"
 #include "sdcb/io/common/atomic_file.h"
 
 namespace sdcb {
@@ -33,63 +34,19 @@ std::string LowerExtension(const std::string& path) {
   return ext;
 }
 
-void Pad4(std::string* s, char fill) {
-  while (s->size() % 4 != 0) s->push_back(fill);
+std::string PackGlbJson(const Json& json, std::string bin) {
+  return PackGlb(json.dump(), std::move(bin));
 }
 
-void AppendU32(std::string* s, uint32_t v) {
-  for (int i = 0; i < 4; ++i) s->push_back(static_cast<char>(v >> (8 * i)));
-}
-
-// The GLB container (glTF 2.0 spec, "Binary glTF Layout").
-std::string PackGlb(const Json& json, std::string bin) {
-  std::string text = json.dump();
-  Pad4(&text, ' ');
-  Pad4(&bin, '\0');
-  std::string out;
-  AppendU32(&out, 0x46546C67u);  // "glTF"
-  AppendU32(&out, 2);
-  AppendU32(&out, static_cast<uint32_t>(12 + 8 + text.size() +
-                                        (bin.empty() ? 0 : 8 + bin.size())));
-  AppendU32(&out, static_cast<uint32_t>(text.size()));
-  AppendU32(&out, 0x4E4F534Au);  // "JSON"
-  out += text;
-  if (!bin.empty()) {
-    AppendU32(&out, static_cast<uint32_t>(bin.size()));
-    AppendU32(&out, 0x004E4942u);  // "BIN\0"
-    out += bin;
-  }
-  return out;
-}
-
-uint32_t ReadU32(const std::string& s, size_t at) {
-  uint32_t v = 0;
-  for (int i = 0; i < 4; ++i) {
-    v |= static_cast<uint32_t>(static_cast<unsigned char>(s[at + i]))
-         << (8 * i);
-  }
-  return v;
-}
-
-// Splits a GLB into its JSON and BIN chunks.
+// Splits a GLB the encoder wrote into its JSON and BIN chunks.
 Status UnpackGlb(const std::string& glb, Json* json, std::string* bin) {
-  if (glb.size() < 20 || ReadU32(glb, 0) != 0x46546C67u) {
-    return InternalError("the encoder did not produce a GLB");
+  StatusOr<GlbChunks> chunks = SplitGlb(glb);
+  if (!chunks.ok()) {
+    return InternalError("the encoder wrote a bad GLB: " +
+                         chunks.status().message());
   }
-  const uint32_t json_length = ReadU32(glb, 12);
-  if (20 + size_t{json_length} > glb.size()) {
-    return InternalError("the encoder produced a truncated GLB");
-  }
-  *json = Json::parse(glb.substr(20, json_length));
-  size_t at = 20 + json_length;
-  bin->clear();
-  if (at + 8 <= glb.size()) {
-    const uint32_t bin_length = ReadU32(glb, at);
-    if (at + 8 + bin_length > glb.size()) {
-      return InternalError("the encoder produced a truncated GLB");
-    }
-    *bin = glb.substr(at + 8, bin_length);
-  }
+  *json = Json::parse(chunks->json);
+  *bin = std::string(chunks->bin);
   return Status::Ok();
 }
 
@@ -113,7 +70,7 @@ std::string Base64(const std::string& data) {
 // The file bytes for `json` + `bin` (buffer 0): a GLB, or a .gltf with the
 // buffer as a data URI.
 std::string Container(Json json, const std::string& bin, bool glb) {
-  if (glb) return PackGlb(json, bin);
+  if (glb) return PackGlbJson(json, bin);
   if (!bin.empty()) {
     json["buffers"][0]["uri"] =
         "data:application/octet-stream;base64," + Base64(bin);
