@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "sdcb/converters/gltf/gltf_asset.h"
 #include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/core/mesh/mesh_repair.h"
 #include "sdcb/core/mesh/mesh_topology.h"
@@ -289,7 +290,7 @@ StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
     }
     return ReadMesh(path, info, limits);
   }
-  SDCB_ASSIGN_OR_RETURN(const GltfAsset asset, ReadGltf(path, limits));
+  SDCB_ASSIGN_OR_RETURN(GltfAsset asset, ReadGltf(path, limits));
   if (asset.point_primitives + asset.line_primitives > 0) {
     std::cerr << "sdcb: " << path << ": warning: skipped "
               << asset.point_primitives << " points and "
@@ -301,11 +302,30 @@ StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
   if (origin != nullptr) {
     origin->face_primitive = std::move(face_primitive);
     origin->primitive_names.clear();
+    origin->primitive_ids.clear();
     for (const GltfPrimitive& p : asset.primitives) {
       origin->primitive_names.push_back(p.name);
+      origin->primitive_ids.push_back({p.mesh, p.primitive});
     }
+    origin->document = std::move(asset.document);
   }
   return mesh;
+}
+
+StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
+                                    const MeshOrigin& origin) {
+  if (origin.face_primitive.empty()) return std::string();
+  std::vector<GltfFittedPrimitive> fitted(origin.primitive_ids.size());
+  for (size_t p = 0; p < fitted.size(); ++p) {
+    fitted[p].mesh = origin.primitive_ids[p][0];
+    fitted[p].primitive = origin.primitive_ids[p][1];
+  }
+  for (size_t i = 0; i < parts.size(); ++i) {
+    if (parts[i].input_faces.empty()) continue;
+    const int p = origin.face_primitive[parts[i].input_faces[0]];
+    fitted[p].parts.push_back(static_cast<int>(i));
+  }
+  return MakeGltfShell(origin.document, fitted);
 }
 
 std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,

@@ -3,6 +3,7 @@
 #ifndef SDCB_TOOLS_CLI_H_
 #define SDCB_TOOLS_CLI_H_
 
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -13,6 +14,7 @@
 #include "sdcb/core/mesh/mesh_parts.h"
 #include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/io/mesh/mesh_reader.h"
 
 namespace sdcb::cli {
@@ -108,6 +110,9 @@ long long WarnAboutSelfIntersections(
 struct MeshOrigin {
   std::vector<int> face_primitive;
   std::vector<std::string> primitive_names;
+  // Per primitive, its glTF mesh and index in the mesh; the file's bytes.
+  std::vector<std::array<int, 2>> primitive_ids;
+  GltfDocument document;
 };
 
 // Any mesh file sdcb reads: .gltf / .glb through converters/gltf/
@@ -127,6 +132,12 @@ StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
 // when `origin` is empty.
 std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,
                                    const MeshOrigin& origin);
+
+// The asset to keep with a model fitted from a glTF file (Model::asset,
+// MakeGltfShell): every primitive becomes the parts whose first face it
+// holds (PartNames' rule). "" when `origin` is empty.
+StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
+                                    const MeshOrigin& origin);
 
 // What `fit` reads: the MESH with the limits of the options, repaired if
 // asked; its parts are checked by the fit (core/fit/fit_model.h). `origin`

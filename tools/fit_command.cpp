@@ -339,6 +339,10 @@ int RunFit(const std::vector<std::string>& argv) {
   // A glTF input's parts are named after their primitives.
   const std::vector<std::string> names = PartNames(intake->parts, origin);
   for (size_t i = 0; i < names.size(); ++i) fit->model.parts[i].name = names[i];
+  // ... and the asset around them is kept, to be written back by export.
+  StatusOr<std::string> asset = KeptGltfAsset(intake->parts, origin);
+  if (!asset.ok()) return ReportError(asset.status().WithPrefix(path));
+  fit->model.asset = std::move(asset).value();
   const std::string file_name = std::filesystem::path(path).filename().string();
   fit->model.source.file_name = file_name;
   for (ModelPart& part : fit->model.parts) {

@@ -166,10 +166,10 @@ StatusOr<std::string> MakeShell(const GltfDocument& document,
   if (doc.contains("images")) {
     for (size_t i = 0; i < doc["images"].size(); ++i) {
       Json& image = doc["images"][i];
-      if (!image.contains("uri")) continue;
-      if (i >= document.images.size()) {
-        return InvalidInputError("image " + std::to_string(i) +
-                                 " has no bytes");
+      // An image whose file was not there keeps its URI.
+      if (!image.contains("uri") || i >= document.images.size() ||
+          document.images[i].empty()) {
+        continue;
       }
       if (!image.contains("mimeType")) {
         image["mimeType"] = MimeTypeOf(image["uri"].get<std::string>());

@@ -16,20 +16,11 @@
 #include <vector>
 
 #include "sdcb/converters/gltf/gltf_export.h"
+#include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/converters/mesh/surface_mesh.h"
 #include "sdcb/core/common/status.h"
 
 namespace sdcb {
-
-// The bytes of a glTF file as read (GltfAsset::document): its JSON text,
-// the data of every buffer (external files and data URIs resolved, a
-// GLB's BIN chunk for its buffer without a URI) and, per image, its encoded
-// bytes when the image is given by a URI ("" for one in a buffer view).
-struct GltfDocument {
-  std::string json;
-  std::vector<std::string> buffers;
-  std::vector<std::string> images;
-};
 
 // The parts that replace one primitive.
 struct GltfFittedPrimitive {
@@ -42,7 +33,8 @@ struct GltfFittedPrimitive {
 // primitives lose attributes, indices, morph targets and Draco data, and
 // hold their parts in extras; accessors and buffer views nothing uses any
 // more are dropped; every image given by a URI moves into a buffer view
-// (its MIME type from the data URI or the file's extension); all bytes in
+// (its MIME type from the data URI or the file's extension), except one
+// whose file was not there, which keeps its URI; all bytes in
 // one buffer, the GLB's BIN chunk. kInvalidInput when the document does
 // not parse or a primitive, accessor or view it names is not there;
 // kUnsupported for a kept primitive whose views are meshopt-compressed.
