@@ -4,7 +4,7 @@
 # a scratch copy of its seed corpus (fuzz/corpus/TARGET plus the malformed
 # files of tests/data/malformed). A libFuzzer run uses one core, so as many
 # targets run at once as there are cores (SDCB_FUZZ_JOBS overrides).
-#   bash scripts/fuzz.sh [SECONDS] [TARGET ...]     TARGET: off obj ply stl sdcb manifest
+#   bash scripts/fuzz.sh [SECONDS] [TARGET ...]     TARGET: off obj ply stl gltf sdcb manifest
 # Exit 1 on a finding: the input is saved under build-fuzz/findings/TARGET/;
 # minimize it (TARGET_fuzzer -minimize_crash=1 FILE), fix the bug and add the
 # input to fuzz/corpus/TARGET/ as regression-NAME (the io tests replay every
@@ -15,7 +15,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-30}
 shift || true
 targets=("$@")
-if [ ${#targets[@]} -eq 0 ]; then targets=(off obj ply stl sdcb manifest); fi
+if [ ${#targets[@]} -eq 0 ]; then targets=(off obj ply stl gltf sdcb manifest); fi
 
 if ! command -v clang++ >/dev/null; then
   echo "fuzz: clang++ is missing (scripts/setup.sh installs clang)" >&2
@@ -42,6 +42,7 @@ fuzz_one() {
   cp -n fuzz/corpus/"$t"/* "$work"/
   case $t in
     sdcb) pattern='*.sdcb' ;;
+    gltf) pattern='*.gl[tb]*' ;;
     *) pattern="*.$t" ;;
   esac
   find tests/data/malformed -name "$pattern" -exec cp -n {} "$work"/ \;

@@ -12,6 +12,8 @@
 #include <filesystem>
 #include <iostream>
 
+#include "sdcb/converters/gltf/gltf_asset.h"
+#include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/core/mesh/mesh_repair.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/mesh/self_intersections.h"
@@ -312,15 +314,96 @@ std::string WithSeamHint(const std::string& refusal,
   return refusal + "; " + SeamsLeftApart(seams);
 }
 
+StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
+                                     const MeshReadLimits& limits,
+                                     MeshReadInfo* info, MeshOrigin* origin) {
+  if (!IsGltfPath(path)) {
+    if (!MeshFileFormatFromPath(path).ok()) {
+      const std::string ext = std::filesystem::path(path).extension().string();
+      return UnsupportedError("unknown mesh format '" + ext +
+                              "' (sdcb reads .obj, .off, .ply, .stl, .gltf "
+                              "and .glb)")
+          .WithPrefix(path);
+    }
+    return ReadMesh(path, info, limits);
+  }
+  SDCB_ASSIGN_OR_RETURN(GltfAsset asset, ReadGltf(path, limits));
+  if (asset.point_primitives + asset.line_primitives > 0) {
+    std::cerr << "sdcb: " << path << ": warning: skipped "
+              << asset.point_primitives << " points and "
+              << asset.line_primitives
+              << " lines primitives (sdcb fits triangles)\n";
+  }
+  std::vector<int> face_primitive;
+  TriangleMesh mesh = ConcatenatePrimitives(asset, &face_primitive);
+  if (origin != nullptr) {
+    origin->face_primitive = std::move(face_primitive);
+    origin->primitive_names.clear();
+    origin->primitive_ids.clear();
+    for (const GltfPrimitive& p : asset.primitives) {
+      origin->primitive_names.push_back(p.name);
+      origin->primitive_ids.push_back({p.mesh, p.primitive});
+    }
+    origin->document = std::move(asset.document);
+  }
+  return mesh;
+}
+
+StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
+                                    const MeshOrigin& origin) {
+  if (origin.face_primitive.empty()) return std::string();
+  std::vector<GltfFittedPrimitive> fitted(origin.primitive_ids.size());
+  for (size_t p = 0; p < fitted.size(); ++p) {
+    fitted[p].mesh = origin.primitive_ids[p][0];
+    fitted[p].primitive = origin.primitive_ids[p][1];
+  }
+  for (size_t i = 0; i < parts.size(); ++i) {
+    if (parts[i].input_faces.empty()) continue;
+    const int p = origin.face_primitive[parts[i].input_faces[0]];
+    fitted[p].parts.push_back(static_cast<int>(i));
+  }
+  return MakeGltfShell(origin.document, fitted);
+}
+
+std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,
+                                   const MeshOrigin& origin) {
+  std::vector<std::string> names(parts.size());
+  if (origin.face_primitive.empty()) return names;
+  std::vector<int> primitive(parts.size(), -1);
+  std::vector<int> parts_of(origin.primitive_names.size(), 0);
+  for (size_t i = 0; i < parts.size(); ++i) {
+    if (parts[i].input_faces.empty()) continue;
+    primitive[i] = origin.face_primitive[parts[i].input_faces[0]];
+    ++parts_of[primitive[i]];
+  }
+  std::vector<int> seen(origin.primitive_names.size(), 0);
+  for (size_t i = 0; i < parts.size(); ++i) {
+    if (primitive[i] < 0) continue;
+    names[i] = origin.primitive_names[primitive[i]];
+    if (parts_of[primitive[i]] > 1) {
+      names[i] += " (" + std::to_string(++seen[primitive[i]]) + ")";
+    }
+  }
+  return names;
+}
+
 StatusOr<TriangleMesh> ReadMeshToFit(const Args& args, const std::string& path,
-                                     MeshIntakeNotes* notes) {
+                                     MeshIntakeNotes* notes,
+                                     MeshOrigin* origin) {
   MeshIntakeNotes local;
   MeshIntakeNotes* n = notes != nullptr ? notes : &local;
-  SDCB_ASSIGN_OR_RETURN(TriangleMesh mesh,
-                        ReadMesh(path, &n->read, MeshReadLimitsFromArgs(args)));
+  SDCB_ASSIGN_OR_RETURN(
+      TriangleMesh mesh,
+      ReadInputMesh(path, MeshReadLimitsFromArgs(args), &n->read, origin));
   WarnAboutRead(path, n->read);
   SDCB_RETURN_IF_ERROR(RepairIfAsked(args, path, &mesh));
-  SDCB_ASSIGN_OR_RETURN(n->seams, WeldSeamsUnlessRepairing(args, path, &mesh));
+  if (origin != nullptr && args.Has("repair")) *origin = MeshOrigin();
+  // A glTF primitive's vertices are merged by position already; welding
+  // across primitives would join parts that belong to two of them.
+  if (!IsGltfPath(path)) {
+    SDCB_ASSIGN_OR_RETURN(n->seams,
+                          WeldSeamsUnlessRepairing(args, path, &mesh));
+  }
   return mesh;
 }
 

@@ -3,6 +3,7 @@
 #ifndef SDCB_TOOLS_CLI_H_
 #define SDCB_TOOLS_CLI_H_
 
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -10,9 +11,11 @@
 #include <vector>
 
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/mesh/mesh_parts.h"
 #include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/mesh/vertex_welding.h"
+#include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/io/mesh/mesh_reader.h"
 
 namespace sdcb::cli {
@@ -130,11 +133,50 @@ struct MeshIntakeNotes {
   SeamWeldReport seams;
 };
 
-// What `check` and `fit` read: the MESH with the limits of the options
-// (warnings printed), repaired if asked, else its seams welded; its parts
-// are checked by the caller (core/mesh/mesh_parts.h, core/fit/fit_model.h).
+// Where the faces of a mesh read from glTF came from: per face, the index of
+// its primitive in `primitive_names` (GltfPrimitive::name). Empty for the
+// other formats, and after --repair (which renumbers the faces).
+struct MeshOrigin {
+  std::vector<int> face_primitive;
+  std::vector<std::string> primitive_names;
+  // Per primitive, its glTF mesh and index in the mesh; the file's bytes.
+  std::vector<std::array<int, 2>> primitive_ids;
+  GltfDocument document;
+};
+
+// Any mesh file sdcb reads: .gltf / .glb through converters/gltf/
+// gltf_import.h, every triangle primitive of the default scene in one mesh
+// (ConcatenatePrimitives: mesh-local coordinates, primitives sharing no
+// vertex), with a warning line on stderr for skipped points and lines
+// primitives; the other formats through ReadMesh (`info` is theirs). Errors
+// start with the path.
+StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
+                                     const MeshReadLimits& limits = {},
+                                     MeshReadInfo* info = nullptr,
+                                     MeshOrigin* origin = nullptr);
+
+// The names of the parts (SplitIntoParts) of a mesh read with `origin`: the
+// name of the primitive of a part's first face, with " (k)" appended (k =
+// 1, 2, ... in part order) when that primitive has several parts. All ""
+// when `origin` is empty.
+std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,
+                                   const MeshOrigin& origin);
+
+// The asset to keep with a model fitted from a glTF file (Model::asset,
+// MakeGltfShell): every primitive becomes the parts whose first face it
+// holds (PartNames' rule). "" when `origin` is empty.
+StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
+                                    const MeshOrigin& origin);
+
+// What `check`, `param` and `fit` read: the MESH with the limits of the
+// options (warnings printed), repaired if asked, else, unless it is glTF
+// (whose primitives are merged by position as read), its seams welded; its
+// parts are checked by the caller (core/mesh/mesh_parts.h,
+// core/fit/fit_model.h). `origin` as ReadInputMesh's (empty after
+// --repair).
 StatusOr<TriangleMesh> ReadMeshToFit(const Args& args, const std::string& path,
-                                     MeshIntakeNotes* notes = nullptr);
+                                     MeshIntakeNotes* notes = nullptr,
+                                     MeshOrigin* origin = nullptr);
 
 // What `param` reads: the MESH with the limits of the options,
 // repaired if asked, checked to be closed genus 0 (one sentence naming

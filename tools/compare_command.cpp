@@ -145,7 +145,7 @@ int RunCompare(const std::vector<std::string>& argv) {
   if (!outputs.ok()) return ReportError(outputs);
   StatusOr<Model> model = ReadSdcbModelFile(model_path);
   if (!model.ok()) return ReportError(model.status());
-  StatusOr<TriangleMesh> mesh = ReadMesh(mesh_path);
+  StatusOr<TriangleMesh> mesh = ReadInputMesh(mesh_path);
   if (!mesh.ok()) return ReportError(mesh.status());
   // One untrimmed part: against the whole mesh, whatever it is. Otherwise
   // part i against the mesh's part i (core/mesh/mesh_parts.h).

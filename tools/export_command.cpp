@@ -139,7 +139,7 @@ int RunExport(const std::vector<std::string>& argv) {
   StatusOr<TriangleMesh> reference = TriangleMesh();
   if (options.colors == VertexColoring::kDistanceToMesh) {
     options.mesh_name = args.Get("mesh");
-    reference = ReadMesh(options.mesh_name);
+    reference = ReadInputMesh(options.mesh_name);
     if (!reference.ok()) return ReportError(reference.status());
     options.mesh = &*reference;
   }

@@ -187,6 +187,31 @@ nlohmann::ordered_json PartJson(const PartFit& part) {
   return j;
 }
 
+// The sentence of a glTF input's refused part, led by the name of the part
+// (its primitive's, PartNames): "part \"Duck\": part 1 (...) is not ...".
+// Other refusals and inputs as they are.
+Status NameRefusedPrimitive(const Status& refused, const TriangleMesh& mesh,
+                            const MeshOrigin& origin,
+                            const ModelFitOptions& options) {
+  if (origin.face_primitive.empty() ||
+      refused.code() != StatusCode::kUnsupported) {
+    return refused;
+  }
+  StatusOr<std::vector<MeshPart>> parts =
+      SplitIntoParts(mesh, options.max_parts);
+  if (!parts.ok()) return refused;
+  const std::vector<std::string> names = PartNames(*parts, origin);
+  for (size_t i = 0; i < parts->size(); ++i) {
+    StatusOr<PartReport> report =
+        ReportPart((*parts)[i], static_cast<int>(i) + 1);
+    if (report.ok() && !report->fittable()) {
+      return Status(refused.code(),
+                    "part \"" + names[i] + "\": " + refused.message());
+    }
+  }
+  return refused;
+}
+
 }  // namespace
 
 const std::vector<OptionSpec>& FitOptionSpecs() {
@@ -268,8 +293,9 @@ int RunFit(const std::vector<std::string>& argv) {
   tbb::task_arena arena(options.threads > 0 ? options.threads
                                             : int{tbb::task_arena::automatic});
   MeshIntakeNotes notes;
-  StatusOr<TriangleMesh> mesh =
-      arena.execute([&] { return ReadMeshToFit(args, path, &notes); });
+  MeshOrigin origin;
+  StatusOr<TriangleMesh> mesh = arena.execute(
+      [&] { return ReadMeshToFit(args, path, &notes, &origin); });
   if (!mesh.ok()) return ReportError(mesh.status());
   ModelFitOptions model_options;
   model_options.max_parts =
@@ -280,8 +306,10 @@ int RunFit(const std::vector<std::string>& argv) {
       [&] { return TakeInParts(*mesh, model_options.max_parts); });
   if (!intake.ok()) {
     return ReportError(
-        Status(intake.status().code(),
-               WithSeamHint(intake.status().message(), notes.seams))
+        NameRefusedPrimitive(Status(intake.status().code(),
+                                    WithSeamHint(intake.status().message(),
+                                                 notes.seams)),
+                             *mesh, origin, model_options)
             .WithPrefix(path));
   }
   SelfIntersectionsBeside intersections(*mesh);
@@ -312,6 +340,13 @@ int RunFit(const std::vector<std::string>& argv) {
                             "), which a surface that follows it does too";
     }
   }
+  // A glTF input's parts are named after their primitives.
+  const std::vector<std::string> names = PartNames(intake->parts, origin);
+  for (size_t i = 0; i < names.size(); ++i) fit->model.parts[i].name = names[i];
+  // ... and the asset around them is kept, to be written back by export.
+  StatusOr<std::string> asset = KeptGltfAsset(intake->parts, origin);
+  if (!asset.ok()) return ReportError(asset.status().WithPrefix(path));
+  fit->model.asset = std::move(asset).value();
   const std::string file_name = std::filesystem::path(path).filename().string();
   fit->model.source.file_name = file_name;
   for (ModelPart& part : fit->model.parts) {

@@ -24,8 +24,11 @@ Status CheckRegularFile(const std::string& path) {
   return Status::Ok();
 }
 
-StatusOr<std::string> ReadRegularFile(const std::string& path,
-                                      const MeshReadLimits& limits) {
+}  // namespace
+
+StatusOr<std::string> ReadMeshFileBytes(const std::string& path,
+                                        const MeshReadLimits& limits) {
+  SDCB_RETURN_IF_ERROR(CheckRegularFile(path));
   std::error_code ec;
   const uintmax_t size = fs::file_size(path, ec);
   if (ec) return IoError("cannot determine the file's size");
@@ -45,8 +48,6 @@ StatusOr<std::string> ReadRegularFile(const std::string& path,
   }
   return bytes;
 }
-
-}  // namespace
 
 StatusOr<MeshFileFormat> MeshFileFormatFromPath(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
@@ -108,7 +109,7 @@ StatusOr<TriangleMesh> ReadMesh(const std::string& path, MeshReadInfo* info,
   SDCB_RETURN_IF_ERROR(CheckRegularFile(path).WithPrefix(path));
   StatusOr<MeshFileFormat> format = MeshFileFormatFromPath(path);
   if (!format.ok()) return format.status().WithPrefix(path);
-  StatusOr<std::string> bytes = ReadRegularFile(path, limits);
+  StatusOr<std::string> bytes = ReadMeshFileBytes(path, limits);
   if (!bytes.ok()) return bytes.status().WithPrefix(path);
   StatusOr<TriangleMesh> mesh =
       ReadMeshFromBuffer(*bytes, *format, info, limits);

@@ -67,6 +67,14 @@ StatusOr<TriangleMesh> ReadMeshFromBuffer(std::string_view bytes,
                                           MeshReadInfo* info = nullptr,
                                           const MeshReadLimits& limits = {});
 
+// The bytes of the regular file `path`: directories, devices, FIFOs and
+// sockets are refused (kIoError; they can be endless or block), and so is a
+// file beyond limits.max_file_bytes or max_memory_bytes (kUnsupported).
+// Errors without the path. ReadMesh reads through it, and so does the glTF
+// reader (converters/gltf/gltf_import.h).
+StatusOr<std::string> ReadMeshFileBytes(const std::string& path,
+                                        const MeshReadLimits& limits = {});
+
 // Reads the regular file `path` in the format of its extension (through
 // ReadMeshFromBuffer). Errors (also kIoError) have messages that start with
 // the path, e.g. "x.obj: line 12: face 3 refers to vertex 900, ...".

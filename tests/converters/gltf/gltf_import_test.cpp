@@ -1,0 +1,372 @@
+// The glTF reader against oracles of its own: the glTF JSON's accessor
+// counts and positions read here with nlohmann_json and plain byte copies,
+// closed-form transforms, the exporter's reported quantization error, and
+// the sentences the malformed assimp-testmodels files must give.
+#include "sdcb/converters/gltf/gltf_import.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "sdcb/converters/gltf/gltf_export.h"
+#include "sdcb/core/mesh/icosphere.h"
+#include "sdcb/core/mesh/mesh_topology.h"
+#include "testing/gltf_assets.h"
+#include "testing/temp_dir.h"
+
+namespace sdcb {
+namespace {
+
+using testing::FreshTestDir;
+using testing::kAssimpGltf2;
+using testing::ReadBytes;
+using testing::WriteBytes;
+
+uint32_t U32(const std::string& s, size_t at) {
+  uint32_t v;
+  std::memcpy(&v, s.data() + at, 4);
+  return v;
+}
+
+TEST(GltfImport, DuckCountsAndPositionsMatchTheJson) {
+  const std::string glb = testing::MakeDuckGlb(FreshTestDir());
+  if (glb.empty()) GTEST_SKIP() << "assimp or assimp-testmodels missing";
+  // The oracle: the JSON chunk and the BIN chunk read directly.
+  const std::string bytes = ReadBytes(glb);
+  const uint32_t json_length = U32(bytes, 12);
+  const nlohmann::json json =
+      nlohmann::json::parse(bytes.substr(20, json_length));
+  const std::string bin = bytes.substr(20 + json_length + 8);
+  ASSERT_EQ(json["meshes"].size(), 1u);
+  const nlohmann::json& primitive = json["meshes"][0]["primitives"][0];
+  const nlohmann::json& position =
+      json["accessors"][primitive["attributes"]["POSITION"].get<int>()];
+  const nlohmann::json& indices =
+      json["accessors"][primitive["indices"].get<int>()];
+  ASSERT_EQ(position["componentType"], 5126);
+  ASSERT_EQ(indices["componentType"], 5125);
+  auto view_start = [&](const nlohmann::json& accessor) {
+    const nlohmann::json& view =
+        json["bufferViews"][accessor["bufferView"].get<int>()];
+    EXPECT_FALSE(view.contains("byteStride"));
+    return view.value("byteOffset", 0) + accessor.value("byteOffset", 0);
+  };
+  const int n = position["count"];
+  const int corners = indices["count"];
+  std::vector<std::array<float, 3>> points(n);
+  std::memcpy(points.data(), bin.data() + view_start(position), 12 * n);
+  std::vector<uint32_t> index(corners);
+  std::memcpy(index.data(), bin.data() + view_start(indices), 4 * corners);
+  std::set<std::array<float, 3>> distinct;
+  int degenerate = 0;
+  for (int f = 0; f < corners / 3; ++f) {
+    const auto& a = points[index[3 * f]];
+    const auto& b = points[index[3 * f + 1]];
+    const auto& c = points[index[3 * f + 2]];
+    if (a == b || b == c || a == c) ++degenerate;
+    distinct.insert({a, b, c});
+  }
+
+  StatusOr<GltfAsset> asset = ReadGltf(glb);
+  ASSERT_TRUE(asset.ok()) << asset.status().message();
+  ASSERT_EQ(asset->primitives.size(), 1u);
+  const GltfPrimitive& p = asset->primitives[0];
+  EXPECT_EQ(p.name, json["meshes"][0]["name"].get<std::string>());
+  EXPECT_EQ(p.source_vertices, n);
+  EXPECT_EQ(p.dropped_degenerate, degenerate);
+  EXPECT_EQ(p.triangles.num_faces(), corners / 3 - degenerate);
+  EXPECT_EQ(p.triangles.num_vertices(), static_cast<int>(distinct.size()));
+  EXPECT_LT(p.triangles.num_vertices(), n);  // UV seams merged
+  EXPECT_EQ(p.texcoords.rows(), 3 * p.triangles.num_faces());
+  EXPECT_EQ(p.colors.rows(), 0);
+  EXPECT_EQ(p.material, primitive["material"].get<int>());
+  // Every read vertex is one of the file's positions, bit for bit.
+  for (int v = 0; v < p.triangles.num_vertices(); ++v) {
+    const std::array<float, 3> q = {
+        static_cast<float>(p.triangles.vertices(v, 0)),
+        static_cast<float>(p.triangles.vertices(v, 1)),
+        static_cast<float>(p.triangles.vertices(v, 2))};
+    EXPECT_EQ(distinct.count(q), 1u);
+  }
+  // Nodes: names and the scale-0.01 matrix of the root.
+  ASSERT_EQ(asset->nodes.size(), json["nodes"].size());
+  for (size_t i = 0; i < asset->nodes.size(); ++i) {
+    EXPECT_EQ(asset->nodes[i].name, json["nodes"][i].value("name", ""));
+  }
+  EXPECT_NEAR(asset->nodes[0].local(0, 0),
+              json["nodes"][0]["matrix"][0].get<double>(), 0);
+}
+
+TEST(GltfImport, BoxTexturedMergesItsSplitVerticesIntoAClosedBox) {
+  const std::string path =
+      std::string(kAssimpGltf2) + "/BoxTextured-glTF-Binary/BoxTextured.glb";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "assimp-testmodels";
+  StatusOr<GltfAsset> asset = ReadGltf(path);
+  ASSERT_TRUE(asset.ok()) << asset.status().message();
+  ASSERT_EQ(asset->primitives.size(), 1u);
+  const GltfPrimitive& p = asset->primitives[0];
+  EXPECT_EQ(p.source_vertices, 24);
+  EXPECT_EQ(p.triangles.num_vertices(), 8);
+  EXPECT_EQ(p.triangles.num_faces(), 12);
+  EXPECT_EQ(p.texcoords.rows(), 36);
+  StatusOr<MeshTopologyReport> topology = AnalyzeMeshTopology(p.triangles);
+  ASSERT_TRUE(topology.ok());
+  EXPECT_EQ(topology->boundary_edges, 0);
+  EXPECT_EQ(topology->non_manifold_edges, 0);
+  EXPECT_EQ(topology->components, 1);
+  // The same box from the .gltf with its external .bin and embedded as a
+  // data URI.
+  for (const char* other : {"/BoxTextured-glTF/BoxTextured.gltf",
+                            "/BoxTextured-glTF-Embedded/BoxTextured.gltf"}) {
+    StatusOr<GltfAsset> same = ReadGltf(std::string(kAssimpGltf2) + other);
+    ASSERT_TRUE(same.ok()) << same.status().message();
+    EXPECT_EQ(same->primitives[0].triangles.vertices, p.triangles.vertices);
+    EXPECT_EQ(same->primitives[0].triangles.faces, p.triangles.faces);
+  }
+}
+
+// The exporter's Draco and meshopt GLBs of an icosphere read back to the
+// original positions within the quantization error it reports.
+TEST(GltfImport, DracoAndMeshoptGlbsReadBackWithinTheQuantizationError) {
+  const TriangleMesh sphere = MakeIcosphere(3);
+  SurfaceMesh mesh;
+  mesh.positions = sphere.vertices * 2.5;
+  mesh.normals = sphere.vertices.rowwise().normalized();
+  mesh.faces = sphere.faces;
+  for (const GltfCompression compression :
+       {GltfCompression::kNone, GltfCompression::kDraco,
+        GltfCompression::kMeshopt}) {
+    GltfExportOptions options;
+    options.compression = compression;
+    options.position_bits = 12;
+    StatusOr<EncodedGltf> encoded = EncodeGltf(mesh, options, true);
+    ASSERT_TRUE(encoded.ok()) << encoded.status().message();
+    StatusOr<GltfAsset> asset = ReadGltfFromBuffer(encoded->bytes);
+    ASSERT_TRUE(asset.ok()) << asset.status().message();
+    ASSERT_EQ(asset->primitives.size(), 1u);
+    const TriangleMesh& read = asset->primitives[0].triangles;
+    EXPECT_EQ(read.num_vertices(), sphere.num_vertices());
+    EXPECT_EQ(read.num_faces(), sphere.num_faces());
+    // The scene's node transform undoes meshopt's quantization: the
+    // positions in the world are node.local * p.
+    Eigen::Matrix4d world = Eigen::Matrix4d::Identity();
+    for (const int root : asset->roots) {
+      if (asset->nodes[root].mesh == 0) world = asset->nodes[root].local;
+    }
+    const double bound = encoded->result.quantization_error +
+                         encoded->result.float32_error + 1e-6;
+    for (int v = 0; v < read.num_vertices(); ++v) {
+      const Eigen::Vector3d p =
+          world.topLeftCorner<3, 3>() * read.vertices.row(v).transpose() +
+          world.topRightCorner<3, 1>();
+      double nearest = HUGE_VAL;
+      for (int w = 0; w < mesh.positions.rows(); ++w) {
+        nearest =
+            std::min(nearest, (mesh.positions.row(w).transpose() - p).norm());
+      }
+      EXPECT_LE(nearest, bound) << "compression " << int(compression);
+    }
+  }
+}
+
+std::string Base64(const std::string& data) {
+  static const char* kAlphabet =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < data.size(); i += 3) {
+    uint32_t v = static_cast<unsigned char>(data[i]) << 16;
+    if (i + 1 < data.size()) v |= static_cast<unsigned char>(data[i + 1]) << 8;
+    if (i + 2 < data.size()) v |= static_cast<unsigned char>(data[i + 2]);
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += i + 1 < data.size() ? kAlphabet[(v >> 6) & 63] : '=';
+    out += i + 2 < data.size() ? kAlphabet[v & 63] : '=';
+  }
+  return out;
+}
+
+// A unit square's four corners (float32) in one data-URI buffer.
+std::string SquareBufferJson() {
+  const float corners[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  const std::string bytes(reinterpret_cast<const char*>(corners), 48);
+  return R"("buffers": [{"byteLength": 48, "uri": "data:application/octet-stream;base64,)" +
+         Base64(bytes) + R"("}],
+    "bufferViews": [{"buffer": 0, "byteLength": 48}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4,
+                   "type": "VEC3"}])";
+}
+
+// Nodes, names and transforms of a small hand-written file; a strip and a
+// fan of the same four corners.
+TEST(GltfImport, ReadsTheNodeHierarchyAndTrsOfAHandWrittenFile) {
+  const std::string text = R"({"asset": {"version": "2.0"}, "scene": 0,
+    "scenes": [{"nodes": [0]}],
+    "nodes": [
+      {"name": "root", "children": [1, 2]},
+      {"name": "child", "mesh": 0, "translation": [1, 2, 3],
+       "rotation": [0, 0, 0.7071067811865476, 0.7071067811865476],
+       "scale": [2, 2, 2]},
+      {"name": "matrix", "mesh": 0,
+       "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 5, 6, 7, 1]}],
+    "meshes": [{"name": "quad", "primitives": [
+      {"attributes": {"POSITION": 0}, "mode": 5},
+      {"attributes": {"POSITION": 0}, "mode": 6},
+      {"attributes": {"POSITION": 0}, "mode": 1}]}],
+    )" + SquareBufferJson() +
+                           "}";
+  StatusOr<GltfAsset> asset = ReadGltfFromBuffer(text);
+  ASSERT_TRUE(asset.ok()) << asset.status().message();
+  ASSERT_EQ(asset->nodes.size(), 3u);
+  EXPECT_EQ(asset->roots, std::vector<int>{0});
+  EXPECT_EQ(asset->nodes[0].name, "root");
+  EXPECT_EQ(asset->nodes[0].children, (std::vector<int>{1, 2}));
+  EXPECT_EQ(asset->nodes[0].mesh, -1);
+  EXPECT_EQ(asset->nodes[1].mesh, 0);
+  // T * R(z, 90 degrees) * S(2), by hand.
+  Eigen::Matrix4d expected;
+  expected << 0, -2, 0, 1,  //
+      2, 0, 0, 2,           //
+      0, 0, 2, 3,           //
+      0, 0, 0, 1;
+  EXPECT_LT((asset->nodes[1].local - expected).norm(), 1e-12);
+  Eigen::Matrix4d moved = Eigen::Matrix4d::Identity();
+  moved.col(3).head<3>() << 5, 6, 7;
+  EXPECT_EQ(asset->nodes[2].local, moved);
+  // The mesh used by two nodes is read once; the lines primitive skipped.
+  ASSERT_EQ(asset->primitives.size(), 2u);
+  EXPECT_EQ(asset->line_primitives, 1);
+  EXPECT_EQ(asset->primitives[0].name, "quad#0");
+  EXPECT_EQ(asset->primitives[1].name, "quad#1");
+  // Strip (v0 v1 v2), (v1 v3 v2) by the spec's p_i = (v_i, v_{i+1+i%2},
+  // v_{i+2-i%2}), both counter-clockwise seen from +z; fan (v1 v2 v0),
+  // (v2 v3 v0): two triangles each over the four corners, numbered in order
+  // of first use.
+  const TriangleMesh& strip = asset->primitives[0].triangles;
+  Eigen::MatrixX3i strip_faces(2, 3);
+  strip_faces << 0, 1, 2, 1, 3, 2;
+  EXPECT_EQ(strip.faces, strip_faces);
+  const TriangleMesh& fan = asset->primitives[1].triangles;
+  ASSERT_EQ(fan.num_faces(), 2);
+  EXPECT_EQ(fan.vertices.row(fan.faces(0, 0)), Eigen::RowVector3d(1, 0, 0));
+  EXPECT_EQ(fan.vertices.row(fan.faces(1, 2)), Eigen::RowVector3d(0, 0, 0));
+  // Mesh-local coordinates: no node transform applied.
+  EXPECT_EQ(strip.vertices.row(3), Eigen::RowVector3d(1, 1, 0));
+}
+
+Status ReadText(const std::string& nodes_and_scene) {
+  const std::string text = R"({"asset": {"version": "2.0"}, )" +
+                           nodes_and_scene + ", " + SquareBufferJson() +
+                           R"(, "meshes": [{"primitives": [
+      {"attributes": {"POSITION": 0}, "mode": 5}]}]})";
+  return ReadGltfFromBuffer(text).status();
+}
+
+TEST(GltfImport, NodeCyclesAndSharedChildrenAreOneSentence) {
+  Status s = ReadText(R"("scene": 0, "scenes": [{"nodes": [0]}], "nodes": [
+      {"children": [1]}, {"children": [2]}, {"children": [0], "mesh": 0}])");
+  EXPECT_EQ(s.code(), StatusCode::kInvalidInput);
+  EXPECT_EQ(s.message(), "node 0 is its own ancestor");
+  s = ReadText(R"("scenes": [{"nodes": [0]}], "nodes": [
+      {"children": [2]}, {"children": [2]}, {"mesh": 0}])");
+  EXPECT_EQ(s.message(), "node 2 is a child of both node 0 and node 1");
+  s = ReadText(R"("scenes": [{"nodes": [0]}], "nodes": [{"children": [0]}])");
+  EXPECT_EQ(s.message(), "node 0 is its own ancestor");
+  s = ReadText(R"("nodes": [{"mesh": 0}])");
+  EXPECT_EQ(s.message(), "the file has no scene");
+  // Without `scene`, scene 0; a scene whose nodes have no mesh.
+  s = ReadText(R"("scenes": [{"nodes": [0]}], "nodes": [{}])");
+  EXPECT_EQ(s.message(), "scene 0 has no triangles");
+  EXPECT_TRUE(
+      ReadText(R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}])").ok());
+}
+
+TEST(GltfImport, ABufferReadOpensNoExternalFile) {
+  const std::string text = R"({"asset": {"version": "2.0"},
+    "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "buffers": [{"byteLength": 48, "uri": "square.bin"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 48}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4,
+                   "type": "VEC3"}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}]})";
+  const Status s = ReadGltfFromBuffer(text).status();
+  EXPECT_EQ(s.code(), StatusCode::kCorruptFile);
+  EXPECT_EQ(s.message(),
+            "the buffer file 'square.bin' is external (a buffer read opens no "
+            "files)");
+}
+
+TEST(GltfImport, AccessorsPastTheirViewAndWrongTypesAreNamed) {
+  // 4 corners claimed as 5; as unsigned shorts; as VEC2.
+  const std::string square = SquareBufferJson();
+  auto with_accessor = [&](const std::string& from, const std::string& to) {
+    std::string text = R"({"asset": {"version": "2.0"},
+      "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], )" +
+                       square + R"(, "meshes": [{"primitives": [
+        {"attributes": {"POSITION": 0}, "mode": 5}]}]})";
+    text.replace(text.find(from), from.size(), to);
+    return ReadGltfFromBuffer(text).status();
+  };
+  Status s = with_accessor(R"("count": 4)", R"("count": 5)");
+  EXPECT_EQ(s.code(), StatusCode::kCorruptFile);
+  EXPECT_EQ(s.message(),
+            "primitive 0 of mesh 0: POSITION (accessor 0) reads past the end "
+            "of buffer view 0: 5 elements of 12 bytes from byte 0 need more "
+            "than its 48 bytes");
+  s = with_accessor("5126", "5123");
+  EXPECT_EQ(s.message(),
+            "primitive 0 of mesh 0: POSITION (accessor 0) has component type "
+            "5123 (unsigned short), which glTF does not allow there (without "
+            "KHR_mesh_quantization)");
+  s = with_accessor(R"("VEC3")", R"("VEC2")");
+  EXPECT_EQ(s.message(),
+            "primitive 0 of mesh 0: POSITION (accessor 0) has 2-component "
+            "type; glTF requires 3 components");
+}
+
+// Every malformed glTF 2 file of assimp-testmodels: its sentence.
+TEST(GltfImport, MalformedAssimpTestModelsGiveOneSentenceEach) {
+  if (!std::filesystem::exists(kAssimpGltf2)) GTEST_SKIP();
+  struct Case {
+    const char* file;
+    StatusCode code;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"IncorrectVertexArrays/Cube.gltf", StatusCode::kCorruptFile,
+       "primitive 0 of mesh 1 has 35 vertices, not a multiple of 3 for "
+       "TRIANGLES"},
+      {"IndexOutOfRange/IndexOutOfRange.gltf", StatusCode::kInvalidInput,
+       "primitive 0 of mesh 0: index 255 refers past the 24 vertices"},
+      {"IndexOutOfRange/AllIndicesOutOfRange.gltf", StatusCode::kInvalidInput,
+       "primitive 0 of mesh 0: index 65535 refers past the 24 vertices"},
+      {"MissingBin/BoxTextured.gltf", StatusCode::kCorruptFile,
+       "the buffer file 'BoxTextured0.bin' is missing"},
+      {"BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb",
+       StatusCode::kInvalidInput,
+       "primitive 0 of mesh 0: vertex 0 has a non-finite position (-inf, "
+       "-0.500000, 0.500000)"},
+      {"RecursiveNodes/RecursiveNodes.gltf", StatusCode::kInvalidInput,
+       "node 0 is its own ancestor"},
+      {"TestNoRootNode/NoScene.gltf", StatusCode::kInvalidInput,
+       "the file has no scene"},
+      {"TestNoRootNode/SceneWithoutNodes.gltf", StatusCode::kInvalidInput,
+       "scene 0 has no triangles"},
+      {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_00.gltf",
+       StatusCode::kInvalidInput,
+       "scene 0 has no triangles (1 points and 0 lines primitives skipped)"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = std::string(kAssimpGltf2) + "/" + c.file;
+    const Status s = ReadGltf(path).status();
+    EXPECT_EQ(s.code(), c.code) << c.file << ": " << s.message();
+    EXPECT_EQ(s.message(), path + ": " + c.message);
+  }
+}
+
+}  // namespace
+}  // namespace sdcb

@@ -1,0 +1,34 @@
+// glTF assets for the reader's tests: the Khronos Duck as a GLB (converted
+// by `assimp` from assimp-testmodels' COLLADA duck.dae: Debian ships no
+// glTF 2 Duck) and the glTF 2 files of assimp-testmodels.
+#ifndef SDCB_TESTS_TESTING_GLTF_ASSETS_H_
+#define SDCB_TESTS_TESTING_GLTF_ASSETS_H_
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "testing/run_sdcb.h"
+
+namespace sdcb::testing {
+
+// assimp-testmodels' glTF 2 folder.
+inline const char* kAssimpGltf2 = "/usr/share/assimp/models/glTF2";
+
+// Writes DIR/Duck.glb with `assimp export` (assimp-utils); "" when assimp or
+// the COLLADA duck is missing.
+inline std::string MakeDuckGlb(const std::string& dir) {
+  const std::string dae = "/usr/share/assimp/models/Collada/duck.dae";
+  const std::string glb = dir + "/Duck.glb";
+  if (!std::filesystem::exists(dae)) return "";
+  const std::string command = "assimp export " + ShellQuote(dae) + " " +
+                              ShellQuote(glb) + " -f glb2 >/dev/null 2>&1";
+  if (std::system(command.c_str()) != 0 || !std::filesystem::exists(glb)) {
+    return "";
+  }
+  return glb;
+}
+
+}  // namespace sdcb::testing
+
+#endif  // SDCB_TESTS_TESTING_GLTF_ASSETS_H_
