@@ -119,7 +119,11 @@ StatusOr<ModelFit> FitModel(const TriangleMesh& mesh, const PartsIntake& intake,
   out.model.source.hash = HashTriangleMesh(mesh);
   for (size_t i = 0; i < parts.size(); ++i) {
     StatusOr<PartFit>& fit = *fits[i];
-    if (!fit.ok() && !options.keep_unfittable) return fit.status();
+    // Options out of range are the caller's to fix, not a part's to keep.
+    if (!fit.ok() && (!options.keep_unfittable ||
+                      fit.status().code() == StatusCode::kInvalidArgument)) {
+      return fit.status();
+    }
     PartFit part;
     if (fit.ok()) {
       part = std::move(fit).value();

@@ -30,7 +30,8 @@ struct ModelFitOptions {
   std::function<void(int done, int total)> part_done;
   // Keep, rather than refuse the mesh for, a part that cannot be fitted: one
   // whose PartReport has a problem (kept with that sentence), one whose fit
-  // fails with an error, and one whose fit misses its target with a folded
+  // fails with an error (but kInvalidArgument, options out of range, which
+  // fails the whole fit), and one whose fit misses its target with a folded
   // surface (kept with the fit's sentence, "part 3: ..."). A model whose
   // parts are all kept is still a model.
   bool keep_unfittable = false;

@@ -255,6 +255,15 @@ TEST(FitModel, AModelOfKeptPartsOnlyIsStillAModel) {
   EXPECT_TRUE(ValidateModel(fit->model).ok());
 }
 
+TEST(FitModel, KeepUnfittableKeepsNoPartForOptionsOutOfRange) {
+  ModelFitOptions options = CoarseOptions();
+  options.keep_unfittable = true;
+  options.fit.rmse_percent = -1;
+  StatusOr<ModelFit> fit = FitModel(testing::SphereTorusFan(), options);
+  ASSERT_FALSE(fit.ok());
+  EXPECT_EQ(fit.status().code(), StatusCode::kInvalidArgument);
+}
+
 TEST(FitModel, WithoutKeepUnfittableTheSameMeshIsRefused) {
   StatusOr<ModelFit> fit = FitModel(testing::SphereTorusFan(), CoarseOptions());
   ASSERT_FALSE(fit.ok());
