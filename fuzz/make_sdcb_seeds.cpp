@@ -1,9 +1,9 @@
 // Writes small valid .sdcb models (degrees 0..3, a few knots, with and
 // without sphere parameters; format version 3's grid knots and predicted
 // control points, version 2's quantized ones; version 4's models of two
-// named parts with trim loops) into the directory given as the argument:
-// the seeds of corpus/sdcb. The models come from the tests' fixture, whose
-// configurations are found by brute force.
+// named parts with trim loops, and kept parts) into the directory given as the
+// argument: the seeds of corpus/sdcb. The models come from the tests' fixture,
+// whose configurations are found by brute force.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -83,6 +83,43 @@ int main(int argc, char** argv) {
     }
     const std::string path = std::string(argv[1]) + "/v4_two_parts_trimmed" +
                              (quantize_bits ? "_pctl" : "") + ".sdcb";
+    std::ofstream(path, std::ios::binary) << *bytes;
+    std::printf("%s: %zu bytes\n", path.c_str(), bytes->size());
+  }
+  // Format version 4 with kept parts: a fitted part, a kept non-manifold
+  // fan of three triangles on one edge (doubles: 24-byte vertices) and a
+  // kept tetrahedron of float coordinates (12-byte vertices).
+  {
+    sdcb::Model model;
+    model.parts.resize(3);
+    model.parts[0].spline = sdcb::testing::MakeGridTestModel(1, 8, 16, 3);
+    sdcb::KeptMesh fan;
+    fan.mesh.vertices.resize(5, 3);
+    fan.mesh.vertices << 0, 0, 0, 1, 0, 0, 0.1, 1, 0, 0.3, -0.7, 0.2, 0.5, 0.1,
+        0.9;
+    fan.mesh.faces.resize(3, 3);
+    fan.mesh.faces << 0, 1, 2, 1, 0, 3, 0, 1, 4;
+    fan.reason =
+        "part 2 (3 triangles) is not manifold (1 edge with more than two "
+        "triangles); sdcb fits manifold parts";
+    model.parts[1].kept = fan;
+    model.parts[2].name = "tetra";
+    sdcb::KeptMesh tetra;
+    tetra.mesh.vertices.resize(4, 3);
+    tetra.mesh.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+    tetra.mesh.faces.resize(4, 3);
+    tetra.mesh.faces << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
+    tetra.reason = "part 3: the fit failed";
+    model.parts[2].kept = tetra;
+    model.source = model.parts[0].spline.source;
+    model.source.file_name = "kept parts.obj";
+    const auto bytes =
+        sdcb::SerializeSdcbModel(model, sdcb::SdcbWriteOptions());
+    if (!bytes.ok()) {
+      std::fprintf(stderr, "%s\n", bytes.status().message().c_str());
+      return 1;
+    }
+    const std::string path = std::string(argv[1]) + "/v4_kept_parts.sdcb";
     std::ofstream(path, std::ios::binary) << *bytes;
     std::printf("%s: %zu bytes\n", path.c_str(), bytes->size());
   }

@@ -3,15 +3,17 @@
 // part: build the surface and evaluate positions, derivatives and
 // curvatures at fixed directions (the axes, a generic direction and the
 // first knot, which lies on knot lines), then map them to input
-// coordinates. The one-spline reader (ParseSdcb) must agree: it reads
-// exactly the models of one untrimmed part. Any sanitizer report is a
-// finding; non-finite values are not (a model may overflow: the CLI refuses
-// to write them).
+// coordinates; a kept part's mesh (KEPT chunk, meshoptimizer's codecs) must
+// pass ValidateModelPart. The one-spline reader (ParseSdcb) must agree: it
+// reads exactly the models of one untrimmed fitted part. Any sanitizer report
+// is a finding; non-finite values are not (a model may overflow: the CLI
+// refuses to write them).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
 
+#include "sdcb/core/spline/model.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/io/sdcb/sdcb_file.h"
 
@@ -55,10 +57,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   if (model->parts.empty()) __builtin_trap();
-  for (const sdcb::ModelPart& part : model->parts) EvaluatePart(part.spline);
-  // The one-spline reader reads exactly the one-part untrimmed models.
+  for (const sdcb::ModelPart& part : model->parts) {
+    if (part.kept) {
+      if (!sdcb::ValidateModelPart(part).ok()) __builtin_trap();
+    } else {
+      EvaluatePart(part.spline);
+    }
+  }
+  // The one-spline reader reads exactly the one-part untrimmed fitted models.
   const sdcb::StatusOr<sdcb::SplineModel> spline = sdcb::ParseSdcb(bytes);
-  const bool one = model->parts.size() == 1 && !model->parts[0].trimmed();
+  const bool one = model->parts.size() == 1 && !model->parts[0].trimmed() &&
+                   model->parts[0].fitted();
   if (spline.ok() != one) __builtin_trap();
   if (!spline.ok() &&
       spline.status().code() != sdcb::StatusCode::kUnsupported) {

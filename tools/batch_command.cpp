@@ -456,13 +456,18 @@ struct BatchSettings {
 
 // A model's numbers on its line: one part's as they are; several parts'
 // knots and control points summed, rounds, rms and maximum the largest (each
-// part's in percent of its own size), reached when every part reached.
+// part's in percent of its own size), reached when every fitted part
+// reached; kept parts (fit options in the row, --keep-unfittable) counted.
 void PutModelNumbers(const Model& model, Json* line) {
-  int knots = 0, control_points = 0;
+  int knots = 0, control_points = 0, kept = 0;
   size_t rounds = 0;
   double rmse = 0, max = 0;
   bool reached = true;
   for (const ModelPart& part : model.parts) {
+    if (part.kept) {
+      ++kept;
+      continue;
+    }
     const FitStatistics& s = part.spline.statistics;
     knots += s.final_result.knots;
     control_points += s.final_result.control_points;
@@ -478,6 +483,7 @@ void PutModelNumbers(const Model& model, Json* line) {
   (*line)["rmse_percent"] = rmse;
   (*line)["max_error_percent"] = max;
   (*line)["reached_target"] = reached;
+  if (kept > 0) (*line)["kept_parts"] = kept;
 }
 
 Json ReadJsonFile(const std::string& path) {

@@ -350,17 +350,24 @@ StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
 }
 
 StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
+                                    const Model& model,
                                     const MeshOrigin& origin) {
   if (origin.face_primitive.empty()) return std::string();
-  std::vector<GltfFittedPrimitive> fitted(origin.primitive_ids.size());
-  for (size_t p = 0; p < fitted.size(); ++p) {
-    fitted[p].mesh = origin.primitive_ids[p][0];
-    fitted[p].primitive = origin.primitive_ids[p][1];
+  std::vector<GltfFittedPrimitive> of_primitive(origin.primitive_ids.size());
+  std::vector<bool> any_fitted(of_primitive.size(), false);
+  for (size_t p = 0; p < of_primitive.size(); ++p) {
+    of_primitive[p].mesh = origin.primitive_ids[p][0];
+    of_primitive[p].primitive = origin.primitive_ids[p][1];
   }
   for (size_t i = 0; i < parts.size(); ++i) {
     if (parts[i].input_faces.empty()) continue;
     const int p = origin.face_primitive[parts[i].input_faces[0]];
-    fitted[p].parts.push_back(static_cast<int>(i));
+    of_primitive[p].parts.push_back(static_cast<int>(i));
+    if (i < model.parts.size() && !model.parts[i].kept) any_fitted[p] = true;
+  }
+  std::vector<GltfFittedPrimitive> fitted;
+  for (size_t p = 0; p < of_primitive.size(); ++p) {
+    if (any_fitted[p]) fitted.push_back(std::move(of_primitive[p]));
   }
   return MakeGltfShell(origin.document, fitted);
 }

@@ -12,6 +12,7 @@
 
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/mesh_parts.h"
+#include "sdcb/core/spline/model.h"
 #include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/mesh/vertex_welding.h"
@@ -163,9 +164,12 @@ std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,
                                    const MeshOrigin& origin);
 
 // The asset to keep with a model fitted from a glTF file (Model::asset,
-// MakeGltfShell): every primitive becomes the parts whose first face it
-// holds (PartNames' rule). "" when `origin` is empty.
+// MakeGltfShell): every primitive with a fitted part becomes the parts
+// whose first face it holds (PartNames' rule); a primitive all of whose
+// parts were kept (ModelPart::kept) stays in the asset as the file had it.
+// "" when `origin` is empty.
 StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
+                                    const Model& model,
                                     const MeshOrigin& origin);
 
 // What `check`, `param` and `fit` read: the MESH with the limits of the

@@ -149,7 +149,19 @@ int RunCompare(const std::vector<std::string>& argv) {
   if (!mesh.ok()) return ReportError(mesh.status());
   // One untrimmed part: against the whole mesh, whatever it is. Otherwise
   // part i against the mesh's part i (core/mesh/mesh_parts.h).
-  const bool whole = model->parts.size() == 1 && !model->parts[0].trimmed();
+  const bool whole = model->parts.size() == 1 && model->parts[0].fitted() &&
+                     !model->parts[0].trimmed();
+  size_t first_fitted = 0;  // kept parts are reported, not measured
+  while (first_fitted < model->parts.size() &&
+         model->parts[first_fitted].kept) {
+    ++first_fitted;
+  }
+  if (first_fitted == model->parts.size()) {
+    return ReportError(InvalidInputError(
+        model_path +
+        ": every part was kept as a mesh, not fitted; there is "
+        "no surface to measure"));
+  }
   std::vector<TriangleMesh> meshes;
   if (whole) {
     meshes.push_back(std::move(*mesh));
@@ -165,8 +177,13 @@ int RunCompare(const std::vector<std::string>& argv) {
     }
     for (MeshPart& part : *parts) meshes.push_back(std::move(part.mesh));
   }
-  std::vector<SurfaceDeviation> measured;
+  std::vector<SurfaceDeviation> measured;  // per part, empty when kept
+  std::vector<SurfaceDeviation> fitted;
   for (size_t i = 0; i < meshes.size(); ++i) {
+    if (model->parts[i].kept) {
+      measured.emplace_back();
+      continue;
+    }
     StatusOr<SurfaceDeviation> d =
         MeasurePart(model->parts[i], meshes[i], options);
     if (!d.ok()) {
@@ -175,14 +192,16 @@ int RunCompare(const std::vector<std::string>& argv) {
       return ReportError(
           d.status().WithPrefix(model_path + " vs " + mesh_path + which));
     }
+    fitted.push_back(*d);
     measured.push_back(std::move(d).value());
   }
-  const SurfaceDeviation worst = whole ? SurfaceDeviation() : Worst(measured);
+  const SurfaceDeviation worst = whole ? SurfaceDeviation() : Worst(fitted);
   const SurfaceDeviation* d = whole ? &measured[0] : &worst;
   if (args.Has("picture")) {
-    // The first part's picture (docs/CLI.md).
-    const Status s = WritePicture(measured[0], model->parts[0].spline.transform,
-                                  picture_path);
+    // The first fitted part's picture (docs/CLI.md).
+    const Status s =
+        WritePicture(measured[first_fitted],
+                     model->parts[first_fitted].spline.transform, picture_path);
     if (!s.ok()) return ReportError(s);
   }
   if (args.Has("json")) {
@@ -195,6 +214,12 @@ int RunCompare(const std::vector<std::string>& argv) {
       for (size_t i = 0; i < measured.size(); ++i) {
         nlohmann::ordered_json part;
         part["number"] = static_cast<int>(i) + 1;
+        part["kept"] = model->parts[i].kept.has_value();
+        if (model->parts[i].kept) {
+          part["reason"] = model->parts[i].kept->reason;
+          parts.push_back(std::move(part));
+          continue;
+        }
         part["trim_loops"] = model->parts[i].trims.size();
         AddFigures(measured[i], &part);
         parts.push_back(std::move(part));
@@ -223,9 +248,14 @@ int RunCompare(const std::vector<std::string>& argv) {
     std::printf("  lattice level %d, %lld vertices refined on the spline\n",
                 d->lattice_level, static_cast<long long>(d->refined_vertices));
     if (!whole) {
-      std::printf("  (the largest over %zu parts; per part:)\n",
-                  measured.size());
+      std::printf("  (the largest over %zu fitted parts; per part:)\n",
+                  fitted.size());
       for (size_t i = 0; i < measured.size(); ++i) {
+        if (model->parts[i].kept) {
+          std::printf("  part %zu  kept as a mesh, not measured: %s\n", i + 1,
+                      model->parts[i].kept->reason.c_str());
+          continue;
+        }
         std::printf(
             "  part %zu%s  rms %.5f%%  Hausdorff %.5f%%  folded %.4f%%\n",
             i + 1, model->parts[i].trimmed() ? " (trimmed)" : "",

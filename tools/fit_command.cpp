@@ -49,6 +49,11 @@ const std::vector<OptionSpec>& OwnOptionSpecs() {
       {"max-parts", "N",
        "refuse a mesh of more than N parts before fitting any (default "
        "1000; 0: no limit)"},
+      {"keep-unfittable", "",
+       "keep a part sdcb cannot fit (genus > 0, not manifold, a fit that "
+       "fails or misses folded) as its input triangles, instead of refusing "
+       "the mesh; the report says why (always so for .gltf / .glb: an asset "
+       "is never refused for one part)"},
   };
   return specs;
 }
@@ -138,7 +143,7 @@ void PrintFitSummary(const std::string& path, const std::string& output,
 
 // An open part's line of the summary: its boundary loops and the fill.
 void PrintOpenPartLine(const PartFit& part) {
-  if (part.report.closed) return;
+  if (part.report.closed || part.kept()) return;
   std::printf(
       "  open: %d boundary loop%s, trimmed there; holes filled with %d "
       "triangles (%.2f s) that only keep the surface smooth\n",
@@ -147,14 +152,29 @@ void PrintOpenPartLine(const PartFit& part) {
       part.fill_seconds);
 }
 
+// A kept part's line: its triangles and why it was not fitted.
+void PrintKeptPartLine(const PartFit& part) {
+  std::printf("  part %d: %d triangles, kept as a mesh: %s\n",
+              part.report.number, part.report.topology.faces,
+              part.kept_reason.c_str());
+}
+
 // The summary of a model of several parts: one line per part.
 void PrintPartsSummary(const std::string& path, const std::string& output,
                        const ModelFit& fit) {
-  int reached = 0;
-  for (const PartFit& part : fit.parts) reached += part.fit.reached_target();
-  std::printf("%s -> %s: %zu parts, %d reached the targets\n", path.c_str(),
-              output.c_str(), fit.parts.size(), reached);
+  int reached = 0, kept = 0;
   for (const PartFit& part : fit.parts) {
+    kept += part.kept();
+    reached += !part.kept() && part.fit.reached_target();
+  }
+  std::printf("%s -> %s: %zu parts, %d reached the targets%s\n", path.c_str(),
+              output.c_str(), fit.parts.size(), reached,
+              kept == 0 ? "" : (", " + std::to_string(kept) + " kept").c_str());
+  for (const PartFit& part : fit.parts) {
+    if (part.kept()) {
+      PrintKeptPartLine(part);
+      continue;
+    }
     const RoundStatistics& f = part.fit.model.statistics.final_result;
     const int loops = part.report.topology.boundary_loops;
     std::printf(
@@ -172,7 +192,7 @@ void PrintPartsSummary(const std::string& path, const std::string& output,
 }
 
 // A part's entry of the report's "parts" (docs/CLI.md): its intake, its fill
-// and its fit's report.
+// and its fit's report; a kept part's reason instead of a fit.
 nlohmann::ordered_json PartJson(const PartFit& part) {
   nlohmann::ordered_json j;
   j["number"] = part.report.number;
@@ -182,6 +202,11 @@ nlohmann::ordered_json PartJson(const PartFit& part) {
   j["boundary_loops"] = part.report.topology.boundary_loops;
   j["fill_faces"] = part.fill_faces;
   j["fill_seconds"] = part.fill_seconds;
+  j["kept"] = part.kept();
+  if (part.kept()) {
+    j["reason"] = part.kept_reason;
+    return j;
+  }
   const nlohmann::ordered_json fit_report = FitReportToJson(part.fit);
   for (const auto& [key, value] : fit_report.items()) j[key] = value;
   return j;
@@ -300,10 +325,14 @@ int RunFit(const std::vector<std::string>& argv) {
   ModelFitOptions model_options;
   model_options.max_parts =
       args.GetInt("max-parts", model_options.max_parts, 0, INT_MAX);
+  model_options.keep_unfittable =
+      args.Has("keep-unfittable") || IsGltfPath(path);
   // Every part checked before any work, with the sentences of `sdcb check`
   // (core/mesh/mesh_parts.h).
-  StatusOr<PartsIntake> intake = arena.execute(
-      [&] { return TakeInParts(*mesh, model_options.max_parts); });
+  StatusOr<PartsIntake> intake = arena.execute([&] {
+    return TakeInParts(*mesh, model_options.max_parts,
+                       model_options.keep_unfittable);
+  });
   if (!intake.ok()) {
     return ReportError(
         NameRefusedPrimitive(Status(intake.status().code(),
@@ -334,7 +363,7 @@ int RunFit(const std::vector<std::string>& argv) {
     // follows it: its folds may be the mesh's (in the report's shortfall
     // and the warning alike).
     for (PartFit& part : fit->parts) {
-      if (part.fit.reached_target()) continue;
+      if (part.kept() || part.fit.reached_target()) continue;
       part.fit.shortfall += "; the input intersects itself (" +
                             IntersectingPairsText(intersecting_pairs) +
                             "), which a surface that follows it does too";
@@ -344,7 +373,8 @@ int RunFit(const std::vector<std::string>& argv) {
   const std::vector<std::string> names = PartNames(intake->parts, origin);
   for (size_t i = 0; i < names.size(); ++i) fit->model.parts[i].name = names[i];
   // ... and the asset around them is kept, to be written back by export.
-  StatusOr<std::string> asset = KeptGltfAsset(intake->parts, origin);
+  StatusOr<std::string> asset =
+      KeptGltfAsset(intake->parts, fit->model, origin);
   if (!asset.ok()) return ReportError(asset.status().WithPrefix(path));
   fit->model.asset = std::move(asset).value();
   const std::string file_name = std::filesystem::path(path).filename().string();
@@ -379,7 +409,7 @@ int RunFit(const std::vector<std::string>& argv) {
     }
     // One closed part: its report's keys at the top, as for every model of
     // one part; otherwise a "parts" array of them (docs/CLI.md).
-    if (one_part && fit->parts[0].report.closed) {
+    if (one_part && fit->parts[0].report.closed && !fit->parts[0].kept()) {
       const nlohmann::ordered_json fit_report =
           FitReportToJson(fit->parts[0].fit);
       for (const auto& [key, value] : fit_report.items()) report[key] = value;
@@ -392,17 +422,28 @@ int RunFit(const std::vector<std::string>& argv) {
     written = WriteTextOutput(args.Get("json"), report.dump(2) + "\n");
     if (!written.ok()) return ReportError(written);
   }
-  if (args.Has("plot")) {
-    // The first part's rounds (the plot is of one fit).
-    written = WriteConvergencePlot(fit->parts[0].fit.model.statistics,
-                                   file_name + ", degree " +
-                                       std::to_string(options.degree) +
-                                       (one_part ? "" : ", part 1"),
-                                   args.Get("plot"));
+  const PartFit* plotted = nullptr;  // the first fitted part
+  for (const PartFit& part : fit->parts) {
+    if (!part.kept()) {
+      plotted = &part;
+      break;
+    }
+  }
+  if (args.Has("plot") && plotted != nullptr) {
+    // The first fitted part's rounds (the plot is of one fit).
+    written = WriteConvergencePlot(
+        plotted->fit.model.statistics,
+        file_name + ", degree " + std::to_string(options.degree) +
+            (one_part ? ""
+                      : ", part " + std::to_string(plotted->report.number)),
+        args.Get("plot"));
     if (!written.ok()) return ReportError(written);
   }
   if (!args.Has("quiet") && args.Get("json") != "-") {
-    if (one_part) {
+    if (one_part && fit->parts[0].kept()) {
+      std::printf("%s -> %s: 1 part\n", path.c_str(), output.c_str());
+      PrintKeptPartLine(fit->parts[0]);
+    } else if (one_part) {
       PrintFitSummary(path, output, options, fit->parts[0].fit,
                       mesh->num_vertices(), quantization);
       PrintOpenPartLine(fit->parts[0]);
@@ -411,7 +452,7 @@ int RunFit(const std::vector<std::string>& argv) {
     }
   }
   for (const PartFit& part : fit->parts) {
-    if (part.fit.reached_target()) continue;
+    if (part.kept() || part.fit.reached_target()) continue;
     // Where a returned surface folds, the measurement's picture shows it.
     const std::string where =
         part.fit.model.statistics.final_result.folded_area_percent > 0

@@ -130,7 +130,9 @@ int RunInfo(const std::vector<std::string>& argv) {
     j["format_version"] = file.format_version;
     j["file_bytes"] = file.file_bytes;
     // A one-part model keeps the keys one-part files always had.
-    if (one_part) SplineInfoJson(parts[0].spline, file.parts[0], &j);
+    if (one_part && parts[0].fitted()) {
+      SplineInfoJson(parts[0].spline, file.parts[0], &j);
+    }
     j["source"] = {{"file_name", model->source.file_name},
                    {"vertices", model->source.num_vertices},
                    {"faces", model->source.num_faces},
@@ -140,6 +142,14 @@ int RunInfo(const std::vector<std::string>& argv) {
       nlohmann::ordered_json p;
       p["number"] = i + 1;
       p["name"] = parts[i].name;
+      p["kept"] = parts[i].kept.has_value();
+      if (parts[i].kept) {
+        p["reason"] = parts[i].kept->reason;
+        p["vertices"] = parts[i].kept->mesh.num_vertices();
+        p["triangles"] = parts[i].kept->mesh.num_faces();
+        list.push_back(std::move(p));
+        continue;
+      }
       p["trimmed"] = parts[i].trimmed();
       p["trim_loops"] = parts[i].trims.size();
       p["trim_points"] = TrimPoints(parts[i]);
@@ -157,7 +167,8 @@ int RunInfo(const std::vector<std::string>& argv) {
     std::printf("  %-22s %u (%llu bytes)\n", "format version",
                 file.format_version,
                 static_cast<unsigned long long>(file.file_bytes));
-    if (one_part && !parts[0].trimmed() && parts[0].name.empty()) {
+    if (one_part && parts[0].fitted() && !parts[0].trimmed() &&
+        parts[0].name.empty()) {
       PrintSplineInfo(parts[0].spline, file.parts[0], "  ");
       return kExitOk;
     }
@@ -169,9 +180,15 @@ int RunInfo(const std::vector<std::string>& argv) {
     for (size_t i = 0; i < parts.size(); ++i) {
       const ModelPart& part = parts[i];
       const FitStatistics& st = part.spline.statistics;
-      std::printf("  part %zu%s%s%s: %s", i + 1, part.name.empty() ? "" : " \"",
-                  part.name.c_str(), part.name.empty() ? "" : "\"",
-                  part.trimmed() ? "trimmed" : "closed");
+      std::printf("  part %zu%s%s%s: ", i + 1, part.name.empty() ? "" : " \"",
+                  part.name.c_str(), part.name.empty() ? "" : "\"");
+      if (part.kept) {
+        std::printf("kept as a mesh (%d triangles, %d vertices): %s\n",
+                    part.kept->mesh.num_faces(), part.kept->mesh.num_vertices(),
+                    part.kept->reason.c_str());
+        continue;
+      }
+      std::printf("%s", part.trimmed() ? "trimmed" : "closed");
       if (part.trimmed()) {
         std::printf(" (%zu trim loop%s, %zu points)", part.trims.size(),
                     part.trims.size() == 1 ? "" : "s", TrimPoints(part));
@@ -225,6 +242,11 @@ int RunEval(const std::vector<std::string>& argv) {
         " does not exist; the model has " +
         std::to_string(parts->parts.size()) +
         (parts->parts.size() == 1 ? " part" : " parts")));
+  }
+  if (parts->parts[part - 1].kept) {
+    return ReportError(InvalidInputError(
+        args.positionals()[0] + ": part " + std::to_string(part) +
+        " was kept as a mesh, not fitted; it has no surface to evaluate"));
   }
   // The part's spline everywhere on the sphere, trims or not.
   const SplineModel* model = &parts->parts[part - 1].spline;

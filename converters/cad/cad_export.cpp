@@ -158,13 +158,19 @@ StatusOr<CadExportReport> WriteCadExport(const SplineModel& model,
 Status CheckCadParts(const Model& model, CadFormat format) {
   if (model.parts.empty())
     return InvalidArgumentError("the model has no parts");
+  const char* name = format == CadFormat::kStep ? "STEP" : "IGES";
   for (size_t i = 0; i < model.parts.size(); ++i) {
+    if (model.parts[i].kept) {
+      return InvalidInputError(
+          "part " + std::to_string(i + 1) +
+          " was kept as a mesh, not fitted; " + name +
+          " holds fitted parts only (OBJ, PLY, STL and glTF pass it through)");
+    }
     const size_t loops = model.parts[i].trims.size();
     if (loops == 0) continue;
     return InvalidInputError(
         "part " + std::to_string(i + 1) + " is open (" + std::to_string(loops) +
-        (loops == 1 ? " trim loop" : " trim loops") + "); " +
-        (format == CadFormat::kStep ? "STEP" : "IGES") +
+        (loops == 1 ? " trim loop" : " trim loops") + "); " + name +
         " of open parts is not supported yet");
   }
   return Status::Ok();

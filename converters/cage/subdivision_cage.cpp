@@ -509,6 +509,11 @@ Status CheckCageParts(const Model& model) {
   if (model.parts.empty())
     return InvalidArgumentError("the model has no parts");
   for (size_t i = 0; i < model.parts.size(); ++i) {
+    if (model.parts[i].kept) {
+      return InvalidInputError("part " + std::to_string(i + 1) +
+                               " was kept as a mesh, not fitted; a cage is "
+                               "made of fitted parts only");
+    }
     const size_t loops = model.parts[i].trims.size();
     if (loops == 0) continue;
     return InvalidInputError("part " + std::to_string(i + 1) + " is open (" +

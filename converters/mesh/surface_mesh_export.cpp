@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -252,6 +253,7 @@ namespace {
 struct PartView {
   const SplineModel* spline;
   const std::vector<TrimLoop>* trims;
+  const KeptMesh* kept;  // null for a fitted part
   // How messages name the part: "" for a model of one part, else "part N"
   // (counted from 1); and its name in the file (ExportPartName).
   std::string label;
@@ -265,7 +267,8 @@ struct PartExport {
   Tessellation tessellation;  // its figures (the mesh holds its geometry)
   TessellationDeviation measured;
   CurvatureIntegrals curvature_integrals;
-  double optimum = 0.0;  // 0 for a trimmed part (see below)
+  double optimum = 0.0;  // 0 for a trimmed or kept part (see below)
+  bool kept = false;     // a kept part: `mesh` is its input, nothing measured
   double quantization_budget = 0.0, surface_tolerance = 0.0;
   double scale = 1.0;  // the part's normalized frame -> input
   int feature_arcs = 0;
@@ -273,6 +276,37 @@ struct PartExport {
   double seconds_tessellate = 0.0, seconds_measure = 0.0, seconds_optimum = 0.0,
          seconds_mesh = 0.0;
 };
+
+// A kept part as it was: its vertices and faces, area-weighted vertex
+// normals (VertexNormals; +z where those cancel), mid grey where the other
+// parts are coloured; its quantization budget that of a fitted part of its
+// size.
+PartExport ExportKeptPart(const KeptMesh& kept,
+                          const SurfaceMeshExportOptions& options) {
+  PartExport out;
+  out.kept = true;
+  SurfaceMesh& mesh = out.mesh;
+  mesh.positions = kept.mesh.vertices;
+  mesh.faces = kept.mesh.faces;
+  mesh.normals = VertexNormals(kept.mesh);
+  for (Eigen::Index v = 0; v < mesh.normals.rows(); ++v) {
+    if (mesh.normals.row(v).squaredNorm() == 0) {
+      mesh.normals.row(v) = Eigen::RowVector3d::UnitZ();
+    }
+  }
+  if (options.colors != VertexColoring::kNone) {
+    mesh.colors.setConstant(mesh.positions.rows(), 3, 128);
+  }
+  const Eigen::RowVector3d side =
+      mesh.positions.colwise().maxCoeff() - mesh.positions.colwise().minCoeff();
+  out.scale = std::max(side.maxCoeff(), std::numeric_limits<double>::min());
+  if (options.compression != GltfCompression::kNone &&
+      options.position_bits == 0) {
+    out.quantization_budget =
+        kQuantizationShare * options.tolerance_percent / 100.0;
+  }
+  return out;
+}
 
 // `progress` gets this part's own fraction in [0, 1].
 StatusOr<PartExport> ExportPart(const PartView& part,
@@ -467,6 +501,10 @@ StatusOr<SurfaceMeshExport> ExportParts(const std::vector<PartView>& parts,
   std::vector<PartExport> done;
   done.reserve(parts.size());
   for (size_t i = 0; i < parts.size(); ++i) {
+    if (parts[i].kept) {
+      done.push_back(ExportKeptPart(*parts[i].kept, options));
+      continue;
+    }
     SDCB_ASSIGN_OR_RETURN(
         PartExport part,
         ExportPart(parts[i], options,
@@ -554,9 +592,17 @@ StatusOr<SurfaceMeshExport> ExportParts(const std::vector<PartView>& parts,
     out.bytes = std::move(encoded.bytes);
     gltf = encoded.result;
   } else {
-    SDCB_ASSIGN_OR_RETURN(
-        out.bytes,
-        EncodeSurfaceMesh(mesh, std::string(".") + FormatName(options.format)));
+    // A kept part passes through with the input's doubles, which OpenMesh's
+    // OBJ writer would round to floats.
+    bool kept = false;
+    for (const PartExport& p : done) kept = kept || p.kept;
+    if (options.format == ExportFormat::kObj && kept) {
+      out.bytes = EncodeObjWithDoubles(mesh);
+    } else {
+      SDCB_ASSIGN_OR_RETURN(
+          out.bytes, EncodeSurfaceMesh(
+                         mesh, std::string(".") + FormatName(options.format)));
+    }
     if (options.format == ExportFormat::kObj && done.size() > 1) {
       out.bytes = NameObjParts(out.bytes, out.part_faces, names);
     }
@@ -571,6 +617,12 @@ StatusOr<SurfaceMeshExport> ExportParts(const std::vector<PartView>& parts,
   bool all_closed = true;
   for (size_t i = 0; i < done.size(); ++i) {
     const PartExport& p = done[i];
+    if (p.kept) {  // counted, not measured
+      report.triangles += p.mesh.faces.rows();
+      report.seconds.write += p.seconds_mesh;
+      all_closed = false;
+      continue;
+    }
     const Tessellation& t = p.tessellation;
     report.triangles += t.faces.rows();
     report.max_normal_angle_degrees =
@@ -612,7 +664,8 @@ StatusOr<SurfaceMeshExport> ExportParts(const std::vector<PartView>& parts,
   report.vertices = mesh.positions.rows();
   report.bytes = static_cast<int64_t>(out.bytes.size());
   report.tolerance_percent = options.tolerance_percent;
-  report.surface_tolerance_percent = 100.0 * surface_tolerance;
+  report.surface_tolerance_percent =
+      surface_tolerance < 1e300 ? 100.0 * surface_tolerance : 0.0;
   report.angle_degrees = options.angle_degrees;
   report.certified_distance_percent = 100.0 * certified;
   report.max_distance_percent = 100.0 * measured_max;
@@ -625,7 +678,11 @@ StatusOr<SurfaceMeshExport> ExportParts(const std::vector<PartView>& parts,
       all_closed && optimum > 0
           ? static_cast<double>(report.triangles) / optimum
           : 0.0;
-  report.colors = done[0].colors;
+  for (const PartExport& p : done) {  // the first fitted part's ramp
+    if (p.kept) continue;
+    report.colors = p.colors;
+    break;
+  }
   report.quantization.bits = quantized ? bits : 0;
   report.quantization.step = gltf.quantization_step;
   report.quantization.error_percent = quantization_percent;
@@ -639,7 +696,9 @@ StatusOr<SurfaceMeshExport> ExportParts(const std::vector<PartView>& parts,
 std::vector<PartView> PartsOf(const Model& model) {
   std::vector<PartView> parts;
   for (size_t i = 0; i < model.parts.size(); ++i) {
-    parts.push_back({&model.parts[i].spline, &model.parts[i].trims,
+    const ModelPart& part = model.parts[i];
+    parts.push_back({&part.spline, &part.trims,
+                     part.kept ? &*part.kept : nullptr,
                      model.parts.size() == 1 ? std::string()
                                              : "part " + std::to_string(i + 1),
                      ExportPartName(model, i)});
@@ -662,7 +721,8 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
 StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
     const SplineModel& model, const SurfaceMeshExportOptions& options) {
   static const std::vector<TrimLoop> kNoTrims;
-  return ExportParts({{&model, &kNoTrims, "", "part1"}}, options, "");
+  return ExportParts({{&model, &kNoTrims, nullptr, "", "part1"}}, options,
+                     "");
 }
 
 StatusOr<SurfaceMeshExportReport> WriteSurfaceMeshExport(

@@ -3,7 +3,9 @@
 // a closed genus-0 part by FitSphericalSpline, an open one with its holes
 // filled (core/mesh/hole_filling.h) and trimmed at its boundary loops. The
 // parts are fitted in parallel; every part's result depends on that part
-// alone, so the model is the same for any thread count.
+// alone, so the model is the same for any thread count. With
+// ModelFitOptions::keep_unfittable a part sdcb cannot fit is kept as its
+// input triangles (ModelPart::kept) instead of refusing the mesh.
 #ifndef SDCB_CORE_FIT_FIT_MODEL_H_
 #define SDCB_CORE_FIT_FIT_MODEL_H_
 
@@ -26,6 +28,13 @@ struct ModelFitOptions {
   // With several parts: called once per part fitted, with the number of
   // parts done and the total (from the thread that fitted it, serialized).
   std::function<void(int done, int total)> part_done;
+  // Keep, rather than refuse the mesh for, a part that cannot be fitted: one
+  // whose PartReport has a problem (kept with that sentence), one whose fit
+  // fails with an error (but kInvalidArgument, options out of range, which
+  // fails the whole fit), and one whose fit misses its target with a folded
+  // surface (kept with the fit's sentence, "part 3: ..."). A model whose
+  // parts are all kept is still a model.
+  bool keep_unfittable = false;
 };
 
 struct PartFit {
@@ -33,12 +42,16 @@ struct PartFit {
   int fill_faces = 0;       // triangles added to close its holes
   double fill_seconds = 0;  // filling them
   FitResult fit;            // its model and trims are the model part's too
+  // A kept part (ModelPart::kept holds its triangles): why, as there; `fit`
+  // is then empty, or the fit that missed.
+  std::string kept_reason;
+  bool kept() const { return !kept_reason.empty(); }
 };
 
 struct ModelFit {
   Model model;                  // parts in the mesh's order
   std::vector<PartFit> parts;   // one per model part
-  bool reached_target() const;  // every part reached its target
+  bool reached_target() const;  // every fitted part reached its target
 };
 
 // A mesh's parts, each fittable, with their reports.
@@ -49,8 +62,10 @@ struct PartsIntake {
 
 // Splits `mesh` into parts (at most `max_parts`) and checks each: a part
 // sdcb cannot fit refuses the whole mesh with kUnsupported and the part's
-// sentence (PartReport::problem).
-StatusOr<PartsIntake> TakeInParts(const TriangleMesh& mesh, int max_parts);
+// sentence (PartReport::problem), unless `keep_unfittable` (then its report
+// carries the sentence and FitModel keeps the part).
+StatusOr<PartsIntake> TakeInParts(const TriangleMesh& mesh, int max_parts,
+                                  bool keep_unfittable = false);
 
 // Fits the parts of `intake` (TakeInParts of `mesh`).
 StatusOr<ModelFit> FitModel(const TriangleMesh& mesh, const PartsIntake& intake,
@@ -58,7 +73,8 @@ StatusOr<ModelFit> FitModel(const TriangleMesh& mesh, const PartsIntake& intake,
 
 // TakeInParts, then FitModel: splits `mesh` into parts, checks each (a part
 // sdcb cannot fit refuses the whole mesh with kUnsupported and the part's
-// sentence, before any fit runs), and fits them. A mesh of one closed part
+// sentence, before any fit runs, unless options.keep_unfittable), and fits
+// them. A mesh of one closed part
 // without unreferenced vertices is fitted exactly as FitSphericalSpline(mesh,
 // options.fit).
 StatusOr<ModelFit> FitModel(const TriangleMesh& mesh,

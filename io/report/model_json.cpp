@@ -81,9 +81,23 @@ std::string ModelToJson(const Model& model) {
   json parts = json::array();
   for (size_t i = 0; i < model.parts.size(); ++i) {
     const ModelPart& part = model.parts[i];
-    json p = SplineToJson(part.spline);
+    json p;
+    if (part.kept) {
+      const TriangleMesh& mesh = part.kept->mesh;
+      json faces = json::array();
+      for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+        faces.push_back(json::array(
+            {mesh.faces(f, 0), mesh.faces(f, 1), mesh.faces(f, 2)}));
+      }
+      p = {{"reason", part.kept->reason},
+           {"vertices", PointsToJson(mesh.vertices)},
+           {"faces", std::move(faces)}};
+    } else {
+      p = SplineToJson(part.spline);
+    }
     p["number"] = i + 1;
     p["name"] = part.name;
+    p["kept"] = part.kept.has_value();
     p["trimmed"] = part.trimmed();
     json trims = json::array();
     for (const TrimLoop& loop : part.trims) {
@@ -93,8 +107,10 @@ std::string ModelToJson(const Model& model) {
     parts.push_back(std::move(p));
   }
   // One part: its spline's keys at the top too, as one-part dumps had them.
-  json out = model.parts.size() == 1 ? parts[0] : json::object();
-  for (const char* key : {"number", "name", "trimmed", "trims"}) {
+  json out = model.parts.size() == 1 && model.parts[0].fitted()
+                 ? parts[0]
+                 : json::object();
+  for (const char* key : {"number", "name", "kept", "trimmed", "trims"}) {
     out.erase(key);
   }
   out["format_version"] = kSdcbFormatVersion;

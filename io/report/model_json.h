@@ -15,7 +15,9 @@
 //                         "file_name"}
 //   parameters           N x 3 sphere points, only when the model stores them
 //   parts                (the Model overload) per part the keys above, plus
-//                        number, name, trimmed, trims
+//                        number, name, kept, trimmed, trims; a kept part has
+//                        reason, vertices (#V x 3, input coordinates) and
+//                        faces (#F x 3, 0-based) instead of a spline's keys
 // Doubles are printed with the shortest text that parses back to the same
 // bits; key order is fixed (sorted), so equal models give equal text.
 #ifndef SDCB_IO_REPORT_MODEL_JSON_H_
@@ -35,9 +37,10 @@ std::string ModelToJson(const SplineModel& model);
 // A Model (core/spline/model.h): `format_version`, `source` (the whole
 // input's), and `parts`, one object per part in order with the keys above
 // (but format_version; `source` the part's) plus `number` (from 1), `name`,
-// `trimmed` and `trims` (loops of #points x 3 unit vectors). A model of one
-// part also has that part's spline keys at the top, as ModelToJson of its
-// SplineModel gives them (its `source` is the model's).
+// `kept`, `trimmed` and `trims` (loops of #points x 3 unit vectors); a kept
+// part has `reason`, `vertices` and `faces` instead of the spline's keys. A
+// model of one fitted part also has that part's spline keys at the top, as
+// ModelToJson of its SplineModel gives them (its `source` is the model's).
 std::string ModelToJson(const Model& model);
 
 }  // namespace sdcb

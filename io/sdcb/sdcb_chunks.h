@@ -42,6 +42,9 @@ constexpr ChunkType kPart = {'P', 'A', 'R', 'T'};
 constexpr ChunkType kName = {'N', 'A', 'M', 'E'};
 constexpr ChunkType kTrim = {'T', 'R', 'I', 'M'};
 constexpr ChunkType kAsst = {'A', 'S', 'S', 'T'};  // version 4: glTF asset
+// A kept part (io/sdcb/kept_mesh_coding.h): its triangles and why it is kept.
+constexpr ChunkType kKept = {'K', 'E', 'P', 'T'};
+constexpr ChunkType kWhy = {'W', 'H', 'Y', ' '};
 
 constexpr size_t kHeaderBytes = 12;      // magic + version
 constexpr size_t kChunkFrameBytes = 16;  // type + length + CRC

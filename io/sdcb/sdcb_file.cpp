@@ -424,10 +424,12 @@ StatusOr<SplineModel> ParseSdcb(std::string_view bytes, SdcbFileInfo* info) {
     // A one-part model of one untrimmed part reads as its spline.
     SDCB_ASSIGN_OR_RETURN(Model model, DecodeVersion4(bytes, &decoded));
     const size_t parts = model.parts.size();
-    if (parts > 1 || model.parts[0].trimmed()) {
+    if (parts > 1 || model.parts[0].trimmed() || model.parts[0].kept) {
       return UnsupportedError(
           "the file holds " +
-          (parts > 1 ? Str(parts) + " parts" : std::string("a trimmed part")) +
+          (parts > 1                  ? Str(parts) + " parts"
+           : model.parts[0].trimmed() ? std::string("a trimmed part")
+                                      : std::string("a kept (unfitted) part")) +
           "; this reads only models of one closed part (`sdcb info` lists "
           "the parts)");
     }

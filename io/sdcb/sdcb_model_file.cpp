@@ -6,6 +6,7 @@
 
 #include "sdcb/io/common/atomic_file.h"
 #include "sdcb/io/sdcb/byte_packing.h"
+#include "sdcb/io/sdcb/kept_mesh_coding.h"
 #include "sdcb/io/sdcb/sdcb_chunks.h"
 #include "sdcb/io/sdcb/sdcb_file.h"
 
@@ -16,6 +17,8 @@ using namespace sdcb_internal;  // NOLINT: the chunk codec of this file
 
 constexpr uint32_t kModelVersion = 4;
 constexpr size_t kModelHeadBytes = 8;  // u64 number of parts
+// A kept part's reason (WHY) is one sentence.
+constexpr size_t kMaxReasonBytes = 4096;
 
 std::string PartPrefix(size_t index) { return "part " + Str(index + 1); }
 
@@ -82,7 +85,8 @@ bool SameSource(const SourceMeshInfo& a, const SourceMeshInfo& b) {
 bool NeedsVersion4(const Model& model) {
   if (model.parts.size() != 1) return true;
   const ModelPart& part = model.parts[0];
-  return !part.name.empty() || part.trimmed() || !model.asset.empty() ||
+  return part.kept || !part.name.empty() || part.trimmed() ||
+         !model.asset.empty() ||
          !SameSource(model.source, part.spline.source);
 }
 
@@ -151,21 +155,53 @@ StatusOr<std::vector<TrimLoop>> ParseTrims(std::string_view payload,
   return loops;
 }
 
+// A kept part: HEAD and KEPT (its triangles), WHY (the reason, UTF-8), and
+// none of a spline's chunks or TRIM.
+StatusOr<KeptMesh> DecodeKept(const Chunks& chunks, size_t file_size) {
+  for (const ChunkType& type : SplineChunkTypes(kModelVersion)) {
+    if (type != kHead && type != kEnd && chunks.Has(type)) {
+      return Corrupt("a kept part has a " + TypeName(type) + " chunk");
+    }
+  }
+  if (chunks.Has(kTrim)) return Corrupt("a kept part has a TRIM chunk");
+  if (!chunks.Has(kWhy)) return Corrupt("a kept part has no WHY chunk");
+  KeptMesh kept;
+  kept.reason = std::string(chunks.Get(kWhy));
+  const std::string problem = Utf8Problem(kept.reason);
+  if (kept.reason.empty() || kept.reason.size() > kMaxReasonBytes ||
+      !problem.empty()) {
+    return Corrupt("the WHY chunk is not a reason of 1 to " +
+                   Str(kMaxReasonBytes) + " bytes of UTF-8" +
+                   (problem.empty() ? "" : ": " + problem));
+  }
+  SDCB_ASSIGN_OR_RETURN(
+      kept.mesh,
+      DecodeKeptMesh(chunks.Get(kHead), chunks.Get(kKept), file_size));
+  return kept;
+}
+
 StatusOr<ModelPart> DecodePart(std::string_view bytes, std::string_view part,
                                SdcbPartStorage* storage) {
   std::vector<ChunkType> known = SplineChunkTypes(kModelVersion);
   known.push_back(kName);
   known.push_back(kTrim);
+  known.push_back(kKept);
+  known.push_back(kWhy);
   Chunks chunks(known);
   const auto begin = static_cast<size_t>(part.data() - bytes.data());
   SDCB_RETURN_IF_ERROR(SplitChunks(bytes, &chunks, begin, begin + part.size()));
-  SdcbFileInfo spline_info;
   ModelPart out;
-  SDCB_ASSIGN_OR_RETURN(
-      out.spline,
-      DecodeSplineChunks(chunks, kModelVersion, bytes.size(), &spline_info));
-  storage->quantization = spline_info.quantization;
-  storage->knot_grid_bits = spline_info.knot_grid_bits;
+  if (chunks.Has(kKept)) {
+    SDCB_ASSIGN_OR_RETURN(out.kept, DecodeKept(chunks, bytes.size()));
+  } else {
+    if (chunks.Has(kWhy)) return Corrupt("a fitted part has a WHY chunk");
+    SdcbFileInfo spline_info;
+    SDCB_ASSIGN_OR_RETURN(
+        out.spline,
+        DecodeSplineChunks(chunks, kModelVersion, bytes.size(), &spline_info));
+    storage->quantization = spline_info.quantization;
+    storage->knot_grid_bits = spline_info.knot_grid_bits;
+  }
   if (chunks.Has(kName)) {
     const std::string_view name = chunks.Get(kName);
     const std::string problem =
@@ -237,6 +273,16 @@ StatusOr<std::string> SerializeSdcbModel(const Model& model,
   for (size_t i = 0; i < model.parts.size(); ++i) {
     const ModelPart& part = model.parts[i];
     std::string problem = NameProblem(part.name);
+    if (part.kept) {
+      const Status valid = ValidateModelPart(part);
+      if (!valid.ok()) problem = valid.message();
+      const std::string& why = part.kept->reason;
+      if (problem.empty() &&
+          (why.size() > kMaxReasonBytes || !Utf8Problem(why).empty())) {
+        problem = "its reason is not 1 to " + Str(kMaxReasonBytes) +
+                  " bytes of UTF-8";
+      }
+    }
     for (size_t t = 0; problem.empty() && t < part.trims.size(); ++t) {
       problem = TrimLoopProblem(part.trims[t].points);
       if (!problem.empty())
@@ -263,9 +309,16 @@ StatusOr<std::string> SerializeSdcbModel(const Model& model,
     const ModelPart& part = model.parts[i];
     ByteWriter chunks;
     SdcbFileInfo part_info;
-    StatusOr<uint32_t> version =
-        AppendSplineChunks(part.spline, options, &chunks, &part_info);
-    if (!version.ok()) return version.status().WithPrefix(PartPrefix(i));
+    if (part.kept) {
+      const KeptMeshPayloads kept = EncodeKeptMesh(part.kept->mesh);
+      AppendChunk(kHead, kept.head, &chunks);
+      AppendChunk(kKept, kept.kept, &chunks);
+      AppendChunk(kWhy, part.kept->reason, &chunks);
+    } else {
+      StatusOr<uint32_t> version =
+          AppendSplineChunks(part.spline, options, &chunks, &part_info);
+      if (!version.ok()) return version.status().WithPrefix(PartPrefix(i));
+    }
     if (!part.name.empty()) AppendChunk(kName, part.name, &chunks);
     if (part.trimmed()) AppendChunk(kTrim, TrimPayload(part.trims), &chunks);
     AppendChunk(kEnd, std::string_view(), &chunks);

@@ -70,6 +70,27 @@ inline TriangleMesh GridTorus(int n, int m, double major, double shift_x) {
   return torus;
 }
 
+// Three triangles on one edge (not manifold), around (x, 0, 0), with
+// coordinates no float holds exactly.
+inline TriangleMesh NonManifoldFan(double x) {
+  TriangleMesh fan;
+  fan.vertices.resize(5, 3);
+  fan.vertices << x, 0, 0, x + 1.1, 0, 0, x + 0.3, 0.9, 0.1, x + 0.7, -0.3, 0.7,
+      x + 0.6, -0.2, -0.9;
+  fan.faces.resize(3, 3);
+  fan.faces << 0, 1, 2, 1, 0, 3, 0, 1, 4;
+  return fan;
+}
+
+// Part 1 a closed ellipsoid (axes 1, 0.8, 0.6; fittable), part 2 a torus of
+// 96 triangles around it (genus 1), part 3 NonManifoldFan(10).
+inline TriangleMesh SphereTorusFan() {
+  const TriangleMesh ellipsoid =
+      OpenEllipsoid(2, Eigen::Vector3d(1.0, 0.8, 0.6), {});
+  return Concatenated(Concatenated(ellipsoid, GridTorus(8, 6, 3.0, 0.0)),
+                      NonManifoldFan(10.0));
+}
+
 }  // namespace sdcb::testing
 
 #endif  // SDCB_TESTS_TESTING_OPEN_SPHERE_H_

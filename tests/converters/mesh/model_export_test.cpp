@@ -20,6 +20,7 @@
 #include "sdcb/core/common/constants.h"
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/io/mesh/mesh_reader.h"
+#include "testing/open_sphere.h"
 #include "testing/run_sdcb.h"
 #include "testing/temp_dir.h"
 
@@ -242,6 +243,65 @@ TEST_F(ModelExportTest, GltfOfTwoPartsPassesTheValidatorWithTwoNodes) {
     ++checked;
   }
   EXPECT_EQ(checked, static_cast<int>(cases.size()));
+}
+
+// Part 1 fitted, part 2 a kept torus, part 3 a kept fan (not manifold):
+// every glTF form passes the validator with one node and mesh per part, the
+// kept parts' vertices and triangles as many as the input's.
+TEST_F(ModelExportTest, KeptPartsPassThroughToGltfAsTheirOwnNodes) {
+  const std::string dir = testing::FreshTestDir();
+  Model model = TwoParts();
+  model.parts[1] = ModelPart();
+  model.parts[1].kept =
+      KeptMesh{testing::GridTorus(8, 6, 3.0, 0.0), "part 2: genus 1"};
+  model.parts.emplace_back();
+  model.parts[2].name = "fan";
+  model.parts[2].kept = KeptMesh{testing::NonManifoldFan(5.0), "part 3: fan"};
+  std::string files;
+  for (const GltfCompression compression :
+       {GltfCompression::kNone, GltfCompression::kDraco,
+        GltfCompression::kMeshopt}) {
+    SurfaceMeshExportOptions o = Options(ExportFormat::kGltf);
+    o.compression = compression;
+    auto exported = ExportSurfaceMesh(model, o);
+    ASSERT_TRUE(exported.ok()) << exported.status().message();
+    const std::string name =
+        dir + "/kept" + std::to_string(static_cast<int>(compression)) + ".gltf";
+    std::ofstream(name, std::ios::binary) << exported->bytes;
+    files += " " + testing::ShellQuote(name);
+    const auto j = nlohmann::json::parse(exported->bytes);
+    ASSERT_EQ(j["nodes"].size(), 3u);
+    EXPECT_EQ(j["nodes"][1]["name"], "part2");
+    EXPECT_EQ(j["nodes"][2]["name"], "fan");
+    if (compression == GltfCompression::kNone) {
+      const auto& accessors = j["accessors"];
+      const auto& torus = j["meshes"][1]["primitives"][0];
+      EXPECT_EQ(accessors[torus["attributes"]["POSITION"].get<int>()]["count"],
+                48);
+      EXPECT_EQ(accessors[torus["indices"].get<int>()]["count"], 3 * 96);
+      const auto& fan = j["meshes"][2]["primitives"][0];
+      EXPECT_EQ(accessors[fan["attributes"]["POSITION"].get<int>()]["count"],
+                5);
+      EXPECT_EQ(accessors[fan["indices"].get<int>()]["count"], 9);
+    }
+    EXPECT_EQ(exported->report.parts, 3);
+  }
+  const std::string out_file = dir + "/validator.out";
+  const int status = std::system(("node " + std::string(SDCB_SOURCE_DIR) +
+                                  "/scripts/gltf_tools/validate.js" + files +
+                                  " > " + out_file + " 2>&1")
+                                     .c_str());
+  const std::string out = testing::ReadBytes(out_file);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
+  std::istringstream lines(out);
+  std::string line;
+  int checked = 0;
+  while (std::getline(lines, line)) {
+    const auto j = nlohmann::json::parse(line);
+    EXPECT_EQ(j["errors"], 0) << line;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3);
 }
 
 TEST_F(ModelExportTest, UniformMeshOfATrimmedPartIsRefusedNamingIt) {

@@ -176,5 +176,100 @@ TEST(FitModel, APartOfHigherGenusRefusesTheMeshBeforeAnyFit) {
             "part 2 (96 triangles) has genus 1; sdcb fits genus-0 parts");
 }
 
+// Rows of `m`: the oracle of a part's input triangles (the
+// mesh's own arrays, re-indexed by hand).
+TriangleMesh Rows(const TriangleMesh& m, int first_vertex, int vertices,
+                  int first_face, int faces) {
+  TriangleMesh out;
+  out.vertices = m.vertices.middleRows(first_vertex, vertices);
+  out.faces = m.faces.middleRows(first_face, faces).array() - first_vertex;
+  return out;
+}
+
+TEST(FitModel, KeepUnfittableKeepsTheTorusAndTheFanAsTheyWere) {
+  const TriangleMesh mesh = testing::SphereTorusFan();
+  const TriangleMesh sphere = OpenEllipsoid(2, kAxes, {});
+  ModelFitOptions options = CoarseOptions();
+  options.keep_unfittable = true;
+  StatusOr<ModelFit> fit = FitModel(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  ASSERT_EQ(fit->model.parts.size(), 3u);
+  const ModelPart& fitted = fit->model.parts[0];
+  EXPECT_TRUE(fitted.fitted());
+  EXPECT_TRUE(fit->parts[0].fit.reached_target());
+  EXPECT_FALSE(fit->parts[0].kept());
+  EXPECT_TRUE(fit->reached_target());  // every fitted part
+  // The sentences `sdcb check` gives those parts (docs/CLI.md).
+  ASSERT_TRUE(fit->model.parts[1].kept.has_value());
+  ASSERT_TRUE(fit->model.parts[2].kept.has_value());
+  EXPECT_EQ(fit->model.parts[1].kept->reason,
+            "part 2 (96 triangles) has genus 1; sdcb fits genus-0 parts");
+  EXPECT_EQ(fit->parts[1].kept_reason, fit->model.parts[1].kept->reason);
+  EXPECT_EQ(fit->model.parts[2].kept->reason.rfind("part 3 (3 triangles) is "
+                                                   "not manifold",
+                                                   0),
+            0u)
+      << fit->model.parts[2].kept->reason;
+  // The kept triangles are the input's rows, exactly.
+  const int nv = sphere.num_vertices(), nf = sphere.num_faces();
+  const TriangleMesh torus = Rows(mesh, nv, 48, nf, 96);
+  const TriangleMesh fan = Rows(mesh, nv + 48, 5, nf + 96, 3);
+  EXPECT_EQ(fit->model.parts[1].kept->mesh.vertices, torus.vertices);
+  EXPECT_EQ(fit->model.parts[1].kept->mesh.faces, torus.faces);
+  EXPECT_EQ(fit->model.parts[2].kept->mesh.vertices, fan.vertices);
+  EXPECT_EQ(fit->model.parts[2].kept->mesh.faces, fan.faces);
+  EXPECT_TRUE(fit->model.parts[1].spline.control_points.rows() == 0);
+  EXPECT_TRUE(ValidateModel(fit->model).ok());
+}
+
+TEST(FitModel, KeepUnfittableIsTheSameForAnyThreadCount) {
+  const TriangleMesh mesh = testing::SphereTorusFan();
+  ModelFitOptions one = CoarseOptions(), two = CoarseOptions();
+  one.keep_unfittable = two.keep_unfittable = true;
+  one.fit.threads = 1;
+  two.fit.threads = 2;
+  StatusOr<ModelFit> a = FitModel(mesh, one);
+  StatusOr<ModelFit> b = FitModel(mesh, two);
+  ASSERT_TRUE(a.ok() && b.ok());
+  ASSERT_EQ(a->model.parts.size(), b->model.parts.size());
+  for (size_t i = 0; i < a->model.parts.size(); ++i) {
+    const ModelPart &p = a->model.parts[i], &q = b->model.parts[i];
+    EXPECT_EQ(p.kept.has_value(), q.kept.has_value());
+    EXPECT_EQ(p.spline.knots, q.spline.knots);
+    EXPECT_EQ(p.spline.control_points, q.spline.control_points);
+    if (p.kept && q.kept) {
+      EXPECT_EQ(p.kept->reason, q.kept->reason);
+      EXPECT_EQ(p.kept->mesh.vertices, q.kept->mesh.vertices);
+    }
+  }
+}
+
+TEST(FitModel, AModelOfKeptPartsOnlyIsStillAModel) {
+  ModelFitOptions options = CoarseOptions();
+  options.keep_unfittable = true;
+  StatusOr<ModelFit> fit =
+      FitModel(testing::GridTorus(8, 6, 3.0, 0.0), options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  ASSERT_EQ(fit->model.parts.size(), 1u);
+  EXPECT_TRUE(fit->model.parts[0].kept.has_value());
+  EXPECT_TRUE(ValidateModel(fit->model).ok());
+}
+
+TEST(FitModel, KeepUnfittableKeepsNoPartForOptionsOutOfRange) {
+  ModelFitOptions options = CoarseOptions();
+  options.keep_unfittable = true;
+  options.fit.rmse_percent = -1;
+  StatusOr<ModelFit> fit = FitModel(testing::SphereTorusFan(), options);
+  ASSERT_FALSE(fit.ok());
+  EXPECT_EQ(fit.status().code(), StatusCode::kInvalidArgument);
+}
+
+TEST(FitModel, WithoutKeepUnfittableTheSameMeshIsRefused) {
+  StatusOr<ModelFit> fit = FitModel(testing::SphereTorusFan(), CoarseOptions());
+  ASSERT_FALSE(fit.ok());
+  EXPECT_EQ(fit.status().message(),
+            "part 2 (96 triangles) has genus 1; sdcb fits genus-0 parts");
+}
+
 }  // namespace
 }  // namespace sdcb

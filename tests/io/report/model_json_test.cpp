@@ -220,7 +220,8 @@ TEST(ModelJsonTest, AModelOfPartsListsThemAndOnePartKeepsTheTopLevelKeys) {
   EXPECT_EQ(part["name"], "");
   EXPECT_EQ(part["trimmed"], false);
   EXPECT_EQ(part["trims"], json::array());
-  for (const char* key : {"number", "name", "trimmed", "trims"}) {
+  EXPECT_EQ(part["kept"], false);
+  for (const char* key : {"number", "name", "kept", "trimmed", "trims"}) {
     part.erase(key);
   }
   json spline_keys = single;
@@ -244,6 +245,32 @@ TEST(ModelJsonTest, AModelOfPartsListsThemAndOnePartKeepsTheTopLevelKeys) {
   EXPECT_EQ(j["parts"][1]["trims"],
             json::parse("[[[1.0,0.0,0.0],[0.0,1.0,0.0],[0.0,0.0,-0.0]]]"));
   EXPECT_EQ(j["parts"][1]["source"], single["source"]);
+}
+
+TEST(ModelJsonTest, AKeptPartListsItsTrianglesAndWhy) {
+  Model m;
+  m.parts.resize(2);
+  m.parts[0].spline = MakeTestModel(1, 7, 0);
+  KeptMesh kept;
+  kept.mesh.vertices.resize(3, 3);
+  kept.mesh.vertices << 0.1, -0.0, 2, 1, 0, 0, 0, 1e-300, 0;
+  kept.mesh.faces.resize(1, 3);
+  kept.mesh.faces << 0, 2, 1;
+  kept.reason = "part 2 (1 triangles) has no area";
+  m.parts[1].kept = kept;
+  const json j = json::parse(ModelToJson(m));
+  EXPECT_FALSE(j.contains("knots"));
+  const json& p = j["parts"][1];
+  EXPECT_EQ(p["kept"], true);
+  EXPECT_EQ(p["reason"], kept.reason);
+  EXPECT_EQ(p["vertices"],
+            json::parse("[[0.1,-0.0,2.0],[1.0,0.0,0.0],[0.0,1e-300,0.0]]"));
+  EXPECT_EQ(p["faces"], json::parse("[[0,2,1]]"));
+  EXPECT_FALSE(p.contains("knots"));
+  EXPECT_EQ(j["parts"][0]["kept"], false);
+  // One kept part alone: no spline keys at the top.
+  m.parts.erase(m.parts.begin());
+  EXPECT_FALSE(json::parse(ModelToJson(m)).contains("degree"));
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 // one-part model; damaged, truncated and crafted version 4 files are refused
 // with kCorruptFile and a message naming the problem.
 #include <gtest/gtest.h>
+#include <meshoptimizer.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -482,6 +483,168 @@ TEST(SdcbModelFileTest, MutationsInsidePartsWithValidCrcsNeverCrash) {
     ExpectSameModel(*m, *reread);
   }
   EXPECT_LT(accepted, 600);
+}
+
+// A fitted part, then two kept parts: one of doubles no float holds (a -0.0
+// among them; triangles meshoptimizer's index codec rotates), one of floats.
+Model KeptPartsModel() {
+  Model m = TwoPartModel();
+  m.parts.resize(3);
+  m.parts[1] = ModelPart();
+  m.parts[1].name = "bracket";
+  KeptMesh soup;
+  soup.mesh.vertices.resize(9, 3);
+  for (int i = 0; i < 9; ++i) {
+    soup.mesh.vertices.row(i) << 0.1 * i, std::sqrt(2.0 + i), -1.0 / (3 + i);
+  }
+  soup.mesh.vertices(4, 1) = -0.0;
+  soup.mesh.faces.resize(5, 3);
+  soup.mesh.faces << 0, 1, 2, 2, 1, 3, 3, 4, 2, 5, 6, 7, 1, 0, 8;
+  soup.reason =
+      "part 2 (5 triangles) is not manifold; sdcb fits manifold parts";
+  m.parts[1].kept = soup;
+  KeptMesh tetra;
+  tetra.mesh.vertices.resize(4, 3);
+  tetra.mesh.vertices << 0, 0, 0, 1.5, 0, 0, 0, 0.25, 0, 0, 0, -3;
+  tetra.mesh.faces.resize(4, 3);
+  tetra.mesh.faces << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
+  tetra.reason = "part 3: the fit failed";
+  m.parts[2].kept = tetra;
+  return m;
+}
+
+// The kept part's documented bytes decoded by hand with meshoptimizer's
+// decoders (docs/FORMAT.md, "Kept parts").
+TriangleMesh DecodeKeptByHand(const std::string& part_payload) {
+  std::vector<RawChunk> chunks =
+      SplitFile(std::string(12, '\0') + part_payload);
+  EXPECT_EQ(chunks.back().type, "END ");
+  const RawChunk* head = testing::Find(chunks, "HEAD");
+  const RawChunk* kept = testing::Find(chunks, "KEPT");
+  EXPECT_TRUE(head != nullptr && kept != nullptr);
+  EXPECT_EQ(head->payload.size(), 20u);
+  const uint64_t nv = testing::GetLe(head->payload, 0, 8);
+  const uint64_t nf = testing::GetLe(head->payload, 8, 8);
+  const uint64_t form = testing::GetLe(head->payload, 16, 4);
+  const size_t width = form == 1 ? 4 : 8, size = 3 * width;
+  const std::string& k = kept->payload;
+  const uint64_t vbytes = testing::GetLe(k, 0, 8);
+  std::vector<unsigned char> v(nv * size);
+  EXPECT_EQ(meshopt_decodeVertexBuffer(
+                v.data(), nv, size,
+                reinterpret_cast<const unsigned char*>(k.data() + 8), vbytes),
+            0);
+  const uint64_t ibytes = testing::GetLe(k, 8 + vbytes, 8);
+  std::vector<unsigned int> idx(3 * nf);
+  EXPECT_EQ(meshopt_decodeIndexBuffer(
+                idx.data(), idx.size(), 4,
+                reinterpret_cast<const unsigned char*>(k.data() + 16 + vbytes),
+                ibytes),
+            0);
+  const std::string rotations =
+      testing::TestInflate(k.substr(16 + vbytes + ibytes));
+  EXPECT_EQ(rotations.size(), nf);
+  TriangleMesh mesh;
+  mesh.vertices.resize(nv, 3);
+  for (uint64_t i = 0; i < 3 * nv; ++i) {
+    double x;
+    if (width == 4) {
+      float f;
+      std::memcpy(&f, v.data() + 4 * i, 4);
+      x = f;
+    } else {
+      std::memcpy(&x, v.data() + 8 * i, 8);
+    }
+    mesh.vertices(i / 3, i % 3) = x;
+  }
+  mesh.faces.resize(nf, 3);
+  for (uint64_t f = 0; f < nf; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      mesh.faces(f, c) = idx[3 * f + (rotations[f] + c) % 3];
+    }
+  }
+  return mesh;
+}
+
+TEST(SdcbModelFileTest, KeptPartsRoundTripExactly) {
+  const Model m = KeptPartsModel();
+  const std::string file = Serialize(m);
+  StatusOr<Model> back = ParseSdcbModel(file);
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  ExpectSameModel(m, *back);
+  for (size_t i = 1; i < 3; ++i) {
+    ASSERT_TRUE(back->parts[i].kept.has_value()) << i;
+    EXPECT_EQ(back->parts[i].kept->reason, m.parts[i].kept->reason);
+    EXPECT_TRUE(SameBits(back->parts[i].kept->mesh.vertices,
+                         m.parts[i].kept->mesh.vertices));
+    EXPECT_EQ(back->parts[i].kept->mesh.faces, m.parts[i].kept->mesh.faces);
+  }
+  EXPECT_FALSE(back->parts[0].kept.has_value());
+  // The layout: version 4, a PART per part; a kept part's HEAD declares
+  // its counts and the position form (0: doubles, 1: floats), and its
+  // streams decode with meshoptimizer to the input.
+  std::vector<RawChunk> chunks = SplitFile(file);
+  std::vector<std::string> parts;
+  for (const RawChunk& c : chunks) {
+    if (c.type == "PART") parts.push_back(c.payload);
+  }
+  ASSERT_EQ(parts.size(), 3u);
+  EXPECT_EQ(PartBytes(m.parts[0]), parts[0]);
+  for (size_t i = 1; i < 3; ++i) {
+    const TriangleMesh hand = DecodeKeptByHand(parts[i]);
+    EXPECT_TRUE(SameBits(hand.vertices, m.parts[i].kept->mesh.vertices)) << i;
+    EXPECT_EQ(hand.faces, m.parts[i].kept->mesh.faces) << i;
+    std::vector<RawChunk> sub = SplitFile(std::string(12, '\0') + parts[i]);
+    EXPECT_EQ(testing::GetLe(sub[0].payload, 16, 4), i == 1 ? 0u : 1u);
+    ASSERT_NE(testing::Find(sub, "WHY "), nullptr);
+    EXPECT_EQ(testing::Find(sub, "WHY ")->payload, m.parts[i].kept->reason);
+  }
+  // The one-spline reader refuses a kept part.
+  Model one;
+  one.parts = {m.parts[2]};
+  one.source = m.source;
+  const StatusOr<SplineModel> spline = ParseSdcb(Serialize(one));
+  ASSERT_FALSE(spline.ok());
+  EXPECT_EQ(spline.status().code(), StatusCode::kUnsupported);
+  EXPECT_NE(spline.status().message().find("a kept (unfitted) part"),
+            std::string::npos)
+      << spline.status().message();
+}
+
+TEST(SdcbModelFileTest, DamagedKeptPartsAreRefused) {
+  const std::string file = Serialize(KeptPartsModel());
+  for (size_t n = 0; n < file.size(); n += 7) {
+    const StatusOr<Model> m = ParseSdcbModel(file.substr(0, n));
+    ASSERT_FALSE(m.ok()) << n;
+    EXPECT_EQ(m.status().code(), StatusCode::kCorruptFile) << n;
+  }
+  for (size_t i = 12; i < file.size(); ++i) {
+    std::string bad = file;
+    bad[i] = static_cast<char>(bad[i] ^ 16);
+    ASSERT_FALSE(ParseSdcbModel(bad).ok()) << i;
+  }
+  // Valid CRCs around bad contents: counts that disagree with the streams,
+  // an unknown position form, an absurd vertex count.
+  const auto with_kept_head = [&](const std::string& head) {
+    std::vector<RawChunk> chunks = SplitFile(file);
+    RawChunk* part = nullptr;
+    int seen = 0;
+    for (RawChunk& c : chunks) {
+      if (c.type == "PART" && ++seen == 3) part = &c;
+    }
+    std::vector<RawChunk> sub =
+        SplitFile(std::string(12, '\0') + part->payload);
+    sub[0].payload = head;
+    part->payload = Sequence(sub);
+    return Join4(chunks);
+  };
+  ExpectCorruptModel(with_kept_head(Le(3, 8) + Le(4, 8) + Le(1, 4)), "KEPT");
+  ExpectCorruptModel(with_kept_head(Le(4, 8) + Le(4, 8) + Le(2, 4)),
+                     "position form 2");
+  ExpectCorruptModel(
+      with_kept_head(Le(uint64_t{1} << 40, 8) + Le(4, 8) + Le(1, 4)),
+      "vertices, more than the file's");
+  ExpectCorruptModel(with_kept_head(Le(4, 8) + Le(5, 8) + Le(1, 4)), "KEPT");
 }
 
 TEST(SdcbModelFileTest, FilesAreWrittenAtomicallyAndReadBack) {
