@@ -370,3 +370,31 @@ TEST(GltfImport, MalformedAssimpTestModelsGiveOneSentenceEach) {
 
 }  // namespace
 }  // namespace sdcb
+
+namespace sdcb {
+namespace {
+
+// The fuzzer's corpus (fuzz/corpus/gltf, with the inputs of past findings as
+// regression-NAME): seeds read, every file reads or fails in one sentence.
+TEST(GltfImport, FuzzCorpusReadsOrFailsInOneSentence) {
+  const std::filesystem::path dir =
+      std::filesystem::path(SDCB_SOURCE_DIR) / "fuzz" / "corpus" / "gltf";
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    SCOPED_TRACE(entry.path().string());
+    const StatusOr<GltfAsset> asset =
+        ReadGltfFromBuffer(ReadBytes(entry.path().string()));
+    if (entry.path().filename().string().rfind("regression-", 0) != 0) {
+      EXPECT_TRUE(asset.ok()) << asset.status().message();
+    }
+    if (!asset.ok()) {
+      EXPECT_FALSE(asset.status().message().empty());
+      EXPECT_EQ(asset.status().message().find('\n'), std::string::npos);
+    }
+    ++files;
+  }
+  EXPECT_GE(files, 4);
+}
+
+}  // namespace
+}  // namespace sdcb
