@@ -22,6 +22,7 @@
 namespace sdcb {
 namespace {
 
+using testing::Base64;
 using testing::FreshTestDir;
 using testing::kAssimpGltf2;
 using testing::ReadBytes;
@@ -172,22 +173,6 @@ TEST(GltfImport, DracoAndMeshoptGlbsReadBackWithinTheQuantizationError) {
       EXPECT_LE(nearest, bound) << "compression " << int(compression);
     }
   }
-}
-
-std::string Base64(const std::string& data) {
-  static const char* kAlphabet =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < data.size(); i += 3) {
-    uint32_t v = static_cast<unsigned char>(data[i]) << 16;
-    if (i + 1 < data.size()) v |= static_cast<unsigned char>(data[i + 1]) << 8;
-    if (i + 2 < data.size()) v |= static_cast<unsigned char>(data[i + 2]);
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += i + 1 < data.size() ? kAlphabet[(v >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? kAlphabet[v & 63] : '=';
-  }
-  return out;
 }
 
 // A unit square's four corners (float32) in one data-URI buffer.
