@@ -250,6 +250,9 @@ class Reader {
                            int components_max,
                            const AllowedTypes& allowed) const;
   StatusOr<AccessorValues> ReadAccessor(int index, const std::string& what);
+  Status ApplySparse(const tinygltf::Accessor& accessor,
+                     const std::string& name, int64_t element_bytes,
+                     AccessorValues* out);
   Status ReadDraco(const tinygltf::Primitive& primitive,
                    const tinygltf::Value& ext, const std::string& what,
                    std::map<std::string, AccessorValues>* attributes,
@@ -458,9 +461,6 @@ StatusOr<AccessorValues> Reader::ReadAccessor(int index,
   if (out.components == 0 || component_bytes == 0) {
     return CorruptFileError(name + " has an unknown type or component type");
   }
-  if (accessor.sparse.isSparse) {
-    return UnsupportedError(name + " is sparse, which sdcb does not read");
-  }
   const int64_t element_bytes = int64_t{out.components} * component_bytes;
   const uint64_t count = accessor.count;
   if (count > static_cast<uint64_t>(
@@ -506,18 +506,83 @@ StatusOr<AccessorValues> Reader::ReadAccessor(int index,
   SDCB_RETURN_IF_ERROR(
       Charge(out.count * out.components * int64_t{sizeof(double)}, name));
   out.values.assign(static_cast<size_t>(out.count * out.components), 0.0);
-  if (bytes.data() == nullptr) return out;  // no buffer view: zeros
-  const auto* base = reinterpret_cast<const unsigned char*>(bytes.data()) +
-                     accessor.byteOffset;
-  for (int64_t i = 0; i < out.count; ++i) {
-    const unsigned char* element = base + i * stride;
-    for (int c = 0; c < out.components; ++c) {
-      out.values[i * out.components + c] =
-          DecodeComponent(element + c * component_bytes, accessor.componentType,
-                          accessor.normalized);
+  if (bytes.data() != nullptr) {  // else zeros
+    const auto* base = reinterpret_cast<const unsigned char*>(bytes.data()) +
+                       accessor.byteOffset;
+    for (int64_t i = 0; i < out.count; ++i) {
+      const unsigned char* element = base + i * stride;
+      for (int c = 0; c < out.components; ++c) {
+        out.values[i * out.components + c] =
+            DecodeComponent(element + c * component_bytes,
+                            accessor.componentType, accessor.normalized);
+      }
     }
   }
+  if (accessor.sparse.isSparse) {
+    SDCB_RETURN_IF_ERROR(ApplySparse(accessor, name, element_bytes, &out));
+  }
   return out;
+}
+
+// glTF 2.0 "Sparse accessors": `count` element indices (unsigned, strictly
+// increasing, each below the accessor's count) and as many replacement
+// elements, both tightly packed in their buffer views.
+Status Reader::ApplySparse(const tinygltf::Accessor& accessor,
+                           const std::string& name, int64_t element_bytes,
+                           AccessorValues* out) {
+  const auto& sparse = accessor.sparse;
+  const std::string what = name + " (sparse)";
+  const int index_bytes = ComponentBytes(sparse.indices.componentType);
+  if (sparse.indices.componentType != kUnsignedByte &&
+      sparse.indices.componentType != kUnsignedShort &&
+      sparse.indices.componentType != kUnsignedInt) {
+    return CorruptFileError(what + " has indices of component type " +
+                            Str(sparse.indices.componentType) +
+                            " (glTF allows unsigned byte, short or int)");
+  }
+  const int64_t count = sparse.count;
+  if (count < 1 || count > out->count) {
+    return CorruptFileError(what + " replaces " + Str(count) +
+                            " elements of the " + Str(out->count));
+  }
+  SDCB_ASSIGN_OR_RETURN(const std::string_view indices,
+                        ViewBytes(sparse.indices.bufferView, what));
+  SDCB_ASSIGN_OR_RETURN(const std::string_view values,
+                        ViewBytes(sparse.values.bufferView, what));
+  const int64_t index_offset = sparse.indices.byteOffset;
+  const int64_t value_offset = sparse.values.byteOffset;
+  if (index_offset < 0 || value_offset < 0 ||
+      index_offset > static_cast<int64_t>(indices.size()) ||
+      (static_cast<int64_t>(indices.size()) - index_offset) / index_bytes <
+          count ||
+      value_offset > static_cast<int64_t>(values.size()) ||
+      (static_cast<int64_t>(values.size()) - value_offset) / element_bytes <
+          count) {
+    return CorruptFileError(what + ": its " + Str(count) +
+                            " indices or values reach past their buffer views");
+  }
+  const auto* index_base =
+      reinterpret_cast<const unsigned char*>(indices.data()) + index_offset;
+  const auto* value_base =
+      reinterpret_cast<const unsigned char*>(values.data()) + value_offset;
+  const int component_bytes = ComponentBytes(accessor.componentType);
+  int64_t previous = -1;
+  for (int64_t i = 0; i < count; ++i) {
+    const int64_t target = static_cast<int64_t>(DecodeComponent(
+        index_base + i * index_bytes, sparse.indices.componentType, false));
+    if (target <= previous || target >= out->count) {
+      return CorruptFileError(what + ": index " + Str(target) +
+                              " is out of order or past the " +
+                              Str(out->count) + " elements");
+    }
+    previous = target;
+    for (int c = 0; c < out->components; ++c) {
+      out->values[target * out->components + c] =
+          DecodeComponent(value_base + i * element_bytes + c * component_bytes,
+                          accessor.componentType, accessor.normalized);
+    }
+  }
+  return Status::Ok();
 }
 
 // KHR_draco_mesh_compression: the attributes the extension maps, per

@@ -243,6 +243,38 @@ TEST(GltfImport, ReadsTheNodeHierarchyAndTrsOfAHandWrittenFile) {
   EXPECT_EQ(strip.vertices.row(3), Eigen::RowVector3d(1, 1, 0));
 }
 
+// A sparse POSITION without a buffer view: zeros, with corners 1..3
+// replaced by the square's (indices 1 2 3 as unsigned bytes, values from
+// byte 12 of the square's view); a strip over them is the square's.
+TEST(GltfImport, ReadsSparseAccessors) {
+  const float corners[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  const std::string text =
+      R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 5}]}],
+    "buffers": [{"byteLength": 48, "uri": "data:application/octet-stream;base64,)" +
+      Base64(std::string(reinterpret_cast<const char*>(corners), 48)) +
+      R"("}, {"byteLength": 3, "uri": "data:application/octet-stream;base64,AQID"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 48},
+                    {"buffer": 1, "byteLength": 3}],
+    "accessors": [{"componentType": 5126, "count": 4, "type": "VEC3",
+      "sparse": {"count": 3,
+                 "indices": {"bufferView": 1, "componentType": 5121},
+                 "values": {"bufferView": 0, "byteOffset": 12}}}]})";
+  StatusOr<GltfAsset> asset = ReadGltfFromBuffer(text);
+  ASSERT_TRUE(asset.ok()) << asset.status().message();
+  Eigen::MatrixX3d square(4, 3);
+  square << 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0;
+  EXPECT_EQ(asset->primitives[0].triangles.vertices, square);
+  // Indices out of order are named.
+  std::string swapped = text;
+  swapped.replace(swapped.find("AQID"), 4, "AwIB");  // 3 2 1
+  const Status s = ReadGltfFromBuffer(swapped).status();
+  EXPECT_EQ(s.message(),
+            "primitive 0 of mesh 0: POSITION (accessor 0) (sparse): index 2 "
+            "is out of order or past the 4 elements");
+}
+
 Status ReadText(const std::string& nodes_and_scene) {
   const std::string text = R"({"asset": {"version": "2.0"}, )" +
                            nodes_and_scene + ", " + SquareBufferJson() +
