@@ -24,6 +24,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Decoded bytes per compressed byte a meshopt view or a Draco primitive may
+// claim, and elements per byte of the file an accessor without a buffer
+// view (zeros, or a sparse accessor's base) may have.
+constexpr int64_t kMaxExpansion = 256;
+
 constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122,
               kUnsignedShort = 5123, kUnsignedInt = 5125, kFloat = 5126;
 
@@ -225,6 +230,10 @@ class Reader {
       : model_(model), limits_(limits) {
     for (const std::string& e : model.extensionsUsed) used_.insert(e);
     budget_ = limits.max_memory_bytes;
+    for (const tinygltf::Buffer& buffer : model.buffers) {
+      file_bytes_ += static_cast<int64_t>(buffer.data.size());
+    }
+    file_bytes_ = std::max<int64_t>(file_bytes_, 1024);
   }
 
   StatusOr<GltfAsset> Read();
@@ -243,8 +252,7 @@ class Reader {
   Status ReadPrimitive(int mesh_index, int primitive_index, GltfPrimitive* out);
   StatusOr<std::string_view> ViewBytes(int view_index, const std::string& what);
   StatusOr<std::string_view> MeshoptView(int view_index,
-                                         const tinygltf::Value& ext,
-                                         const std::string& what);
+                                         const tinygltf::Value& ext);
   Status CheckAccessorType(const tinygltf::Accessor& accessor,
                            const std::string& what, int components_min,
                            int components_max,
@@ -262,6 +270,7 @@ class Reader {
   const MeshReadLimits& limits_;
   std::set<std::string> used_;
   int64_t budget_ = 0;
+  int64_t file_bytes_ = 0;  // the buffers' bytes (at least 1 KB)
   std::map<int, std::string> decoded_views_;  // EXT_meshopt_compression
 };
 
@@ -277,7 +286,7 @@ StatusOr<std::string_view> Reader::ViewBytes(int view_index,
   const std::string name = "buffer view " + Str(view_index);
   const auto meshopt = view.extensions.find("EXT_meshopt_compression");
   if (meshopt != view.extensions.end()) {
-    return MeshoptView(view_index, meshopt->second, what);
+    return MeshoptView(view_index, meshopt->second);
   }
   if (view.buffer < 0 ||
       static_cast<size_t>(view.buffer) >= model_.buffers.size()) {
@@ -299,8 +308,7 @@ StatusOr<std::string_view> Reader::ViewBytes(int view_index,
 }
 
 StatusOr<std::string_view> Reader::MeshoptView(int view_index,
-                                               const tinygltf::Value& ext,
-                                               const std::string& what) {
+                                               const tinygltf::Value& ext) {
   const auto cached = decoded_views_.find(view_index);
   if (cached != decoded_views_.end()) return std::string_view(cached->second);
   const std::string name =
@@ -366,11 +374,19 @@ StatusOr<std::string_view> Reader::MeshoptView(int view_index,
     return CorruptFileError(name + " has mode '" + mode +
                             "' (ATTRIBUTES, TRIANGLES or INDICES)");
   }
-  // Every encoded vertex or index takes at least a bit or so; a count the
-  // limits allow still cannot ask for more than this before decoding.
   if (count > limits_.max_vertices * 3 || count > limits_.max_triangles * 3) {
     return UnsupportedError(name + " holds " + Str(count) +
                             " elements, more than the limits allow");
+  }
+  // The decoded size is known before decoding; a few compressed bytes must
+  // not claim gigabytes. meshopt's codecs spend at least a byte per 4 to 16
+  // bytes of typical data; beyond 256 times (all-zero attributes come
+  // near 64) the view is refused.
+  if (count * stride > kMaxExpansion * length + (int64_t{1} << 20)) {
+    return CorruptFileError(name + " claims " + Str(count * stride) +
+                            " decoded bytes from " + Str(length) +
+                            " compressed ones, more than " +
+                            Str(kMaxExpansion) + " times as many");
   }
   SDCB_RETURN_IF_ERROR(Charge(count * stride, name));
   std::string out(static_cast<size_t>(count * stride), '\0');
@@ -407,7 +423,6 @@ StatusOr<std::string_view> Reader::MeshoptView(int view_index,
     return CorruptFileError(name + " has filter '" + filter +
                             "' (NONE, OCTAHEDRAL, QUATERNION or EXPONENTIAL)");
   }
-  (void)what;
   return std::string_view(
       decoded_views_.emplace(view_index, std::move(out)).first->second);
 }
@@ -471,6 +486,11 @@ StatusOr<AccessorValues> Reader::ReadAccessor(int index,
   out.count = static_cast<int64_t>(count);
   std::string_view bytes;
   int64_t stride = element_bytes;
+  if (accessor.bufferView < 0 && out.count > kMaxExpansion * file_bytes_) {
+    return CorruptFileError(name + " has " + Str(out.count) +
+                            " elements but no buffer view, more than " +
+                            Str(kMaxExpansion) + " per byte of the file");
+  }
   if (accessor.bufferView >= 0) {
     SDCB_ASSIGN_OR_RETURN(bytes, ViewBytes(accessor.bufferView, name));
     const tinygltf::BufferView& view = model_.bufferViews[accessor.bufferView];
@@ -603,9 +623,9 @@ Status Reader::ReadDraco(const tinygltf::Primitive& primitive,
   SDCB_ASSIGN_OR_RETURN(
       const std::string_view bytes,
       ViewBytes(ext.Get("bufferView").GetNumberAsInt(), name));
-  // Draco's decoder allocates as its header says; at most this much per
-  // compressed byte is plausible for a mesh (a point of position, normal
-  // and texture coordinates in a few bits), beyond that the budget decides.
+  // Draco's decoder allocates as its header says: this much per compressed
+  // byte is charged to the budget before decoding (a point of position,
+  // normal and texture coordinates takes a few bits).
   SDCB_RETURN_IF_ERROR(Charge(int64_t{64} * bytes.size(), name));
   draco::DecoderBuffer buffer;
   buffer.Init(bytes.data(), bytes.size());
