@@ -702,8 +702,10 @@ Status Reader::ReadDraco(const tinygltf::Primitive& primitive,
                                 " does not convert");
       }
       for (int c = 0; c < values.components; ++c) {
+        // Normalized signed integers: max(c / (2^(b-1) - 1), -1).
+        const double value = row[c] * scale;
         values.values[p * values.components + c] =
-            std::max(row[c] * scale, scale == 1.0 ? -HUGE_VAL : -1.0);
+            scale == 1.0 ? value : std::max(value, -1.0);
       }
     }
     (*attributes)[semantic] = std::move(values);
