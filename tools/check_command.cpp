@@ -79,19 +79,17 @@ int RunCheck(const std::vector<std::string>& argv) {
   const Status outputs = PrepareOutputs({args.Get("json")});
   if (!outputs.ok()) return ReportError(outputs);
 
-  MeshReadInfo read_info;
-  StatusOr<TriangleMesh> mesh =
-      ReadInputMesh(path, MeshReadLimitsFromArgs(args), &read_info);
+  MeshIntakeNotes notes;
+  StatusOr<TriangleMesh> mesh = ReadMeshToFit(args, path, &notes);
   if (!mesh.ok()) return ReportError(mesh.status());
-  const Status repaired = RepairIfAsked(args, path, &*mesh);
-  if (!repaired.ok()) return ReportError(repaired);
+  const MeshReadInfo& read_info = notes.read;
   StatusOr<MeshTopologyReport> report = AnalyzeMeshTopology(*mesh);
   if (!report.ok()) return ReportError(report.status().WithPrefix(path));
   const MeshTopologyReport& r = *report;
   StatusOr<PartsVerdict> verdict = JudgeParts(*mesh, max_parts);
   if (!verdict.ok()) return ReportError(verdict.status().WithPrefix(path));
   const bool ok = verdict->ok;
-  const std::string& problem = verdict->problem;
+  const std::string problem = WithSeamHint(verdict->problem, notes.seams);
   // Self-intersections are tested within each part, on meshes whose parts
   // can all be fitted (in a soup, touching pieces would count); -1 when not
   // tested.
@@ -127,6 +125,8 @@ int RunCheck(const std::vector<std::string>& argv) {
       j["self_intersections_skipped"] = skipped_because;
     }
     j["repaired"] = args.Has("repair");
+    j["seam_vertices_merged"] = notes.seams.merged_vertices;
+    j["seam_vertices_left_apart"] = notes.seams.declined_vertices;
     if (verdict->split) {
       nlohmann::ordered_json parts = nlohmann::ordered_json::array();
       for (const PartReport& p : verdict->parts) {
@@ -174,6 +174,9 @@ int RunCheck(const std::vector<std::string>& argv) {
     row("degenerate faces", r.degenerate_faces);
     row("duplicate vertices", r.duplicate_vertices);
     row("unreferenced vertices", r.unreferenced_vertices);
+    if (notes.seams.merged_vertices > 0) {
+      row("vertices merged at seams", notes.seams.merged_vertices);
+    }
     if (self_intersections >= 0) {
       row("self-intersecting pairs", self_intersections);
     } else {

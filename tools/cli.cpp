@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "sdcb/converters/gltf/gltf_asset.h"
 #include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/core/mesh/mesh_repair.h"
 #include "sdcb/core/mesh/mesh_topology.h"
@@ -276,6 +277,43 @@ long long WarnAboutSelfIntersections(
   return report->intersecting_pairs;
 }
 
+void WarnAboutRead(const std::string& path, const MeshReadInfo& info) {
+  for (const std::string& warning : info.warnings) {
+    std::cerr << "sdcb: " << path << ": warning: " << warning << "\n";
+  }
+}
+
+StatusOr<SeamWeldReport> WeldSeamsUnlessRepairing(const Args& args,
+                                                  const std::string& path,
+                                                  TriangleMesh* mesh) {
+  SeamWeldReport seams;
+  if (args.Has("repair")) return seams;
+  StatusOr<WeldedMesh> welded = WeldSeams(*mesh, &seams);
+  if (!welded.ok()) return welded.status().WithPrefix(path);
+  if (seams.merged_vertices > 0) {
+    *mesh = std::move(welded->mesh);
+    std::cerr << "sdcb: " << path << ": " << seams.Describe() << "\n";
+  } else if (seams.declined_vertices > 0) {
+    std::cerr << "sdcb: " << path << ": warning: " << SeamsLeftApart(seams)
+              << "\n";
+  }
+  return seams;
+}
+
+std::string SeamsLeftApart(const SeamWeldReport& seams) {
+  const int n = seams.declined_vertices;
+  return std::to_string(n) +
+         (n == 1 ? " vertex at the position of another was"
+                 : " vertices at the positions of others were") +
+         " left apart (" + seams.declined_because + "): --repair merges them";
+}
+
+std::string WithSeamHint(const std::string& refusal,
+                         const SeamWeldReport& seams) {
+  if (seams.declined_vertices == 0 || refusal.empty()) return refusal;
+  return refusal + "; " + SeamsLeftApart(seams);
+}
+
 StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
                                      const MeshReadLimits& limits,
                                      MeshReadInfo* info, MeshOrigin* origin) {
@@ -289,7 +327,7 @@ StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
     }
     return ReadMesh(path, info, limits);
   }
-  SDCB_ASSIGN_OR_RETURN(const GltfAsset asset, ReadGltf(path, limits));
+  SDCB_ASSIGN_OR_RETURN(GltfAsset asset, ReadGltf(path, limits));
   if (asset.point_primitives + asset.line_primitives > 0) {
     std::cerr << "sdcb: " << path << ": warning: skipped "
               << asset.point_primitives << " points and "
@@ -301,11 +339,30 @@ StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
   if (origin != nullptr) {
     origin->face_primitive = std::move(face_primitive);
     origin->primitive_names.clear();
+    origin->primitive_ids.clear();
     for (const GltfPrimitive& p : asset.primitives) {
       origin->primitive_names.push_back(p.name);
+      origin->primitive_ids.push_back({p.mesh, p.primitive});
     }
+    origin->document = std::move(asset.document);
   }
   return mesh;
+}
+
+StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
+                                    const MeshOrigin& origin) {
+  if (origin.face_primitive.empty()) return std::string();
+  std::vector<GltfFittedPrimitive> fitted(origin.primitive_ids.size());
+  for (size_t p = 0; p < fitted.size(); ++p) {
+    fitted[p].mesh = origin.primitive_ids[p][0];
+    fitted[p].primitive = origin.primitive_ids[p][1];
+  }
+  for (size_t i = 0; i < parts.size(); ++i) {
+    if (parts[i].input_faces.empty()) continue;
+    const int p = origin.face_primitive[parts[i].input_faces[0]];
+    fitted[p].parts.push_back(static_cast<int>(i));
+  }
+  return MakeGltfShell(origin.document, fitted);
 }
 
 std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,
@@ -331,12 +388,22 @@ std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,
 }
 
 StatusOr<TriangleMesh> ReadMeshToFit(const Args& args, const std::string& path,
+                                     MeshIntakeNotes* notes,
                                      MeshOrigin* origin) {
+  MeshIntakeNotes local;
+  MeshIntakeNotes* n = notes != nullptr ? notes : &local;
   SDCB_ASSIGN_OR_RETURN(
       TriangleMesh mesh,
-      ReadInputMesh(path, MeshReadLimitsFromArgs(args), nullptr, origin));
+      ReadInputMesh(path, MeshReadLimitsFromArgs(args), &n->read, origin));
+  WarnAboutRead(path, n->read);
   SDCB_RETURN_IF_ERROR(RepairIfAsked(args, path, &mesh));
   if (origin != nullptr && args.Has("repair")) *origin = MeshOrigin();
+  // A glTF primitive's vertices are merged by position already; welding
+  // across primitives would join parts that belong to two of them.
+  if (!IsGltfPath(path)) {
+    SDCB_ASSIGN_OR_RETURN(n->seams,
+                          WeldSeamsUnlessRepairing(args, path, &mesh));
+  }
   return mesh;
 }
 

@@ -3,6 +3,7 @@
 #ifndef SDCB_TOOLS_CLI_H_
 #define SDCB_TOOLS_CLI_H_
 
+#include <array>
 #include <functional>
 #include <map>
 #include <optional>
@@ -14,6 +15,8 @@
 #include "sdcb/core/mesh/mesh_parts.h"
 #include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
+#include "sdcb/core/mesh/vertex_welding.h"
+#include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/io/mesh/mesh_reader.h"
 
 namespace sdcb::cli {
@@ -103,12 +106,43 @@ long long WarnAboutSelfIntersections(
     const std::string& path, const StatusOr<SelfIntersectionReport>& report,
     std::string* skipped_because = nullptr);
 
+// Prints the reader's warnings on stderr ("sdcb: PATH: warning: ...").
+void WarnAboutRead(const std::string& path, const MeshReadInfo& info);
+
+// Without --repair (which merges equal positions itself): welds the
+// vertices split at UV or normal seams when that is all it does
+// (WeldSeams, core/mesh/vertex_welding.h) and prints what it merged, or,
+// when the weld was declined, a warning naming --repair.
+StatusOr<SeamWeldReport> WeldSeamsUnlessRepairing(const Args& args,
+                                                  const std::string& path,
+                                                  TriangleMesh* mesh);
+
+// "16 vertices at the positions of others were left apart (merging them
+// would make 2 edges non-manifold): --repair merges them".
+std::string SeamsLeftApart(const SeamWeldReport& seams);
+
+// A refusal of the mesh taken in, with the seams left apart named: "...;
+// 16 vertices at the positions of others were left apart (merging them
+// would make 2 edges non-manifold): --repair merges them". `refusal`
+// unchanged when no weld was declined.
+std::string WithSeamHint(const std::string& refusal,
+                         const SeamWeldReport& seams);
+
+// What the intake learned besides the mesh.
+struct MeshIntakeNotes {
+  MeshReadInfo read;
+  SeamWeldReport seams;
+};
+
 // Where the faces of a mesh read from glTF came from: per face, the index of
 // its primitive in `primitive_names` (GltfPrimitive::name). Empty for the
 // other formats, and after --repair (which renumbers the faces).
 struct MeshOrigin {
   std::vector<int> face_primitive;
   std::vector<std::string> primitive_names;
+  // Per primitive, its glTF mesh and index in the mesh; the file's bytes.
+  std::vector<std::array<int, 2>> primitive_ids;
+  GltfDocument document;
 };
 
 // Any mesh file sdcb reads: .gltf / .glb through converters/gltf/
@@ -129,10 +163,20 @@ StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
 std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,
                                    const MeshOrigin& origin);
 
-// What `fit` reads: the MESH with the limits of the options, repaired if
-// asked; its parts are checked by the fit (core/fit/fit_model.h). `origin`
-// as ReadInputMesh's.
+// The asset to keep with a model fitted from a glTF file (Model::asset,
+// MakeGltfShell): every primitive becomes the parts whose first face it
+// holds (PartNames' rule). "" when `origin` is empty.
+StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
+                                    const MeshOrigin& origin);
+
+// What `check`, `param` and `fit` read: the MESH with the limits of the
+// options (warnings printed), repaired if asked, else, unless it is glTF
+// (whose primitives are merged by position as read), its seams welded; its
+// parts are checked by the caller (core/mesh/mesh_parts.h,
+// core/fit/fit_model.h). `origin` as ReadInputMesh's (empty after
+// --repair).
 StatusOr<TriangleMesh> ReadMeshToFit(const Args& args, const std::string& path,
+                                     MeshIntakeNotes* notes = nullptr,
                                      MeshOrigin* origin = nullptr);
 
 // What `param` reads: the MESH with the limits of the options,

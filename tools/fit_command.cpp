@@ -292,9 +292,10 @@ int RunFit(const std::vector<std::string>& argv) {
   // beside the fit, in its idle cycles.
   tbb::task_arena arena(options.threads > 0 ? options.threads
                                             : int{tbb::task_arena::automatic});
+  MeshIntakeNotes notes;
   MeshOrigin origin;
-  StatusOr<TriangleMesh> mesh =
-      arena.execute([&] { return ReadMeshToFit(args, path, &origin); });
+  StatusOr<TriangleMesh> mesh = arena.execute(
+      [&] { return ReadMeshToFit(args, path, &notes, &origin); });
   if (!mesh.ok()) return ReportError(mesh.status());
   ModelFitOptions model_options;
   model_options.max_parts =
@@ -305,7 +306,10 @@ int RunFit(const std::vector<std::string>& argv) {
       [&] { return TakeInParts(*mesh, model_options.max_parts); });
   if (!intake.ok()) {
     return ReportError(
-        NameRefusedPrimitive(intake.status(), *mesh, origin, model_options)
+        NameRefusedPrimitive(Status(intake.status().code(),
+                                    WithSeamHint(intake.status().message(),
+                                                 notes.seams)),
+                             *mesh, origin, model_options)
             .WithPrefix(path));
   }
   // A glTF input's primitives are in their own local frames: pairs of
@@ -346,6 +350,10 @@ int RunFit(const std::vector<std::string>& argv) {
   // A glTF input's parts are named after their primitives.
   const std::vector<std::string> names = PartNames(intake->parts, origin);
   for (size_t i = 0; i < names.size(); ++i) fit->model.parts[i].name = names[i];
+  // ... and the asset around them is kept, to be written back by export.
+  StatusOr<std::string> asset = KeptGltfAsset(intake->parts, origin);
+  if (!asset.ok()) return ReportError(asset.status().WithPrefix(path));
+  fit->model.asset = std::move(asset).value();
   const std::string file_name = std::filesystem::path(path).filename().string();
   fit->model.source.file_name = file_name;
   for (ModelPart& part : fit->model.parts) {
@@ -365,6 +373,7 @@ int RunFit(const std::vector<std::string>& argv) {
     report["output"] = output;
     report["vertices"] = mesh->num_vertices();
     report["faces"] = mesh->num_faces();
+    report["seam_vertices_merged"] = notes.seams.merged_vertices;
     report["output_bytes"] = file_info.file_bytes;
     if (!quantization.lossless()) {
       // The stored surface is within this of the fitted one everywhere

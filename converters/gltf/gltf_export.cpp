@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "sdcb/converters/gltf/glb_container.h"
+#include "sdcb/converters/gltf/gltf_gather.h"
 #include "sdcb/io/common/atomic_file.h"
 
 namespace sdcb {
@@ -509,6 +510,135 @@ StatusOr<EncodedGltf> EncodeGltf(const SurfaceMesh& mesh,
   return out;
 }
 
+GltfGather::GltfGather(Json json, std::string bin)
+    : json_(std::move(json)), bin_(std::move(bin)) {
+  if (!json_.contains("buffers") || json_["buffers"].empty()) {
+    json_["buffers"] = Json::array({Json::object()});
+  }
+  for (const char* key : {"bufferViews", "accessors", "materials", "meshes",
+                          "nodes", "extensionsUsed", "extensionsRequired"}) {
+    if (!json_.contains(key)) json_[key] = Json::array();
+  }
+}
+
+StatusOr<Json> GltfGather::AppendMesh(const EncodedGltf& encoded,
+                                      bool keep_materials) {
+  GltfExportResult& r = result_;
+  r.quantization_error =
+      std::max(r.quantization_error, encoded.result.quantization_error);
+  r.quantization_step =
+      std::max(r.quantization_step, encoded.result.quantization_step);
+  r.float32_error = std::max(r.float32_error, encoded.result.float32_error);
+  Json j;
+  std::string part_bin;
+  SDCB_RETURN_IF_ERROR(UnpackGlb(encoded.bytes, &j, &part_bin));
+  for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
+    if (!j.contains(key)) continue;
+    Json& to = json_[key];
+    for (const Json& e : j[key]) {
+      if (std::find(to.begin(), to.end(), e) == to.end()) to.push_back(e);
+    }
+  }
+  Pad4(&bin_, '\0');
+  const size_t offset = bin_.size();
+  bin_ += part_bin;
+  // The part's buffer 0 (its BIN chunk) becomes part of buffer 0; other
+  // buffers (meshopt's fallback, without data) are appended.
+  Json& buffers = json_["buffers"];
+  std::vector<int> buffer_of;
+  if (j.contains("buffers")) {
+    for (size_t b = 0; b < j["buffers"].size(); ++b) {
+      if (b == 0) {
+        buffer_of.push_back(0);
+      } else {
+        buffers.push_back(j["buffers"][b]);
+        buffer_of.push_back(static_cast<int>(buffers.size()) - 1);
+      }
+    }
+  }
+  const auto rebase = [&](Json* v) {
+    const int b = buffer_of.at((*v)["buffer"].get<int>());
+    (*v)["buffer"] = b;
+    if (b == 0) (*v)["byteOffset"] = v->value("byteOffset", size_t{0}) + offset;
+  };
+  Json& views = json_["bufferViews"];
+  Json& accessors = json_["accessors"];
+  Json& materials = json_["materials"];
+  const size_t view0 = views.size(), accessor0 = accessors.size(),
+               material0 = materials.size();
+  if (j.contains("bufferViews")) {
+    for (Json v : j["bufferViews"]) {
+      rebase(&v);
+      if (v.contains("extensions") &&
+          v["extensions"].contains("EXT_meshopt_compression")) {
+        rebase(&v["extensions"]["EXT_meshopt_compression"]);
+      }
+      views.push_back(v);
+    }
+  }
+  if (j.contains("accessors")) {
+    for (Json a : j["accessors"]) {
+      if (a.contains("bufferView")) {
+        a["bufferView"] = a["bufferView"].get<size_t>() + view0;
+      }
+      accessors.push_back(a);
+    }
+  }
+  if (keep_materials && j.contains("materials")) {
+    for (const Json& m : j["materials"]) materials.push_back(m);
+  }
+  Json mesh = j["meshes"].at(0);
+  for (Json& p : mesh["primitives"]) {
+    for (auto& [key, a] : p["attributes"].items()) {
+      a = a.get<size_t>() + accessor0;
+    }
+    if (p.contains("indices")) {
+      p["indices"] = p["indices"].get<size_t>() + accessor0;
+    }
+    if (p.contains("material")) {
+      if (keep_materials) {
+        p["material"] = p["material"].get<size_t>() + material0;
+      } else {
+        p.erase("material");
+      }
+    }
+    if (p.contains("extensions") &&
+        p["extensions"].contains("KHR_draco_mesh_compression")) {
+      Json& d = p["extensions"]["KHR_draco_mesh_compression"];
+      d["bufferView"] = d["bufferView"].get<size_t>() + view0;
+    }
+  }
+  // The node EncodeGltf wrote (meshopt's dequantization transform).
+  node_ = j["nodes"].at(0);
+  node_.erase("mesh");
+  return mesh;
+}
+
+EncodedGltf GltfGather::Finish(bool binary) {
+  Pad4(&bin_, '\0');
+  json_["buffers"][0]["byteLength"] = bin_.size();
+  for (const char* key : {"bufferViews", "accessors", "materials", "meshes",
+                          "nodes", "extensionsUsed", "extensionsRequired"}) {
+    if (json_[key].empty()) json_.erase(key);
+  }
+  // glTF's usual order of the top-level keys; any others after them.
+  Json ordered;
+  for (const char* key :
+       {"asset", "extensionsUsed", "extensionsRequired", "scene", "scenes",
+        "nodes", "meshes", "materials", "textures", "images", "samplers",
+        "accessors", "bufferViews", "buffers"}) {
+    if (json_.contains(key)) ordered[key] = std::move(json_[key]);
+  }
+  for (auto& [key, value] : json_.items()) {
+    if (!ordered.contains(key)) ordered[key] = std::move(value);
+  }
+  EncodedGltf out;
+  out.bytes = Container(ordered, bin_, binary);
+  out.result = result_;
+  out.result.bytes = static_cast<int64_t>(out.bytes.size());
+  return out;
+}
+
 StatusOr<EncodedGltf> EncodeGltfParts(
     const std::vector<SurfaceMesh>& meshes,
     const std::vector<std::string>& names,
@@ -518,126 +648,28 @@ StatusOr<EncodedGltf> EncodeGltfParts(
     return InvalidArgumentError(
         "glTF parts need one name and one set of options per mesh");
   }
-  Json views = Json::array(), accessors = Json::array(),
-       materials = Json::array(), gltf_meshes = Json::array(),
-       nodes = Json::array(), scene_nodes = Json::array();
-  Json buffers = Json::array({Json::object()});
-  std::vector<std::string> used, required;
-  const auto add_names = [](const Json& j, const char* key,
-                            std::vector<std::string>* to) {
-    if (!j.contains(key)) return;
-    for (const auto& e : j[key]) {
-      if (std::find(to->begin(), to->end(), e) == to->end()) {
-        to->push_back(e);
-      }
-    }
-  };
-  std::string bin;
-  EncodedGltf out;
+  Json json;
+  json["asset"] = {{"version", "2.0"}, {"generator", "sdcb"}};
+  GltfGather gather(std::move(json), std::string());
+  Json scene_nodes = Json::array();
   for (size_t i = 0; i < meshes.size(); ++i) {
     SDCB_ASSIGN_OR_RETURN(EncodedGltf part,
                           EncodeGltf(meshes[i], options[i], /*binary=*/true));
-    GltfExportResult& r = out.result;
-    r.quantization_error =
-        std::max(r.quantization_error, part.result.quantization_error);
-    r.quantization_step =
-        std::max(r.quantization_step, part.result.quantization_step);
-    r.float32_error = std::max(r.float32_error, part.result.float32_error);
-    Json j;
-    std::string part_bin;
-    SDCB_RETURN_IF_ERROR(UnpackGlb(part.bytes, &j, &part_bin));
-    add_names(j, "extensionsUsed", &used);
-    add_names(j, "extensionsRequired", &required);
-    Pad4(&bin, '\0');
-    const size_t offset = bin.size();
-    bin += part_bin;
-    // The part's buffer 0 (its BIN chunk) becomes part of buffer 0; other
-    // buffers (meshopt's fallback, without data) are appended.
-    std::vector<int> buffer_of;
-    if (j.contains("buffers")) {
-      for (size_t b = 0; b < j["buffers"].size(); ++b) {
-        if (b == 0) {
-          buffer_of.push_back(0);
-        } else {
-          buffers.push_back(j["buffers"][b]);
-          buffer_of.push_back(static_cast<int>(buffers.size()) - 1);
-        }
-      }
-    }
-    const auto rebase = [&](Json* v) {
-      const int b = buffer_of.at((*v)["buffer"].get<int>());
-      (*v)["buffer"] = b;
-      if (b == 0) {
-        (*v)["byteOffset"] = v->value("byteOffset", size_t{0}) + offset;
-      }
-    };
-    const size_t view0 = views.size(), accessor0 = accessors.size(),
-                 material0 = materials.size(), mesh0 = gltf_meshes.size();
-    if (j.contains("bufferViews")) {
-      for (Json v : j["bufferViews"]) {
-        rebase(&v);
-        if (v.contains("extensions") &&
-            v["extensions"].contains("EXT_meshopt_compression")) {
-          rebase(&v["extensions"]["EXT_meshopt_compression"]);
-        }
-        views.push_back(v);
-      }
-    }
-    if (j.contains("accessors")) {
-      for (Json a : j["accessors"]) {
-        if (a.contains("bufferView")) {
-          a["bufferView"] = a["bufferView"].get<size_t>() + view0;
-        }
-        accessors.push_back(a);
-      }
-    }
-    if (j.contains("materials")) {
-      for (const Json& m : j["materials"]) materials.push_back(m);
-    }
-    for (Json m : j["meshes"]) {
-      for (Json& p : m["primitives"]) {
-        for (auto& [key, a] : p["attributes"].items()) {
-          a = a.get<size_t>() + accessor0;
-        }
-        if (p.contains("indices")) {
-          p["indices"] = p["indices"].get<size_t>() + accessor0;
-        }
-        if (p.contains("material")) {
-          p["material"] = p["material"].get<size_t>() + material0;
-        }
-        if (p.contains("extensions") &&
-            p["extensions"].contains("KHR_draco_mesh_compression")) {
-          Json& d = p["extensions"]["KHR_draco_mesh_compression"];
-          d["bufferView"] = d["bufferView"].get<size_t>() + view0;
-        }
-      }
-      m["name"] = names[i];
-      gltf_meshes.push_back(m);
-    }
-    for (Json n : j["nodes"]) {
-      n["mesh"] = n["mesh"].get<size_t>() + mesh0;
-      n["name"] = names[i];
-      scene_nodes.push_back(nodes.size());
-      nodes.push_back(n);
-    }
+    SDCB_ASSIGN_OR_RETURN(Json mesh,
+                          gather.AppendMesh(part, /*keep_materials=*/true));
+    Json& doc = gather.json();
+    mesh["name"] = names[i];
+    Json node = gather.node();
+    node["mesh"] = doc["meshes"].size();
+    node["name"] = names[i];
+    doc["meshes"].push_back(mesh);
+    scene_nodes.push_back(doc["nodes"].size());
+    doc["nodes"].push_back(node);
   }
-  Pad4(&bin, '\0');
-  buffers[0]["byteLength"] = bin.size();
-  Json json;
-  json["asset"] = {{"version", "2.0"}, {"generator", "sdcb"}};
-  if (!used.empty()) json["extensionsUsed"] = used;
-  if (!required.empty()) json["extensionsRequired"] = required;
-  json["scene"] = 0;
-  json["scenes"] = {{{"nodes", scene_nodes}}};
-  json["nodes"] = nodes;
-  json["meshes"] = gltf_meshes;
-  if (!materials.empty()) json["materials"] = materials;
-  json["accessors"] = accessors;
-  json["bufferViews"] = views;
-  json["buffers"] = buffers;
-  out.bytes = Container(json, bin, binary);
-  out.result.bytes = static_cast<int64_t>(out.bytes.size());
-  return out;
+  Json& doc = gather.json();
+  doc["scene"] = 0;
+  doc["scenes"] = {{{"nodes", scene_nodes}}};
+  return gather.Finish(binary);
 }
 
 StatusOr<GltfExportResult> WriteGltf(const SurfaceMesh& mesh,

@@ -115,9 +115,27 @@ bool WriteWholeFileCallback(std::string* err, const std::string&,
   return false;
 }
 
-// Images are not decoded (the fit needs geometry only); their bytes stay.
-bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int,
-               int, const unsigned char*, int, void*) {
+// Images are not decoded (the fit needs geometry only); the encoded bytes
+// of each are kept (GltfDocument::images), within the read's memory limit.
+struct ImageBytes {
+  std::vector<std::string> bytes;
+  int64_t budget = 0;
+};
+
+bool KeepImageBytes(tinygltf::Image*, const int index, std::string* err,
+                    std::string*, int, int, const unsigned char* data,
+                    int size, void* user) {
+  auto* images = static_cast<ImageBytes*>(user);
+  if (index < 0 || size < 0) return true;
+  images->budget -= size;
+  if (images->budget < 0) {
+    *err = "the images need more memory than the read may use";
+    return false;
+  }
+  if (images->bytes.size() <= static_cast<size_t>(index)) {
+    images->bytes.resize(index + 1);
+  }
+  images->bytes[index].assign(reinterpret_cast<const char*>(data), size);
   return true;
 }
 
@@ -1216,10 +1234,13 @@ StatusOr<GltfAsset> Load(std::string_view bytes, const std::string& base_dir,
   loader.SetFsCallbacks({&FileExistsCallback, &ExpandFilePathCallback,
                          &ReadWholeFileCallback, &WriteWholeFileCallback,
                          &access});
-  loader.SetImageLoader(&SkipImage, nullptr);
+  ImageBytes images;
+  images.budget = limits.max_memory_bytes - static_cast<int64_t>(bytes.size());
+  loader.SetImageLoader(&KeepImageBytes, &images);
   tinygltf::Model model;
   std::string err, warn;
   const bool binary = bytes.size() >= 4 && bytes.substr(0, 4) == "glTF";
+  const std::string_view original = bytes;
   SDCB_ASSIGN_OR_RETURN(const std::string rewritten,
                         RewriteForTinygltf(bytes, binary));
   if (!rewritten.empty()) bytes = rewritten;
@@ -1249,7 +1270,24 @@ StatusOr<GltfAsset> Load(std::string_view bytes, const std::string& base_dir,
     }
     return CorruptFileError(OneSentence(err));
   }
-  return Reader(model, limits).Read();
+  SDCB_ASSIGN_OR_RETURN(GltfAsset asset, Reader(model, limits).Read());
+  GltfDocument& document = asset.document;
+  if (binary) {
+    SDCB_ASSIGN_OR_RETURN(const GlbChunks chunks, SplitGlb(original));
+    document.json = std::string(chunks.json);
+  } else {
+    document.json = std::string(original);
+  }
+  for (tinygltf::Buffer& buffer : model.buffers) {
+    document.buffers.emplace_back(buffer.data.begin(), buffer.data.end());
+    buffer.data.clear();
+  }
+  images.bytes.resize(model.images.size());
+  for (size_t i = 0; i < model.images.size(); ++i) {
+    if (model.images[i].uri.empty()) images.bytes[i].clear();
+  }
+  document.images = std::move(images.bytes);
+  return asset;
 }
 
 }  // namespace

@@ -56,6 +56,16 @@ struct GltfPrimitive {
   int dropped_degenerate = 0;  // triangles dropped (two corners merged)
 };
 
+// The bytes of a glTF file as read (what MakeGltfShell keeps of it): its JSON text,
+// the data of every buffer (external files and data URIs resolved, a
+// GLB's BIN chunk for its buffer without a URI) and, per image, its encoded
+// bytes when the image is given by a URI ("" for one in a buffer view).
+struct GltfDocument {
+  std::string json;
+  std::vector<std::string> buffers;
+  std::vector<std::string> images;
+};
+
 struct GltfAsset {
   std::vector<GltfNode> nodes;  // every node of the file, in file order
   int scene = 0;                // the scene read: `scene`, else 0
@@ -65,6 +75,7 @@ struct GltfAsset {
   std::vector<GltfPrimitive> primitives;
   int point_primitives = 0;  // POINTS primitives skipped
   int line_primitives = 0;   // LINES, LINE_LOOP, LINE_STRIP skipped
+  GltfDocument document;
 };
 
 // Parses a whole .glb (bytes starting with "glTF") or .gltf held in memory.

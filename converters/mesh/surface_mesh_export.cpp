@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "sdcb/converters/gltf/gltf_asset.h"
 #include "sdcb/converters/mesh/color_ramp.h"
 #include "sdcb/converters/mesh/mesh_export.h"
 #include "sdcb/converters/mesh/tessellation_deviation.h"
@@ -447,9 +448,10 @@ std::string NameObjParts(const std::string& obj,
   return out;
 }
 
-StatusOr<SurfaceMeshExport> ExportParts(
-    const std::vector<PartView>& parts,
-    const SurfaceMeshExportOptions& options) {
+// `asset`: Model::asset, "" for none.
+StatusOr<SurfaceMeshExport> ExportParts(const std::vector<PartView>& parts,
+                                        const SurfaceMeshExportOptions& options,
+                                        std::string_view asset) {
   const Stopwatch start;
   SDCB_RETURN_IF_ERROR(CheckOptions(options));
   if (parts.empty()) return InvalidArgumentError("the model has no parts");
@@ -530,7 +532,18 @@ StatusOr<SurfaceMeshExport> ExportParts(
     }
     const bool glb = options.format == ExportFormat::kGlb;
     EncodedGltf encoded;
-    if (done.size() == 1) {
+    if (!asset.empty()) {
+      std::vector<SurfaceMesh> meshes;
+      if (done.size() == 1) {
+        meshes.push_back(mesh);
+      } else {
+        for (PartExport& p : done) meshes.push_back(std::move(p.mesh));
+      }
+      SDCB_ASSIGN_OR_RETURN(EncodedGltfAsset asset,
+                            EncodeGltfAsset(asset, meshes, per_part, glb));
+      encoded = std::move(asset.gltf);
+      report.textureless_materials = asset.textureless_materials;
+    } else if (done.size() == 1) {
       SDCB_ASSIGN_OR_RETURN(encoded, EncodeGltf(mesh, per_part[0], glb));
     } else {
       std::vector<SurfaceMesh> meshes;
@@ -643,13 +656,13 @@ std::string ExportPartName(const Model& model, size_t part) {
 
 StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
     const Model& model, const SurfaceMeshExportOptions& options) {
-  return ExportParts(PartsOf(model), options);
+  return ExportParts(PartsOf(model), options, model.asset);
 }
 
 StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
     const SplineModel& model, const SurfaceMeshExportOptions& options) {
   static const std::vector<TrimLoop> kNoTrims;
-  return ExportParts({{&model, &kNoTrims, "", "part1"}}, options);
+  return ExportParts({{&model, &kNoTrims, "", "part1"}}, options, "");
 }
 
 StatusOr<SurfaceMeshExportReport> WriteSurfaceMeshExport(
@@ -726,6 +739,9 @@ nlohmann::ordered_json SurfaceMeshExportReportToJson(
   if (r.parts > 1 || r.trim_loops > 0) {
     j["parts"] = r.parts;
     j["trim_loops"] = r.trim_loops;
+  }
+  if (r.textureless_materials > 0) {
+    j["textureless_materials"] = r.textureless_materials;
   }
   j["evaluations"] = r.evaluations;
   j["samples"] = r.samples;

@@ -130,6 +130,9 @@ struct SurfaceMeshExportReport {
   // own part's largest side; the colors' ramp is the first part's).
   int parts = 1;
   int trim_loops = 0;
+  // A glTF asset written back (Model::asset): materials of fitted
+  // primitives written without their textures (EncodeGltfAsset).
+  int textureless_materials = 0;
   int64_t evaluations = 0;  // surface points the tessellator sampled
   int64_t samples = 0;      // surface samples the tessellation certified on
   struct Seconds {

@@ -222,6 +222,11 @@ StatusOr<FilledMesh> Fill(const TriangleMesh& part) {
   options.fan_fallback = true;
   options.refine = true;
   options.max_fair_vertices = kMaxFairVertices;
+  // A lone triangle's hole is the triangle itself: triangulated, it would
+  // give two triangles back to back on three vertices, which no sphere map
+  // embeds. A fan from its centroid makes a tetrahedron's combinatorics
+  // (then lifted into a dome, LiftFoldedFills).
+  options.cgal_triangulation = part.num_faces() > 1;
   for (Loop& loop : loops) {
     const std::optional<HoleFillMethod> method =
         FillCgalHole(loop.border, options, &mesh, nullptr, nullptr);

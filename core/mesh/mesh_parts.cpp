@@ -66,6 +66,11 @@ std::string DescribePartProblem(const PartReport& report, bool too_large) {
            " used twice in the same direction); sdcb fits consistently "
            "oriented parts";
   }
+  if (t.boundary_loops == 0 && t.vertices - t.unreferenced_vertices < 4) {
+    return part +
+           " is two triangles back to back (a closed surface of 3 vertices, "
+           "no volume); sdcb fits closed parts of at least 4 vertices";
+  }
   if (t.genus != 0) {
     std::string loops;
     if (t.boundary_loops > 0) {

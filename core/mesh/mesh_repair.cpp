@@ -16,6 +16,7 @@
 
 #include "sdcb/core/mesh/cgal_mesh.h"
 #include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/mesh/vertex_welding.h"
 
 namespace sdcb {
 namespace {
@@ -74,21 +75,22 @@ int FillSmallHoles(const MeshRepairOptions& options, CgalMesh* mesh,
 StatusOr<TriangleMesh> Repair(const TriangleMesh& mesh,
                               const MeshRepairOptions& options,
                               MeshRepairReport* r) {
+  // 1. Equal positions become one vertex (numbered in order of first
+  // appearance, as CGAL's merge_duplicate_points_in_polygon_soup does).
+  const WeldedMesh welded = WeldEqualPositions(mesh);
+  r->merged_vertices = welded.merged_vertices();
   std::vector<Point> points;
-  points.reserve(mesh.num_vertices());
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    points.emplace_back(mesh.vertices(v, 0), mesh.vertices(v, 1),
-                        mesh.vertices(v, 2));
+  points.reserve(welded.mesh.num_vertices());
+  for (int v = 0; v < welded.mesh.num_vertices(); ++v) {
+    points.emplace_back(welded.mesh.vertices(v, 0), welded.mesh.vertices(v, 1),
+                        welded.mesh.vertices(v, 2));
   }
-  std::vector<Polygon> polygons(mesh.num_faces());
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    polygons[f] = {static_cast<std::size_t>(mesh.faces(f, 0)),
-                   static_cast<std::size_t>(mesh.faces(f, 1)),
-                   static_cast<std::size_t>(mesh.faces(f, 2))};
+  std::vector<Polygon> polygons(welded.mesh.num_faces());
+  for (int f = 0; f < welded.mesh.num_faces(); ++f) {
+    polygons[f] = {static_cast<std::size_t>(welded.mesh.faces(f, 0)),
+                   static_cast<std::size_t>(welded.mesh.faces(f, 1)),
+                   static_cast<std::size_t>(welded.mesh.faces(f, 2))};
   }
-  // 1. Equal positions become one vertex.
-  r->merged_vertices = static_cast<int>(
-      PMP::merge_duplicate_points_in_polygon_soup(points, polygons));
   // 2. Faces using a vertex twice; repeated faces (one copy stays), then
   // back-to-back pairs (both go: together they enclose nothing).
   const size_t before = polygons.size();

@@ -4,11 +4,10 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
-#include <array>
-#include <numeric>
 #include <vector>
 
 #include "sdcb/core/common/union_find.h"
+#include "sdcb/core/mesh/vertex_welding.h"
 
 namespace sdcb {
 namespace {
@@ -42,23 +41,12 @@ int CountDegenerateFaces(const TriangleMesh& mesh) {
   return count;
 }
 
-// Vertices at the coordinates of another, found by a lexicographic sort.
+// Vertices at the coordinates of an earlier one.
 int CountDuplicateVertices(const TriangleMesh& mesh) {
-  const int nv = mesh.num_vertices();
-  std::vector<int> order(nv);
-  std::iota(order.begin(), order.end(), 0);
-  auto key = [&](int v) {
-    return std::array<double, 3>{mesh.vertices(v, 0), mesh.vertices(v, 1),
-                                 mesh.vertices(v, 2)};
-  };
-  tbb::parallel_sort(order.begin(), order.end(), [&](int a, int b) {
-    return key(a) != key(b) ? key(a) < key(b) : a < b;
-  });
-  int count = 0;
-  for (int i = 1; i < nv; ++i) {
-    if (key(order[i]) == key(order[i - 1])) ++count;
-  }
-  return count;
+  const std::vector<int> number = EqualPositionNumbers(mesh.vertices);
+  return number.empty() ? 0
+                        : mesh.num_vertices() - 1 -
+                              *std::max_element(number.begin(), number.end());
 }
 
 // The half-edges of the non-degenerate face edges, grouped by undirected

@@ -36,6 +36,10 @@ struct Model {
   std::vector<ModelPart> parts;
   // The whole input mesh (each part's spline.source is the part's own).
   SourceMeshInfo source;
+  // For a glTF input, the asset to write back around the parts: opaque
+  // bytes here, a GLB of the input without its fitted primitives' geometry
+  // (converters/gltf/gltf_asset.h). Empty for other inputs.
+  std::string asset;
 };
 
 // A model of one closed part: the spline, no trims, its source.

@@ -195,6 +195,7 @@ TriangleMesh MeshBuilder::Finish(MeshReadInfo* info) {
   if (info != nullptr) {
     info->polygons = static_cast<int>(polygons_);
     info->triangulated_polygons = static_cast<int>(triangulated_polygons_);
+    info->warnings = std::move(warnings_);
   }
   return mesh;
 }

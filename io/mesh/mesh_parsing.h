@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "sdcb/core/common/status.h"
@@ -48,6 +49,9 @@ class MeshBuilder {
   }
   int64_t num_polygons() const { return polygons_; }
 
+  // A sentence for MeshReadInfo::warnings.
+  void Warn(std::string warning) { warnings_.push_back(std::move(warning)); }
+
   // Moves the arrays into a TriangleMesh.
   TriangleMesh Finish(MeshReadInfo* info);
 
@@ -69,6 +73,7 @@ class MeshBuilder {
   std::vector<int> triangles_;       // 3 indices per triangle
   int64_t polygons_ = 0;
   int64_t triangulated_polygons_ = 0;
+  std::vector<std::string> warnings_;
   // Polygons with 3 < n <= kMaxClippedCorners whose corners were not all
   // vertices yet when they came: their first fan triangle and the offset of
   // their n corners in clipped_corners_.

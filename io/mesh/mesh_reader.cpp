@@ -67,6 +67,18 @@ StatusOr<TriangleMesh> ReadMeshFromBuffer(std::string_view bytes,
                                           MeshReadInfo* info,
                                           const MeshReadLimits& limits) {
   if (bytes.empty()) return CorruptFileError("the file is empty");
+  if (format != MeshFileFormat::kStl) {
+    // Text formats: a UTF-8 byte-order mark is skipped (else OBJ's first
+    // statement would be skipped as unknown); UTF-16 text is refused by
+    // name (else it reads as a file without faces).
+    if (bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);
+    if (bytes.substr(0, 2) == "\xFE\xFF" || bytes.substr(0, 2) == "\xFF\xFE") {
+      return UnsupportedError(
+          "the file is UTF-16 text (it starts with a UTF-16 byte-order "
+          "mark); sdcb reads ASCII or UTF-8: convert it first (iconv -f "
+          "UTF-16 -t UTF-8)");
+    }
+  }
   // STL merges vertices through a hash map: about 40 bytes per corner.
   mesh_parsing::MeshBuilder builder(limits, bytes.size(),
                                     format == MeshFileFormat::kStl ? 40 : 0);

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
@@ -39,6 +40,11 @@ struct MeshReadLimits {
 struct MeshReadInfo {
   int polygons = 0;               // faces in the file before triangulation
   int triangulated_polygons = 0;  // faces with more than three corners
+  // What was read despite not following the format, one sentence each
+  // without the file name, e.g. "line 3 of the header ('Created by
+  // Blender3D 247') is not a PLY keyword line; ignored". The library never
+  // prints them; the CLI does.
+  std::vector<std::string> warnings;
 };
 
 // The format named by the extension of `path` (.obj .off .ply .stl, any
@@ -50,7 +56,8 @@ StatusOr<MeshFileFormat> MeshFileFormatFromPath(const std::string& path);
 // shared vertices: its vertices are numbered in order of first appearance,
 // exactly equal positions merged). Polygons are triangulated as fans from
 // their first corner, except non-convex ones (of at most 64 corners), which
-// are ear-clipped in their plane so no triangle is inverted. Coordinates are
+// are ear-clipped in their plane so no triangle is inverted. OFF, OBJ and PLY
+// skip a UTF-8 byte-order mark and refuse UTF-16 text. Coordinates are
 // parsed as doubles (text: locale-independent, decimal or hexadecimal; binary:
 // the stored type). Errors (kCorruptFile, kInvalidInput, kUnsupported) are one
 // sentence without a file name, e.g. "line 12: face 3 refers to vertex 900, but

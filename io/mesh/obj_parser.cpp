@@ -2,7 +2,8 @@
 // statement (vn, vt, o, g, s, l, p, usemtl, mtllib, ...) is skipped, and in
 // particular no file named in it is ever opened. '#' starts a comment
 // anywhere. Face indices run from 1 and may refer to vertices defined later
-// in the file; negative (relative) indices are refused as unsupported.
+// in the file; a negative index is relative, -1 being the last vertex
+// defined before the face.
 #include <vector>
 
 #include "sdcb/io/mesh/mesh_parsing.h"
@@ -53,9 +54,15 @@ Status ParseObj(std::string_view text, const MeshReadLimits& limits,
                                   " that is not an index");
         }
         if (index < 0) {
-          return UnsupportedError(where() + "face " + Num(face) +
-                                  " uses a negative (relative) vertex index " +
-                                  Num(index) + ", which sdcb does not support");
+          // Relative: -1 is the last vertex defined so far.
+          const int64_t defined = builder->num_vertices();
+          if (index < -defined) {
+            return CorruptFileError(
+                where() + "face " + Num(face) + " refers to vertex " +
+                Num(index) + ", but only " + Num(defined) +
+                " vertices are defined before it (-1 is the last one)");
+          }
+          index += defined + 1;
         }
         if (index == 0 || index > limits.max_vertices) {
           return CorruptFileError(where() + "face " + Num(face) +

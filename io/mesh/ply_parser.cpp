@@ -1,7 +1,11 @@
 // PLY (ascii, binary_little_endian, binary_big_endian 1.0). The header is
 // parsed strictly: "ply", one "format" line, "element NAME COUNT" lines each
 // followed by its "property TYPE NAME" / "property list CTYPE TYPE NAME"
-// lines, "comment" / "obj_info" lines anywhere, "end_header". Then the body
+// lines, "comment" / "obj_info" lines anywhere, "end_header". A line that
+// starts with no keyword is free text (Blender 2.47 wrote "Created by
+// Blender3D 247 - www.blender.org, source file: ..." without "comment"): it
+// is ignored with a warning, and an error that follows names it, since it
+// may be a misspelt keyword. Then the body
 // is walked element by element: x, y, z of "vertex" (any numeric type) are
 // kept, "face" needs a "vertex_indices" (or "vertex_index") list of an
 // integer type; every other element and property is stepped over.
@@ -78,13 +82,37 @@ struct PlyElement {
 
 enum class PlyFormat { kAscii, kLittleEndian, kBigEndian };
 
+// Header lines that start with no keyword (free text), ignored.
+struct PlyFreeText {
+  int64_t lines = 0;
+  int64_t first_line = 0;  // 1-based line number of the first
+  std::string first_text;  // the first, quoted
+
+  // "line 3 of the header ('Created by ...') is not a PLY keyword line" and,
+  // for several, "(and 2 more lines)"; empty when there are none.
+  std::string Describe() const {
+    if (lines == 0) return "";
+    std::string s = "line " + Num(first_line) + " of the header (" +
+                    first_text + ") is not a PLY keyword line";
+    if (lines > 1) {
+      s += " (nor are " + Num(lines - 1) +
+           (lines == 2 ? " other line)" : " other lines)");
+    }
+    return s;
+  }
+};
+
 struct PlyHeader {
   PlyFormat format = PlyFormat::kAscii;
   std::vector<PlyElement> elements;
   size_t body_offset = 0;
+  PlyFreeText free_text;
 };
 
-StatusOr<PlyHeader> ParseHeader(std::string_view bytes) {
+// The header's lines up to end_header; free-text lines are counted in
+// `free_text`, not refused.
+StatusOr<PlyHeader> ParseHeaderLines(std::string_view bytes,
+                                     PlyFreeText* free_text) {
   LineCursor lines(bytes);
   std::string_view line, token;
   bool starts_with_ply = lines.Next(&line);
@@ -114,6 +142,7 @@ StatusOr<PlyHeader> ParseHeader(std::string_view bytes) {
         return CorruptFileError("the PLY header has no 'format' line");
       }
       header.body_offset = lines.offset();
+      header.free_text = *free_text;
       return header;
     }
     if (t[0] == "format") {
@@ -179,10 +208,31 @@ StatusOr<PlyHeader> ParseHeader(std::string_view bytes) {
       }
       header.elements.back().properties.push_back(std::move(p));
     } else {
-      return CorruptFileError(where() + "unknown keyword " + Quoted(t[0]));
+      if (free_text->lines++ == 0) {
+        size_t begin = 0, end = line.size();
+        while (begin < end && IsSpace(line[begin])) ++begin;
+        while (end > begin && IsSpace(line[end - 1])) --end;
+        free_text->first_line = lines.number();
+        free_text->first_text = Quoted(line.substr(begin, end - begin));
+      }
     }
   }
   return CorruptFileError("the PLY header has no 'end_header'");
+}
+
+// Appends to an error the free-text lines that preceded it: one may be a
+// misspelt keyword ("elemnt vertex 3").
+Status NamingFreeText(const Status& status, const PlyFreeText& free_text) {
+  if (status.ok() || free_text.lines == 0) return status;
+  return Status(status.code(), status.message() + " (" + free_text.Describe() +
+                                   ", and was ignored)");
+}
+
+StatusOr<PlyHeader> ParseHeader(std::string_view bytes) {
+  PlyFreeText free_text;
+  StatusOr<PlyHeader> header = ParseHeaderLines(bytes, &free_text);
+  if (!header.ok()) return NamingFreeText(header.status(), free_text);
+  return header;
 }
 
 // Reads the body's values one at a time, as text tokens or binary scalars.
@@ -292,11 +342,8 @@ int64_t MinItemBytes(const PlyElement& e, PlyFormat format) {
   return bytes;
 }
 
-}  // namespace
-
-Status ParsePly(std::string_view bytes, const MeshReadLimits& limits,
-                MeshBuilder* builder) {
-  SDCB_ASSIGN_OR_RETURN(const PlyHeader header, ParseHeader(bytes));
+Status ParseBody(const PlyHeader& header, std::string_view bytes,
+                 const MeshReadLimits& limits, MeshBuilder* builder) {
   const PlyElement* vertex = nullptr;
   const PlyElement* face = nullptr;
   int xyz_slot[3] = {-1, -1, -1};
@@ -392,7 +439,10 @@ Status ParsePly(std::string_view bytes, const MeshReadLimits& limits,
         }
         int64_t count = 0;
         if (!values.ReadInteger(p.count_type, &count) || count < 0) {
-          return CorruptFileError(truncated + where());
+          // Assimp's issue623.ply declares vertex_indices in the vertex
+          // element: the next vertex's x is read as a count.
+          return CorruptFileError(truncated + where() + " (its list '" +
+                                  p.name + "' has no count of items)");
         }
         if (!is_face || static_cast<int>(pi) != corner_slot) {
           if (!values.Skip(p.type, count)) {
@@ -423,6 +473,18 @@ Status ParsePly(std::string_view bytes, const MeshReadLimits& limits,
     }
   }
   return Status::Ok();
+}
+
+}  // namespace
+
+Status ParsePly(std::string_view bytes, const MeshReadLimits& limits,
+                MeshBuilder* builder) {
+  SDCB_ASSIGN_OR_RETURN(const PlyHeader header, ParseHeader(bytes));
+  if (header.free_text.lines > 0) {
+    builder->Warn(header.free_text.Describe() + "; ignored");
+  }
+  return NamingFreeText(ParseBody(header, bytes, limits, builder),
+                        header.free_text);
 }
 
 }  // namespace sdcb::mesh_parsing

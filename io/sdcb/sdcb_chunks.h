@@ -41,6 +41,7 @@ constexpr ChunkType kEnd = {'E', 'N', 'D', ' '};
 constexpr ChunkType kPart = {'P', 'A', 'R', 'T'};
 constexpr ChunkType kName = {'N', 'A', 'M', 'E'};
 constexpr ChunkType kTrim = {'T', 'R', 'I', 'M'};
+constexpr ChunkType kAsst = {'A', 'S', 'S', 'T'};  // version 4: glTF asset
 
 constexpr size_t kHeaderBytes = 12;      // magic + version
 constexpr size_t kChunkFrameBytes = 16;  // type + length + CRC

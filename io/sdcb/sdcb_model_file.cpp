@@ -82,7 +82,7 @@ bool SameSource(const SourceMeshInfo& a, const SourceMeshInfo& b) {
 bool NeedsVersion4(const Model& model) {
   if (model.parts.size() != 1) return true;
   const ModelPart& part = model.parts[0];
-  return !part.name.empty() || part.trimmed() ||
+  return !part.name.empty() || part.trimmed() || !model.asset.empty() ||
          !SameSource(model.source, part.spline.source);
 }
 
@@ -186,7 +186,7 @@ StatusOr<ModelPart> DecodePart(std::string_view bytes, std::string_view part,
 namespace sdcb_internal {
 
 StatusOr<Model> DecodeVersion4(std::string_view bytes, SdcbFileInfo* info) {
-  Chunks top({kHead, kSrcm, kEnd}, kPart);
+  Chunks top({kHead, kSrcm, kAsst, kEnd}, kPart);
   SDCB_RETURN_IF_ERROR(SplitChunks(bytes, &top));
   if (!top.Has(kSrcm)) return Corrupt("the required chunk 'SRCM' is missing");
   const std::string_view head = top.Get(kHead);
@@ -206,6 +206,10 @@ StatusOr<Model> DecodeVersion4(std::string_view bytes, SdcbFileInfo* info) {
   }
   Model model;
   SDCB_ASSIGN_OR_RETURN(model.source, ParseSource(top.Get(kSrcm)));
+  if (top.Has(kAsst)) {
+    if (top.Get(kAsst).empty()) return Corrupt("the ASST chunk is empty");
+    model.asset = std::string(top.Get(kAsst));
+  }
   SdcbFileInfo decoded;
   decoded.format_version = kModelVersion;
   decoded.file_bytes = bytes.size();
@@ -253,6 +257,7 @@ StatusOr<std::string> SerializeSdcbModel(const Model& model,
   file.U32(kModelVersion);
   AppendChunk(kHead, head.str(), &file);
   AppendChunk(kSrcm, SourcePayload(model.source), &file);
+  if (!model.asset.empty()) AppendChunk(kAsst, model.asset, &file);
   SdcbFileInfo written;
   for (size_t i = 0; i < model.parts.size(); ++i) {
     const ModelPart& part = model.parts[i];

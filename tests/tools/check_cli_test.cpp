@@ -7,6 +7,7 @@
 #include <random>
 
 #include "testing/run_sdcb.h"
+#include "testing/seam_split_cube.h"
 
 namespace sdcb {
 namespace {
@@ -293,7 +294,7 @@ TEST(CheckCliTest, BadFilesGiveExitOneAndASentence) {
       {"truncated.ply", ply},
       {"truncated.stl", stl},
       {"out_of_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"},
-      {"negative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -3\n"},
+      {"negative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n"},
       {"nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n"},
   };
   for (const auto& [name, bytes] : files) {
@@ -336,6 +337,61 @@ TEST(CheckCliTest, UnwritableJsonIsExitOne) {
       dir);
   EXPECT_EQ(r.exit_code, 1);
   ExpectOneSentenceNaming(r, "r.json");
+}
+
+// The unit cube as OBJ writers with per-face normals store it: 24 vertices,
+// each quad with its own four (and its own vt / vn). Without the weld it is
+// six open quads; welded, the 8-corner cube.
+TEST(CheckCliTest, SeamSplitCubeIsWeldedWithoutRepair) {
+  const std::string dir = FreshTestDir();
+  std::string obj = "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n";
+  for (const auto& quad : testing::kCubeQuads) {
+    for (int c : quad) {
+      const double* p = testing::kCubeCorners[c];
+      obj += "v " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " +
+             std::to_string(p[2]) + "\n";
+    }
+    obj += "f -4/1/1 -3/2/1 -2/3/1 -1/4/1\n";
+  }
+  WriteBytes(dir + "/cube24.obj", obj);
+  const RunResult r =
+      RunSdcb({"check", dir + "/cube24.obj", "--json", dir + "/c.json"}, dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "sdcb: " + dir +
+                       "/cube24.obj: merged 16 vertices split at equal "
+                       "positions (UV or normal seams)\n");
+  const auto j = nlohmann::json::parse(ReadBytes(dir + "/c.json"));
+  EXPECT_EQ(j["seam_vertices_merged"], 16);
+  EXPECT_EQ(j["vertices"], 8);
+  EXPECT_EQ(j["faces"], 12);
+  EXPECT_EQ(j["boundary_edges"], 0);
+  EXPECT_EQ(j["repaired"], false);
+  ASSERT_EQ(j["parts"].size(), 1u);
+  EXPECT_EQ(j["parts"][0]["closed"], true);
+  EXPECT_EQ(j["ok"], true);
+}
+
+// Three fins on one segment, each with its own copies of the segment's
+// ends: welding would give the segment three triangles, so the copies stay
+// apart, and the refusal that follows names --repair.
+TEST(CheckCliTest, ADeclinedWeldIsNamedInTheRefusal) {
+  const std::string dir = FreshTestDir();
+  WriteBytes(dir + "/fins.obj",
+             "v 0 0 0\nv 0 0 1\nv 1 0 0.5\nv 0 0 0\nv 0 0 1\nv 0 1 0.5\n"
+             "v 0 0 0\nv 0 0 1\nv -1 -1 0.5\nf 1 2 3\nf 4 5 6\nf 7 8 9\n");
+  const RunResult r = RunSdcb({"check", dir + "/fins.obj", "--max-parts", "2",
+                               "--json", dir + "/c.json"},
+                              dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("fins.obj: mesh has 3 parts, more than --max-parts 2; "
+                       "4 vertices at the positions of others were left "
+                       "apart (merging them would make 1 edge non-manifold): "
+                       "--repair merges them\n"),
+            std::string::npos)
+      << r.err;
+  const auto j = nlohmann::json::parse(ReadBytes(dir + "/c.json"));
+  EXPECT_EQ(j["seam_vertices_merged"], 0);
+  EXPECT_EQ(j["seam_vertices_left_apart"], 4);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "testing/brute_force_configurations.h"
 #include "testing/honest_fit_errors.h"
 #include "testing/run_sdcb.h"
+#include "testing/seam_split_cube.h"
 
 namespace sdcb {
 namespace {
@@ -240,6 +241,28 @@ TEST(FitCliTest, TheCubeKeepsItsEdgesWithItsCornerClusters) {
   const auto exported = nlohmann::json::parse(ReadBytes(dir + "/q.json"));
   EXPECT_EQ(exported["feature_arcs"], 12);
   EXPECT_EQ(exported["triangles"], 12);
+}
+
+// A cube stored with its vertices split at every face (24 vertices, six
+// open quads) is welded at intake without --repair and fitted as the closed
+// 8-vertex cube; the report carries the count.
+TEST(FitCliTest, ASeamSplitCubeIsWeldedAndFittedClosed) {
+  const std::string dir = FreshTestDir();
+  ASSERT_TRUE(WriteMesh(testing::SeamSplitCube(), dir + "/cube24.obj").ok());
+  const RunResult r =
+      RunSdcb({"fit", dir + "/cube24.obj", "-o", dir + "/c.sdcb", "--rmse",
+               "0.5", "--json", dir + "/c.json", "--quiet"},
+              dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("cube24.obj: merged 16 vertices split at equal "
+                       "positions (UV or normal seams)"),
+            std::string::npos)
+      << r.err;
+  const auto report = nlohmann::json::parse(ReadBytes(dir + "/c.json"));
+  EXPECT_EQ(report["seam_vertices_merged"], 16);
+  EXPECT_EQ(report["vertices"], 8);
+  EXPECT_EQ(report["faces"], 12);
+  EXPECT_EQ(report["reached_target"], true);
 }
 
 // Without --quiet the summary prints the seconds of every stage: the

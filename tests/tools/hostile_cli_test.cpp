@@ -319,16 +319,22 @@ TEST(HostileCliTest, RepairTurnsASoupWithHolesIntoAMeshThatFits) {
       WriteMesh(DamagedSphere(&kept, &sphere_vertices), dir + "/damaged.off")
           .ok());
 
-  // Unrepaired, every soup triangle is a part of its own: the 1848
-  // triangles of sphere966.off's header less 3, more than --max-parts
-  // allows.
+  // Unwelded, every soup triangle is a part of its own (the 1848
+  // triangles of sphere966.off's header less 3). The intake welds the
+  // soup's copies, which only closes edges: one open part with the three
+  // holes as its boundary loops.
   ASSERT_EQ(kept, 1845);
-  RunResult r = RunSdcb({"check", dir + "/damaged.off"}, dir);
-  EXPECT_EQ(r.exit_code, 1);
-  ExpectOneSentenceNaming(r, "damaged.off");
-  EXPECT_NE(r.err.find("mesh has 1,845 parts, more than --max-parts 1000"),
+  RunResult r = RunSdcb(
+      {"check", dir + "/damaged.off", "--json", dir + "/welded.json"}, dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("damaged.off: merged " +
+                       std::to_string(3 * kept - sphere_vertices) +
+                       " vertices split at equal positions"),
             std::string::npos)
       << r.err;
+  const auto welded = nlohmann::json::parse(ReadBytes(dir + "/welded.json"));
+  ASSERT_EQ(welded["parts"].size(), 1u);
+  EXPECT_EQ(welded["parts"][0]["boundary_loops"], 3);
 
   r = RunSdcb(
       {"check", dir + "/damaged.off", "--repair", "--json", dir + "/c.json"},
@@ -347,11 +353,6 @@ TEST(HostileCliTest, RepairTurnsASoupWithHolesIntoAMeshThatFits) {
   EXPECT_EQ(j["duplicate_vertices"], 0);
   EXPECT_EQ(j["self_intersections"], 0);
 
-  r = RunSdcb({"fit", dir + "/damaged.off", "-o", dir + "/m.sdcb", "--json",
-               dir + "/fit.json", "--quiet"},
-              dir);
-  EXPECT_EQ(r.exit_code, 1) << "without --repair";
-  EXPECT_FALSE(fs::exists(dir + "/m.sdcb"));
   r = RunSdcb({"fit", dir + "/damaged.off", "--repair", "-o", dir + "/m.sdcb",
                "--json", dir + "/fit.json", "--quiet"},
               dir);

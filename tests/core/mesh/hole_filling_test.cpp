@@ -106,13 +106,24 @@ TEST(FillHolesTest, SmallCapWithAHoleOfMostOfTheSphere) {
                1);
 }
 
-TEST(FillHolesTest, SingleTriangleBecomesAPillow) {
+// Triangulated, a lone triangle's hole would be the triangle reversed: two
+// triangles back to back on three vertices, which no sphere map embeds (the
+// fit said "the base mesh's Tutte embedding has a folded triangle"). A fan
+// from a fourth vertex gives a tetrahedron's combinatorics: 4 vertices,
+// 4 faces.
+TEST(FillHolesTest, SingleTriangleBecomesATetrahedron) {
   TriangleMesh triangle;
   triangle.vertices.resize(3, 3);
   triangle.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0;
   triangle.faces.resize(1, 3);
   triangle.faces << 0, 1, 2;
   ExpectFilled(triangle, 1);
+  const StatusOr<FilledMesh> filled = FillHoles(triangle);
+  ASSERT_TRUE(filled.ok());
+  EXPECT_EQ(filled->mesh.num_vertices(), 4);
+  EXPECT_EQ(filled->mesh.num_faces(), 4);
+  EXPECT_EQ(filled->fill_methods,
+            std::vector<HoleFillMethod>{HoleFillMethod::kFan});
 }
 
 TEST(FillHolesTest, IcosahedronWithoutAFaceGetsItBack) {

@@ -75,6 +75,22 @@ PartReport ReportWhole(const TriangleMesh& mesh, int number = 1) {
   return parts.empty() ? PartReport() : Report(parts[0], number);
 }
 
+// Two triangles back to back on three vertices are closed, manifold and
+// genus 0 by the counts (V - E + F = 3 - 3 + 2), but no sphere map embeds
+// them: refused with a sentence that says so, not the parameterization's.
+TEST(MeshPartsTest, TwoTrianglesBackToBackAreRefused) {
+  const PartReport report = ReportWhole(
+      testing::MakeMesh({Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
+                         Eigen::Vector3d(0, 1, 0)},
+                        {Eigen::Vector3i(0, 1, 2), Eigen::Vector3i(0, 2, 1)}));
+  EXPECT_TRUE(report.closed);
+  EXPECT_FALSE(report.fittable());
+  EXPECT_EQ(report.problem,
+            "part 1 (2 triangles) is two triangles back to back (a closed "
+            "surface of 3 vertices, no volume); sdcb fits closed parts of at "
+            "least 4 vertices");
+}
+
 TEST(MeshPartsTest, TwoTetrahedraAroundAnUnreferencedVertex) {
   // Rows 0-3: tetrahedron A; row 4: used by no triangle; rows 5-8:
   // tetrahedron B. B's face comes first, so B is part 1.

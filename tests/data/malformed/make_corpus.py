@@ -77,7 +77,7 @@ add("off_torus_genus1.off", "OFF\n%d %d 0\n" % (len(torus), len(tf)) + "\n".join
 # --- OBJ -------------------------------------------------------------------
 add("obj_out_of_range.obj", OBJ_V + "f 1 3 2\nf 1 2 5\n")
 add("obj_zero_index.obj", OBJ_V + "f 0 1 2\n")
-add("obj_negative_index.obj", OBJ_V + "f -1 -2 -3\n")
+add("obj_negative_index.obj", OBJ_V + "f -1 -2 -5\n")
 add("obj_nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n")
 add("obj_inf.obj", "v 0 0 0\nv 1 inf 0\nv 0 1 0\nf 1 2 3\n")
 add("obj_text_coordinate.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n")

@@ -267,6 +267,83 @@ TEST(MeshReaderTest, PolygonsAreTriangulatedAndVertexOrderKept) {
   EXPECT_EQ(mesh->faces.row(1), Eigen::RowVector3i(1, 3, 2));
 }
 
+// Relative indices: -1 is the last vertex defined before the face, in every
+// corner form. Two tetrahedra written one after the other, each face listing
+// its vertices relative to the 4 just defined; the expected faces are the
+// absolute 0-based indices worked out by hand.
+TEST(MeshReaderTest, ObjNegativeIndicesCountBackFromTheLastVertex) {
+  const std::string obj =
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+      "vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvn 0 0 1\n"
+      "f -4 -2 -3\n"                    // 0 2 1
+      "f -4/-4 -3/-3 -1/-1\n"           // 0 1 3
+      "f -4/-4/-1 -1/-1/-1 -2/-2/-1\n"  // 0 3 2
+      "f -3//-1 -2//-1 -1//-1\n"        // 1 2 3
+      "v 5 0 0\nv 6 0 0\nv 5 1 0\nv 5 0 1\n"
+      "f -4 -2 -3\n"  // 4 6 5
+      "f 5 6 -1\n"    // 4 5 7 (absolute and relative mixed)
+      "f -4 -1 -2\n"  // 4 7 6
+      "f -3 -2 8\n";  // 5 6 7
+  auto mesh = ReadMeshFromBuffer(obj, MeshFileFormat::kObj);
+  ASSERT_TRUE(mesh.ok()) << mesh.status().message();
+  const int expected[8][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3},
+                              {4, 6, 5}, {4, 5, 7}, {4, 7, 6}, {5, 6, 7}};
+  ASSERT_EQ(mesh->num_faces(), 8);
+  ASSERT_EQ(mesh->num_vertices(), 8);
+  for (int f = 0; f < 8; ++f) {
+    EXPECT_EQ(
+        mesh->faces.row(f),
+        Eigen::RowVector3i(expected[f][0], expected[f][1], expected[f][2]))
+        << "face " << f;
+  }
+}
+
+// Text starting with a byte-order mark: UTF-8's is skipped (the first
+// vertex is not lost), UTF-16 is refused by name (assimp's
+// box_UTF16BE.obj read as a file without faces).
+TEST(MeshReaderTest, ByteOrderMarks) {
+  auto mesh = ReadMeshFromBuffer(
+      "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", MeshFileFormat::kObj);
+  ASSERT_TRUE(mesh.ok()) << mesh.status().message();
+  EXPECT_EQ(mesh->num_vertices(), 3);
+  EXPECT_EQ(mesh->vertices.row(1), Eigen::RowVector3d(1, 0, 0));
+  auto utf16 = ReadMeshFromBuffer(std::string("\xFE\xFF\0v\0 \0"
+                                              "0",
+                                              7),
+                                  MeshFileFormat::kObj);
+  ASSERT_FALSE(utf16.ok());
+  EXPECT_EQ(utf16.status().message().rfind("the file is UTF-16 text", 0), 0u)
+      << utf16.status().message();
+}
+
+// Blender 2.47 wrote a free-text line into its PLY headers (assimp's
+// Wuson.ply): read with a warning naming the line; an error that follows
+// names the ignored line, which may be a misspelt keyword.
+TEST(MeshReaderTest, PlyFreeTextHeaderLineIsIgnoredWithAWarning) {
+  const std::string ply =
+      "ply\nformat ascii 1.0\n"
+      "Created by Blender3D 247 - www.blender.org, source file: \n"
+      "element vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\n"
+      "property list uchar uint vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  MeshReadInfo info;
+  auto mesh = ReadMeshFromBuffer(ply, MeshFileFormat::kPly, &info);
+  ASSERT_TRUE(mesh.ok()) << mesh.status().message();
+  EXPECT_EQ(mesh->num_vertices(), 3);
+  EXPECT_EQ(mesh->vertices.row(1), Eigen::RowVector3d(1, 0, 0));
+  EXPECT_EQ(mesh->faces.row(0), Eigen::RowVector3i(0, 1, 2));
+  ASSERT_EQ(info.warnings.size(), 1u);
+  EXPECT_EQ(info.warnings[0],
+            "line 3 of the header ('Created by Blender3D 247 - "
+            "www.blender.o...') is not a PLY keyword line; ignored");
+  // A file without one has no warning.
+  MeshReadInfo clean;
+  ASSERT_TRUE(
+      ReadMeshFromBuffer(OctaPlyAscii(), MeshFileFormat::kPly, &clean).ok());
+  EXPECT_TRUE(clean.warnings.empty());
+}
+
 // CGAL's corner_poly.off: an L-shaped prism (the 2 x 2 square less a unit
 // square, height 2) with two L-shaped hexagons. A fan from a hexagon's first
 // corner inverts a triangle (their signed areas still add up, their unsigned
@@ -396,7 +473,10 @@ TEST(MeshReaderTest, HostileObjFiles) {
   ExpectRefused("out_of_range.obj", tet + "f 1 2 3\nf 1 2 5\n",
                 "refers to vertex 5");
   ExpectRefused("zero_index.obj", tet + "f 0 1 2\n", "refers to vertex 0");
-  ExpectRefused("negative.obj", tet + "f -1 -2 -3\n", "negative");
+  ExpectRefused("before_first.obj", tet + "f -1 -2 -5\n",
+                "refers to vertex -5, but only 4 vertices are defined");
+  ExpectRefused("before_defined.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n",
+                "only 2 vertices are defined");
   ExpectRefused("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n",
                 "not a finite number");
   ExpectRefused("inf.obj", "v 0 0 0\nv 1 inf 0\nv 0 1 0\nf 1 2 3\n",
@@ -749,7 +829,9 @@ TEST(MeshReaderTest, HeaderShapesOpenMeshMisread) {
                     "property float y\nproperty float z\nend_header\n0 0 0\n",
                 "do not fit");
   ExpectRefused("unknown_keyword.ply",
-                ply_head + "elemnt vertex 3\nend_header\n", "unknown keyword");
+                ply_head + "elemnt vertex 3\nend_header\n",
+                "no vertex element (line 3 of the header ('elemnt vertex 3') "
+                "is not a PLY keyword line, and was ignored)");
   ExpectRefused("empty_element.ply",
                 ply_head + "element vertex 1000000000\nend_header\n",
                 "no properties");

@@ -1,0 +1,227 @@
+// `sdcb fit IN.gltf` then `sdcb export -o OUT.glb`: the asset comes back
+// with its scene as the input had it (nodes with names, children and
+// transforms, a mesh shared by two nodes, meshes with their primitives'
+// materials, images embedded), the fitted primitives filled with surfaces
+// close to the input's, and the Khronos validator finds no error.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "testing/gltf_assets.h"
+#include "testing/run_sdcb.h"
+
+namespace sdcb {
+namespace {
+
+using testing::FreshTestDir;
+using testing::ReadBytes;
+using testing::RunResult;
+using testing::RunSdcb;
+using testing::WriteBytes;
+using Json = nlohmann::json;
+
+// The JSON and BIN chunks of a GLB.
+struct Glb {
+  Json json;
+  std::string bin;
+};
+
+Glb ReadGlb(const std::string& path) {
+  const std::string bytes = ReadBytes(path);
+  Glb glb;
+  uint32_t json_length = 0;
+  std::memcpy(&json_length, bytes.data() + 12, 4);
+  glb.json = Json::parse(bytes.substr(20, json_length));
+  const size_t bin_at = 20 + json_length;
+  if (bin_at + 8 <= bytes.size()) {
+    uint32_t bin_length = 0;
+    std::memcpy(&bin_length, bytes.data() + bin_at, 4);
+    glb.bin = bytes.substr(bin_at + 8, bin_length);
+  }
+  return glb;
+}
+
+// The float VEC3 values of accessor `a` (tightly packed or strided).
+std::vector<std::array<float, 3>> Vec3s(const Glb& glb, int a) {
+  const Json& accessor = glb.json["accessors"][a];
+  const Json& view = glb.json["bufferViews"][accessor["bufferView"].get<int>()];
+  const size_t stride = view.value("byteStride", 12);
+  const size_t at =
+      view.value("byteOffset", size_t{0}) + accessor.value("byteOffset", 0);
+  std::vector<std::array<float, 3>> out(accessor["count"].get<size_t>());
+  for (size_t i = 0; i < out.size(); ++i) {
+    std::memcpy(out[i].data(), glb.bin.data() + at + i * stride, 12);
+  }
+  return out;
+}
+
+// The Khronos validator's report of `file` (one JSON line).
+Json Validate(const std::string& file, const std::string& dir) {
+  const std::string out = dir + "/validator.out";
+  std::system(("node " + std::string(SDCB_SOURCE_DIR) +
+               "/scripts/gltf_tools/validate.js " + file + " > " + out +
+               " 2>&1")
+                  .c_str());
+  return Json::parse(ReadBytes(out));
+}
+
+// An octahedron of "radius" r around c: 6 vertices, 8 faces outward.
+void AppendOctahedron(float r, float cx, std::string* bin) {
+  const float v[6][3] = {{cx + r, 0, 0}, {cx - r, 0, 0}, {cx, r, 0},
+                         {cx, -r, 0},    {cx, 0, r},     {cx, 0, -r}};
+  bin->append(reinterpret_cast<const char*>(v), sizeof v);
+}
+
+void AppendOctahedronIndices(std::string* bin) {
+  const uint16_t f[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                            {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  bin->append(reinterpret_cast<const char*>(f), sizeof f);
+}
+
+// A scene with a root, two children that share mesh 0 (translation; TRS),
+// a grandchild without a mesh, and mesh 0 of two primitives (two
+// octahedra, materials 1 and 0), its buffer an external .bin.
+std::string WriteSharedMeshScene(const std::string& dir) {
+  std::string bin;
+  AppendOctahedron(1.0f, 0.0f, &bin);  // 72 bytes at 0
+  AppendOctahedron(0.5f, 3.0f, &bin);  // 72 bytes at 72
+  AppendOctahedronIndices(&bin);       // 48 bytes at 144
+  WriteBytes(dir + "/scene.bin", bin);
+  Json j = Json::parse(R"({
+    "asset": {"version": "2.0", "generator": "hand"},
+    "scene": 0,
+    "scenes": [{"name": "S", "nodes": [0]}],
+    "nodes": [
+      {"name": "Root", "children": [1, 2]},
+      {"name": "Left", "mesh": 0, "translation": [-4, 0, 0]},
+      {"name": "Right", "mesh": 0, "children": [3],
+       "rotation": [0, 0.7071068, 0, 0.7071068], "scale": [2, 2, 2]},
+      {"name": "Marker", "translation": [0, 1, 0]}
+    ],
+    "meshes": [{"name": "Pair", "primitives": [
+      {"attributes": {"POSITION": 0}, "indices": 2, "material": 1},
+      {"attributes": {"POSITION": 1}, "indices": 2, "material": 0}]}],
+    "materials": [
+      {"name": "Red", "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}},
+      {"name": "Blue", "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 1, 1]}}
+    ],
+    "accessors": [
+      {"bufferView": 0, "componentType": 5126, "count": 6, "type": "VEC3",
+       "min": [-1, -1, -1], "max": [1, 1, 1]},
+      {"bufferView": 0, "byteOffset": 72, "componentType": 5126, "count": 6,
+       "type": "VEC3", "min": [2.5, -0.5, -0.5], "max": [3.5, 0.5, 0.5]},
+      {"bufferView": 1, "componentType": 5123, "count": 24, "type": "SCALAR"}
+    ],
+    "bufferViews": [
+      {"buffer": 0, "byteLength": 144, "target": 34962},
+      {"buffer": 0, "byteOffset": 144, "byteLength": 48, "target": 34963}
+    ],
+    "buffers": [{"uri": "scene.bin", "byteLength": 192}]
+  })");
+  const std::string path = dir + "/scene.gltf";
+  WriteBytes(path, j.dump(1));
+  return path;
+}
+
+TEST(GltfAssetCliTest, SceneOfASharedMeshComesBackWithItsNodesAndMaterials) {
+  const std::string dir = FreshTestDir();
+  const std::string input = WriteSharedMeshScene(dir);
+  const std::string model = dir + "/scene.sdcb";
+  const RunResult fit =
+      RunSdcb({"fit", input, "-o", model, "--rmse", "0.5", "--quiet"}, dir);
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  // The shared mesh is fitted once: one part per primitive.
+  const RunResult info = RunSdcb({"info", model, "--json", "-"}, dir);
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const Json parts = Json::parse(info.out)["parts"];
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0]["name"], "Pair#0");
+  EXPECT_EQ(parts[1]["name"], "Pair#1");
+
+  const Json in = Json::parse(ReadBytes(input));
+  for (const bool draco : {false, true}) {
+    const std::string out = dir + (draco ? "/draco.glb" : "/plain.glb");
+    std::vector<std::string> args = {"export", model,         "-o",
+                                     out,      "--tolerance", "0.5",
+                                     "--quiet"};
+    if (draco) args.push_back("--draco");
+    const RunResult exported = RunSdcb(args, dir);
+    ASSERT_EQ(exported.exit_code, 0) << exported.err;
+    const Json report = Validate(out, dir);
+    EXPECT_EQ(report["errors"], 0) << report.dump();
+    EXPECT_EQ(report["warnings"], 0) << report.dump();
+    const Glb glb = ReadGlb(out);
+    const Json& j = glb.json;
+    EXPECT_EQ(j["nodes"], in["nodes"]);
+    EXPECT_EQ(j["scenes"], in["scenes"]);
+    EXPECT_EQ(j["scene"], in["scene"]);
+    EXPECT_EQ(j["materials"], in["materials"]);
+    ASSERT_EQ(j["meshes"].size(), 1u);
+    EXPECT_EQ(j["meshes"][0]["name"], "Pair");
+    const Json& primitives = j["meshes"][0]["primitives"];
+    ASSERT_EQ(primitives.size(), 2u);
+    EXPECT_EQ(primitives[0]["material"], 1);
+    EXPECT_EQ(primitives[1]["material"], 0);
+    if (draco) {
+      EXPECT_TRUE(primitives[0]["extensions"].contains(
+          "KHR_draco_mesh_compression"));
+      continue;
+    }
+    // Each primitive's surface lies around its own octahedron: every
+    // vertex within 5 % of the octahedron's size of its surface |x|+|y|+|z|
+    // = r (the fit's rms target is 0.5 %, a corner's rounding more).
+    const float radius[2] = {1.0f, 0.5f}, centre[2] = {0.0f, 3.0f};
+    for (int p = 0; p < 2; ++p) {
+      const int a = primitives[p]["attributes"]["POSITION"].get<int>();
+      const auto points = Vec3s(glb, a);
+      ASSERT_GT(points.size(), 8u);
+      double worst = 0.0;
+      for (const auto& v : points) {
+        const double l1 =
+            std::abs(v[0] - centre[p]) + std::abs(v[1]) + std::abs(v[2]);
+        // Distance to the plane of the nearest face: |l1 - r| / sqrt(3).
+        worst = std::max(worst, std::abs(l1 - radius[p]) / std::sqrt(3.0));
+      }
+      EXPECT_LT(worst, 0.05 * 2 * radius[p]) << "primitive " << p;
+    }
+  }
+}
+
+TEST(GltfAssetCliTest, BoxTexturedKeepsItsSceneAndEmbedsItsImage) {
+  const std::string gltf = std::string(testing::kAssimpGltf2) +
+                           "/BoxTextured-glTF/BoxTextured.gltf";
+  if (!std::filesystem::exists(gltf)) GTEST_SKIP() << "no assimp-testmodels";
+  const std::string dir = FreshTestDir();
+  const std::string model = dir + "/box.sdcb", out = dir + "/box.glb";
+  RunResult r =
+      RunSdcb({"fit", gltf, "-o", model, "--rmse", "0.5", "--quiet"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunSdcb({"export", model, "-o", out, "--tolerance", "0.5", "--quiet",
+               "--json", dir + "/export.json"},
+              dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json report = Validate(out, dir);
+  EXPECT_EQ(report["errors"], 0) << report.dump();
+  const Json in = Json::parse(ReadBytes(gltf));
+  const Glb glb = ReadGlb(out);
+  EXPECT_EQ(glb.json["nodes"], in["nodes"]);
+  EXPECT_EQ(glb.json["meshes"][0]["name"], in["meshes"][0]["name"]);
+  // The PNG moved into the GLB: its bytes are the file's.
+  const Json& image = glb.json["images"][0];
+  ASSERT_TRUE(image.contains("bufferView"));
+  EXPECT_EQ(image["mimeType"], "image/png");
+  const Json& view = glb.json["bufferViews"][image["bufferView"].get<int>()];
+  const std::string png = ReadBytes(std::string(testing::kAssimpGltf2) +
+                                    "/BoxTextured-glTF/CesiumLogoFlat.png");
+  EXPECT_EQ(glb.bin.substr(view.value("byteOffset", size_t{0}),
+                           view["byteLength"].get<size_t>()),
+            png);
+}
+
+}  // namespace
+}  // namespace sdcb
