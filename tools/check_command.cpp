@@ -51,28 +51,6 @@ StatusOr<PartsVerdict> JudgeParts(const TriangleMesh& mesh, int max_parts) {
   return verdict;
 }
 
-// The self-intersection test of every part, summed: pairs of triangles of
-// different parts are not counted (parts are fitted apart). Skipped when a
-// part's test is. Each part gets the share of the whole mesh's budget of
-// box pairs that its triangles are of the mesh's, so that the parts
-// together test no more pairs than one mesh of their size could.
-StatusOr<SelfIntersectionReport> PartsSelfIntersections(
-    const std::vector<MeshPart>& parts, int total_faces) {
-  const SelfIntersectionOptions whole;
-  SelfIntersectionReport total;
-  total.checked = true;
-  for (const MeshPart& part : parts) {
-    SelfIntersectionOptions share = whole;
-    share.max_extra_pairs =
-        whole.max_extra_pairs * part.mesh.num_faces() / total_faces;
-    SDCB_ASSIGN_OR_RETURN(const SelfIntersectionReport one,
-                          FindSelfIntersections(part.mesh, share));
-    if (!one.checked) return one;
-    total.intersecting_pairs += one.intersecting_pairs;
-  }
-  return total;
-}
-
 std::string PartLine(const PartReport& p) {
   const MeshTopologyReport& t = p.topology;
   std::string line = "part " + std::to_string(p.number) + ": " +

@@ -421,15 +421,43 @@ StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,
   return mesh;
 }
 
+StatusOr<SelfIntersectionReport> PartsSelfIntersections(
+    const std::vector<MeshPart>& parts, int total_faces) {
+  const SelfIntersectionOptions whole;
+  SelfIntersectionReport total;
+  total.checked = true;
+  for (const MeshPart& part : parts) {
+    SelfIntersectionOptions share = whole;
+    share.max_extra_pairs =
+        whole.max_extra_pairs * part.mesh.num_faces() / total_faces;
+    SDCB_ASSIGN_OR_RETURN(const SelfIntersectionReport one,
+                          FindSelfIntersections(part.mesh, share));
+    if (!one.checked) return one;
+    total.intersecting_pairs += one.intersecting_pairs;
+  }
+  return total;
+}
+
 SelfIntersectionsBeside::SelfIntersectionsBeside(const TriangleMesh& mesh)
-    : thread_([this, &mesh] {
+    : SelfIntersectionsBeside([&mesh] { return FindSelfIntersections(mesh); }) {
+}
+
+SelfIntersectionsBeside::SelfIntersectionsBeside(
+    const std::vector<MeshPart>& parts, int total_faces)
+    : SelfIntersectionsBeside([&parts, total_faces] {
+        return PartsSelfIntersections(parts, total_faces);
+      }) {}
+
+SelfIntersectionsBeside::SelfIntersectionsBeside(
+    std::function<StatusOr<SelfIntersectionReport>()> search)
+    : thread_([this, search = std::move(search)] {
         // This thread's own nice value (Linux: per thread); lowering it
         // needs no privilege. Failing, the search runs at the usual one.
         setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
         // One slot and no workers: the search runs on this thread only.
         tbb::task_arena alone(1, 1);
         try {
-          alone.execute([&] { report_.emplace(FindSelfIntersections(mesh)); });
+          alone.execute([&] { report_.emplace(search()); });
         } catch (const std::exception& e) {
           // Out of memory here is not the work's end: the search is skipped.
           report_.emplace(

@@ -4,6 +4,7 @@
 #define SDCB_TOOLS_CLI_H_
 
 #include <array>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -188,6 +189,14 @@ StatusOr<TriangleMesh> ReadMeshToFit(const Args& args, const std::string& path,
 StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,
                                         const std::string& path);
 
+// The self-intersection test of every part, summed: pairs of triangles of
+// different parts are not counted (parts are fitted apart). Skipped when a
+// part's test is. Each part gets the share of the whole mesh's budget of
+// box pairs that its triangles are of the mesh's (`total_faces`), so that
+// the parts together test no more pairs than one mesh of their size could.
+StatusOr<SelfIntersectionReport> PartsSelfIntersections(
+    const std::vector<MeshPart>& parts, int total_faces);
+
 // The self-intersection search of a mesh (which must outlive this) run on a
 // thread of its own at the lowest CPU priority (nice 19) and on that thread
 // alone: beside the work that needs the mesh, it takes the cycles that work
@@ -196,6 +205,10 @@ StatusOr<TriangleMesh> ReadFittableMesh(const Args& args,
 class SelfIntersectionsBeside {
  public:
   explicit SelfIntersectionsBeside(const TriangleMesh& mesh);
+  // PartsSelfIntersections(parts, total_faces) the same way (`parts` must
+  // outlive this): for a glTF input, whose primitives are in their own
+  // local frames, pairs of different parts mean nothing.
+  SelfIntersectionsBeside(const std::vector<MeshPart>& parts, int total_faces);
   SelfIntersectionsBeside(const SelfIntersectionsBeside&) = delete;
   SelfIntersectionsBeside& operator=(const SelfIntersectionsBeside&) = delete;
   ~SelfIntersectionsBeside();  // waits for the search
@@ -205,6 +218,9 @@ class SelfIntersectionsBeside {
   long long Warn(const std::string& path);
 
  private:
+  explicit SelfIntersectionsBeside(
+      std::function<StatusOr<SelfIntersectionReport>()> search);
+
   std::optional<StatusOr<SelfIntersectionReport>> report_;
   std::thread thread_;
 };

@@ -341,7 +341,14 @@ int RunFit(const std::vector<std::string>& argv) {
                              *mesh, origin, model_options)
             .WithPrefix(path));
   }
-  SelfIntersectionsBeside intersections(*mesh);
+  // A glTF input's primitives are in their own local frames: pairs of
+  // different parts are not searched.
+  std::optional<SelfIntersectionsBeside> intersections;
+  if (origin.face_primitive.empty()) {
+    intersections.emplace(*mesh);
+  } else {
+    intersections.emplace(intake->parts, mesh->num_faces());
+  }
 
   ProgressBar progress("sdcb fit", args.Has("quiet"));
   options.progress = [bar = progress.Callback()](const FitProgress& p) {
@@ -356,7 +363,7 @@ int RunFit(const std::vector<std::string>& argv) {
   StatusOr<ModelFit> fit =
       arena.execute([&] { return FitModel(*mesh, *intake, model_options); });
   progress.Finish();
-  const long long intersecting_pairs = intersections.Warn(path);
+  const long long intersecting_pairs = intersections->Warn(path);
   if (!fit.ok()) return ReportError(fit.status().WithPrefix(path));
   if (intersecting_pairs > 0) {
     // Where the input passes through itself, so does any surface that

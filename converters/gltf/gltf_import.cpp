@@ -24,6 +24,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Decoded bytes per compressed byte a meshopt view or a Draco primitive may
+// claim, and elements per byte of the file an accessor without a buffer
+// view (zeros, or a sparse accessor's base) may have.
+constexpr int64_t kMaxExpansion = 256;
+
 constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122,
               kUnsignedShort = 5123, kUnsignedInt = 5125, kFloat = 5126;
 
@@ -243,6 +248,10 @@ class Reader {
       : model_(model), limits_(limits) {
     for (const std::string& e : model.extensionsUsed) used_.insert(e);
     budget_ = limits.max_memory_bytes;
+    for (const tinygltf::Buffer& buffer : model.buffers) {
+      file_bytes_ += static_cast<int64_t>(buffer.data.size());
+    }
+    file_bytes_ = std::max<int64_t>(file_bytes_, 1024);
   }
 
   StatusOr<GltfAsset> Read();
@@ -261,13 +270,15 @@ class Reader {
   Status ReadPrimitive(int mesh_index, int primitive_index, GltfPrimitive* out);
   StatusOr<std::string_view> ViewBytes(int view_index, const std::string& what);
   StatusOr<std::string_view> MeshoptView(int view_index,
-                                         const tinygltf::Value& ext,
-                                         const std::string& what);
+                                         const tinygltf::Value& ext);
   Status CheckAccessorType(const tinygltf::Accessor& accessor,
                            const std::string& what, int components_min,
                            int components_max,
                            const AllowedTypes& allowed) const;
   StatusOr<AccessorValues> ReadAccessor(int index, const std::string& what);
+  Status ApplySparse(const tinygltf::Accessor& accessor,
+                     const std::string& name, int64_t element_bytes,
+                     AccessorValues* out);
   Status ReadDraco(const tinygltf::Primitive& primitive,
                    const tinygltf::Value& ext, const std::string& what,
                    std::map<std::string, AccessorValues>* attributes,
@@ -277,6 +288,7 @@ class Reader {
   const MeshReadLimits& limits_;
   std::set<std::string> used_;
   int64_t budget_ = 0;
+  int64_t file_bytes_ = 0;  // the buffers' bytes (at least 1 KB)
   std::map<int, std::string> decoded_views_;  // EXT_meshopt_compression
 };
 
@@ -292,7 +304,7 @@ StatusOr<std::string_view> Reader::ViewBytes(int view_index,
   const std::string name = "buffer view " + Str(view_index);
   const auto meshopt = view.extensions.find("EXT_meshopt_compression");
   if (meshopt != view.extensions.end()) {
-    return MeshoptView(view_index, meshopt->second, what);
+    return MeshoptView(view_index, meshopt->second);
   }
   if (view.buffer < 0 ||
       static_cast<size_t>(view.buffer) >= model_.buffers.size()) {
@@ -314,8 +326,7 @@ StatusOr<std::string_view> Reader::ViewBytes(int view_index,
 }
 
 StatusOr<std::string_view> Reader::MeshoptView(int view_index,
-                                               const tinygltf::Value& ext,
-                                               const std::string& what) {
+                                               const tinygltf::Value& ext) {
   const auto cached = decoded_views_.find(view_index);
   if (cached != decoded_views_.end()) return std::string_view(cached->second);
   const std::string name =
@@ -381,11 +392,19 @@ StatusOr<std::string_view> Reader::MeshoptView(int view_index,
     return CorruptFileError(name + " has mode '" + mode +
                             "' (ATTRIBUTES, TRIANGLES or INDICES)");
   }
-  // Every encoded vertex or index takes at least a bit or so; a count the
-  // limits allow still cannot ask for more than this before decoding.
   if (count > limits_.max_vertices * 3 || count > limits_.max_triangles * 3) {
     return UnsupportedError(name + " holds " + Str(count) +
                             " elements, more than the limits allow");
+  }
+  // The decoded size is known before decoding; a few compressed bytes must
+  // not claim gigabytes. meshopt's codecs spend at least a byte per 4 to 16
+  // bytes of typical data; beyond 256 times (all-zero attributes come
+  // near 64) the view is refused.
+  if (count * stride > kMaxExpansion * length + (int64_t{1} << 20)) {
+    return CorruptFileError(name + " claims " + Str(count * stride) +
+                            " decoded bytes from " + Str(length) +
+                            " compressed ones, more than " +
+                            Str(kMaxExpansion) + " times as many");
   }
   SDCB_RETURN_IF_ERROR(Charge(count * stride, name));
   std::string out(static_cast<size_t>(count * stride), '\0');
@@ -422,7 +441,6 @@ StatusOr<std::string_view> Reader::MeshoptView(int view_index,
     return CorruptFileError(name + " has filter '" + filter +
                             "' (NONE, OCTAHEDRAL, QUATERNION or EXPONENTIAL)");
   }
-  (void)what;
   return std::string_view(
       decoded_views_.emplace(view_index, std::move(out)).first->second);
 }
@@ -476,9 +494,6 @@ StatusOr<AccessorValues> Reader::ReadAccessor(int index,
   if (out.components == 0 || component_bytes == 0) {
     return CorruptFileError(name + " has an unknown type or component type");
   }
-  if (accessor.sparse.isSparse) {
-    return UnsupportedError(name + " is sparse, which sdcb does not read");
-  }
   const int64_t element_bytes = int64_t{out.components} * component_bytes;
   const uint64_t count = accessor.count;
   if (count > static_cast<uint64_t>(
@@ -489,6 +504,11 @@ StatusOr<AccessorValues> Reader::ReadAccessor(int index,
   out.count = static_cast<int64_t>(count);
   std::string_view bytes;
   int64_t stride = element_bytes;
+  if (accessor.bufferView < 0 && out.count > kMaxExpansion * file_bytes_) {
+    return CorruptFileError(name + " has " + Str(out.count) +
+                            " elements but no buffer view, more than " +
+                            Str(kMaxExpansion) + " per byte of the file");
+  }
   if (accessor.bufferView >= 0) {
     SDCB_ASSIGN_OR_RETURN(bytes, ViewBytes(accessor.bufferView, name));
     const tinygltf::BufferView& view = model_.bufferViews[accessor.bufferView];
@@ -524,18 +544,83 @@ StatusOr<AccessorValues> Reader::ReadAccessor(int index,
   SDCB_RETURN_IF_ERROR(
       Charge(out.count * out.components * int64_t{sizeof(double)}, name));
   out.values.assign(static_cast<size_t>(out.count * out.components), 0.0);
-  if (bytes.data() == nullptr) return out;  // no buffer view: zeros
-  const auto* base = reinterpret_cast<const unsigned char*>(bytes.data()) +
-                     accessor.byteOffset;
-  for (int64_t i = 0; i < out.count; ++i) {
-    const unsigned char* element = base + i * stride;
-    for (int c = 0; c < out.components; ++c) {
-      out.values[i * out.components + c] =
-          DecodeComponent(element + c * component_bytes, accessor.componentType,
-                          accessor.normalized);
+  if (bytes.data() != nullptr) {  // else zeros
+    const auto* base = reinterpret_cast<const unsigned char*>(bytes.data()) +
+                       accessor.byteOffset;
+    for (int64_t i = 0; i < out.count; ++i) {
+      const unsigned char* element = base + i * stride;
+      for (int c = 0; c < out.components; ++c) {
+        out.values[i * out.components + c] =
+            DecodeComponent(element + c * component_bytes,
+                            accessor.componentType, accessor.normalized);
+      }
     }
   }
+  if (accessor.sparse.isSparse) {
+    SDCB_RETURN_IF_ERROR(ApplySparse(accessor, name, element_bytes, &out));
+  }
   return out;
+}
+
+// glTF 2.0 "Sparse accessors": `count` element indices (unsigned, strictly
+// increasing, each below the accessor's count) and as many replacement
+// elements, both tightly packed in their buffer views.
+Status Reader::ApplySparse(const tinygltf::Accessor& accessor,
+                           const std::string& name, int64_t element_bytes,
+                           AccessorValues* out) {
+  const auto& sparse = accessor.sparse;
+  const std::string what = name + " (sparse)";
+  const int index_bytes = ComponentBytes(sparse.indices.componentType);
+  if (sparse.indices.componentType != kUnsignedByte &&
+      sparse.indices.componentType != kUnsignedShort &&
+      sparse.indices.componentType != kUnsignedInt) {
+    return CorruptFileError(what + " has indices of component type " +
+                            Str(sparse.indices.componentType) +
+                            " (glTF allows unsigned byte, short or int)");
+  }
+  const int64_t count = sparse.count;
+  if (count < 1 || count > out->count) {
+    return CorruptFileError(what + " replaces " + Str(count) +
+                            " elements of the " + Str(out->count));
+  }
+  SDCB_ASSIGN_OR_RETURN(const std::string_view indices,
+                        ViewBytes(sparse.indices.bufferView, what));
+  SDCB_ASSIGN_OR_RETURN(const std::string_view values,
+                        ViewBytes(sparse.values.bufferView, what));
+  const int64_t index_offset = sparse.indices.byteOffset;
+  const int64_t value_offset = sparse.values.byteOffset;
+  if (index_offset < 0 || value_offset < 0 ||
+      index_offset > static_cast<int64_t>(indices.size()) ||
+      (static_cast<int64_t>(indices.size()) - index_offset) / index_bytes <
+          count ||
+      value_offset > static_cast<int64_t>(values.size()) ||
+      (static_cast<int64_t>(values.size()) - value_offset) / element_bytes <
+          count) {
+    return CorruptFileError(what + ": its " + Str(count) +
+                            " indices or values reach past their buffer views");
+  }
+  const auto* index_base =
+      reinterpret_cast<const unsigned char*>(indices.data()) + index_offset;
+  const auto* value_base =
+      reinterpret_cast<const unsigned char*>(values.data()) + value_offset;
+  const int component_bytes = ComponentBytes(accessor.componentType);
+  int64_t previous = -1;
+  for (int64_t i = 0; i < count; ++i) {
+    const int64_t target = static_cast<int64_t>(DecodeComponent(
+        index_base + i * index_bytes, sparse.indices.componentType, false));
+    if (target <= previous || target >= out->count) {
+      return CorruptFileError(what + ": index " + Str(target) +
+                              " is out of order or past the " +
+                              Str(out->count) + " elements");
+    }
+    previous = target;
+    for (int c = 0; c < out->components; ++c) {
+      out->values[target * out->components + c] =
+          DecodeComponent(value_base + i * element_bytes + c * component_bytes,
+                          accessor.componentType, accessor.normalized);
+    }
+  }
+  return Status::Ok();
 }
 
 // KHR_draco_mesh_compression: the attributes the extension maps, per
@@ -556,9 +641,9 @@ Status Reader::ReadDraco(const tinygltf::Primitive& primitive,
   SDCB_ASSIGN_OR_RETURN(
       const std::string_view bytes,
       ViewBytes(ext.Get("bufferView").GetNumberAsInt(), name));
-  // Draco's decoder allocates as its header says; at most this much per
-  // compressed byte is plausible for a mesh (a point of position, normal
-  // and texture coordinates in a few bits), beyond that the budget decides.
+  // Draco's decoder allocates as its header says: this much per compressed
+  // byte is charged to the budget before decoding (a point of position,
+  // normal and texture coordinates takes a few bits).
   SDCB_RETURN_IF_ERROR(Charge(int64_t{64} * bytes.size(), name));
   draco::DecoderBuffer buffer;
   buffer.Init(bytes.data(), bytes.size());
@@ -635,8 +720,10 @@ Status Reader::ReadDraco(const tinygltf::Primitive& primitive,
                                 " does not convert");
       }
       for (int c = 0; c < values.components; ++c) {
+        // Normalized signed integers: max(c / (2^(b-1) - 1), -1).
+        const double value = row[c] * scale;
         values.values[p * values.components + c] =
-            std::max(row[c] * scale, scale == 1.0 ? -HUGE_VAL : -1.0);
+            scale == 1.0 ? value : std::max(value, -1.0);
       }
     }
     (*attributes)[semantic] = std::move(values);

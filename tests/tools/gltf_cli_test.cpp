@@ -72,6 +72,64 @@ TEST(GltfCliTest, CheckReadsBoxTexturedAsAClosedBoxOfEightVertices) {
   EXPECT_EQ(j["boundary_edges"], 0);
 }
 
+// Octahedra as unindexed triangles (24 corners each, float32): one
+// primitive of two separate ones centred at x = 0 and 3 (mesh "pair"), one
+// of one at x = 0 (mesh "single", moved by its node): in their local frames
+// "single" and the first of "pair" coincide.
+std::string TwoMeshesThreeOctahedra() {
+  std::string bytes;
+  for (const float cx : {0.0f, 3.0f, 0.0f}) {
+    const float v[6][3] = {{cx + 1, 0, 0}, {cx - 1, 0, 0}, {cx, 1, 0},
+                           {cx, -1, 0},    {cx, 0, 1},     {cx, 0, -1}};
+    const int faces[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                             {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    for (const auto& f : faces) {
+      for (const int k : f) {
+        bytes.append(reinterpret_cast<const char*>(v[k]), 12);
+      }
+    }
+  }
+  return R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0, 1]}],
+    "nodes": [{"mesh": 0}, {"mesh": 1, "translation": [0, 5, 0]}],
+    "meshes": [{"name": "pair", "primitives": [{"attributes": {"POSITION": 0}}]},
+               {"name": "single", "primitives": [{"attributes": {"POSITION": 1}}]}],
+    "accessors": [
+      {"bufferView": 0, "componentType": 5126, "count": 48, "type": "VEC3"},
+      {"bufferView": 0, "byteOffset": 576, "componentType": 5126, "count": 24,
+       "type": "VEC3"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 864}],
+    "buffers": [{"byteLength": 864,
+      "uri": "data:application/octet-stream;base64,)" +
+         testing::Base64(bytes) + R"("}]})";
+}
+
+TEST(GltfCliTest, APrimitiveOfSeveralPartsNumbersThem) {
+  const std::string dir = FreshTestDir();
+  const std::string input = dir + "/octahedra.gltf";
+  WriteBytes(input, TwoMeshesThreeOctahedra());
+  const std::string model = dir + "/octahedra.sdcb";
+  const RunResult fit = RunSdcb({"fit", input, "-o", model, "--rmse", "5",
+                                 "--max-rounds", "1", "--quiet"},
+                                dir);
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  // Parts are searched for self-intersections one by one: the coincident
+  // octahedra of two primitives are no intersection.
+  EXPECT_EQ(fit.err.find("intersect"), std::string::npos) << fit.err;
+  const RunResult info = RunSdcb({"info", model, "--json", "-"}, dir);
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const auto j = nlohmann::json::parse(info.out);
+  ASSERT_EQ(j["parts"].size(), 3u);
+  EXPECT_EQ(j["parts"][0]["name"], "pair (1)");
+  EXPECT_EQ(j["parts"][1]["name"], "pair (2)");
+  EXPECT_EQ(j["parts"][2]["name"], "single");
+  // Merged by position: 6 vertices, 8 faces per octahedron.
+  const RunResult check = RunSdcb({"check", input, "--json", "-"}, dir);
+  ASSERT_EQ(check.exit_code, 0) << check.err;
+  const auto c = nlohmann::json::parse(check.out);
+  EXPECT_EQ(c["vertices"], 18);
+  EXPECT_EQ(c["faces"], 24);
+}
+
 // A GLB cut short, and one with an infinite position: exit 1, one line
 // naming the file, no output file.
 TEST(GltfCliTest, MalformedGlbExitsOneWithOneLineAndNoOutput) {

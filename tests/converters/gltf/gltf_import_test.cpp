@@ -22,6 +22,7 @@
 namespace sdcb {
 namespace {
 
+using testing::Base64;
 using testing::FreshTestDir;
 using testing::kAssimpGltf2;
 using testing::ReadBytes;
@@ -174,22 +175,6 @@ TEST(GltfImport, DracoAndMeshoptGlbsReadBackWithinTheQuantizationError) {
   }
 }
 
-std::string Base64(const std::string& data) {
-  static const char* kAlphabet =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < data.size(); i += 3) {
-    uint32_t v = static_cast<unsigned char>(data[i]) << 16;
-    if (i + 1 < data.size()) v |= static_cast<unsigned char>(data[i + 1]) << 8;
-    if (i + 2 < data.size()) v |= static_cast<unsigned char>(data[i + 2]);
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += i + 1 < data.size() ? kAlphabet[(v >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? kAlphabet[v & 63] : '=';
-  }
-  return out;
-}
-
 // A unit square's four corners (float32) in one data-URI buffer.
 std::string SquareBufferJson() {
   const float corners[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
@@ -256,6 +241,38 @@ TEST(GltfImport, ReadsTheNodeHierarchyAndTrsOfAHandWrittenFile) {
   EXPECT_EQ(fan.vertices.row(fan.faces(1, 2)), Eigen::RowVector3d(0, 0, 0));
   // Mesh-local coordinates: no node transform applied.
   EXPECT_EQ(strip.vertices.row(3), Eigen::RowVector3d(1, 1, 0));
+}
+
+// A sparse POSITION without a buffer view: zeros, with corners 1..3
+// replaced by the square's (indices 1 2 3 as unsigned bytes, values from
+// byte 12 of the square's view); a strip over them is the square's.
+TEST(GltfImport, ReadsSparseAccessors) {
+  const float corners[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  const std::string text =
+      R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 5}]}],
+    "buffers": [{"byteLength": 48, "uri": "data:application/octet-stream;base64,)" +
+      Base64(std::string(reinterpret_cast<const char*>(corners), 48)) +
+      R"("}, {"byteLength": 3, "uri": "data:application/octet-stream;base64,AQID"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 48},
+                    {"buffer": 1, "byteLength": 3}],
+    "accessors": [{"componentType": 5126, "count": 4, "type": "VEC3",
+      "sparse": {"count": 3,
+                 "indices": {"bufferView": 1, "componentType": 5121},
+                 "values": {"bufferView": 0, "byteOffset": 12}}}]})";
+  StatusOr<GltfAsset> asset = ReadGltfFromBuffer(text);
+  ASSERT_TRUE(asset.ok()) << asset.status().message();
+  Eigen::MatrixX3d square(4, 3);
+  square << 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0;
+  EXPECT_EQ(asset->primitives[0].triangles.vertices, square);
+  // Indices out of order are named.
+  std::string swapped = text;
+  swapped.replace(swapped.find("AQID"), 4, "AwIB");  // 3 2 1
+  const Status s = ReadGltfFromBuffer(swapped).status();
+  EXPECT_EQ(s.message(),
+            "primitive 0 of mesh 0: POSITION (accessor 0) (sparse): index 2 "
+            "is out of order or past the 4 elements");
 }
 
 Status ReadText(const std::string& nodes_and_scene) {
@@ -366,6 +383,34 @@ TEST(GltfImport, MalformedAssimpTestModelsGiveOneSentenceEach) {
     EXPECT_EQ(s.code(), c.code) << c.file << ": " << s.message();
     EXPECT_EQ(s.message(), path + ": " + c.message);
   }
+}
+
+}  // namespace
+}  // namespace sdcb
+
+namespace sdcb {
+namespace {
+
+// The fuzzer's corpus (fuzz/corpus/gltf, with the inputs of past findings as
+// regression-NAME): seeds read, every file reads or fails in one sentence.
+TEST(GltfImport, FuzzCorpusReadsOrFailsInOneSentence) {
+  const std::filesystem::path dir =
+      std::filesystem::path(SDCB_SOURCE_DIR) / "fuzz" / "corpus" / "gltf";
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    SCOPED_TRACE(entry.path().string());
+    const StatusOr<GltfAsset> asset =
+        ReadGltfFromBuffer(ReadBytes(entry.path().string()));
+    if (entry.path().filename().string().rfind("regression-", 0) != 0) {
+      EXPECT_TRUE(asset.ok()) << asset.status().message();
+    }
+    if (!asset.ok()) {
+      EXPECT_FALSE(asset.status().message().empty());
+      EXPECT_EQ(asset.status().message().find('\n'), std::string::npos);
+    }
+    ++files;
+  }
+  EXPECT_GE(files, 4);
 }
 
 }  // namespace
