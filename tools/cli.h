@@ -10,11 +10,12 @@
 #include <thread>
 #include <vector>
 
+#include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/mesh_parts.h"
 #include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
-#include "sdcb/converters/gltf/gltf_import.h"
+#include "sdcb/core/spline/model.h"
 #include "sdcb/io/mesh/mesh_reader.h"
 
 namespace sdcb::cli {
@@ -113,6 +114,12 @@ struct MeshOrigin {
   // Per primitive, its glTF mesh and index in the mesh; the file's bytes.
   std::vector<std::array<int, 2>> primitive_ids;
   GltfDocument document;
+  // Per primitive: its first face in the mesh, its material (-1 for none)
+  // and its per-corner TEXCOORD_0 and COLOR_0 (GltfPrimitive's).
+  std::vector<int> primitive_first_face;
+  std::vector<int> primitive_materials;
+  std::vector<Eigen::MatrixX2d> primitive_texcoords;
+  std::vector<Eigen::MatrixX4d> primitive_colors;
 };
 
 // Any mesh file sdcb reads: .gltf / .glb through converters/gltf/
@@ -135,9 +142,15 @@ std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,
 
 // The asset to keep with a model fitted from a glTF file (Model::asset,
 // MakeGltfShell): every primitive becomes the parts whose first face it
-// holds (PartNames' rule). "" when `origin` is empty.
+// holds (PartNames' rule). A primitive whose material has a base colour
+// texture, or which has COLOR_0, gets an atlas baked from its parts' maps
+// to the sphere (`fitted[i].spline.parameters` for parts[i]; none when a
+// part's parameters were not kept, or with a sentence in `warnings` when
+// its texture does not load). "" when `origin` is empty.
 StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
-                                    const MeshOrigin& origin);
+                                    const std::vector<ModelPart>& fitted,
+                                    const MeshOrigin& origin,
+                                    std::vector<std::string>* warnings);
 
 // What `fit` reads: the MESH with the limits of the options, repaired if
 // asked; its parts are checked by the fit (core/fit/fit_model.h). `origin`

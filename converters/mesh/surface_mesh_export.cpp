@@ -394,6 +394,7 @@ StatusOr<PartExport> ExportPart(const PartView& part,
   mesh.positions = transform.ToInput(t.positions);
   mesh.normals = CompleteNormals(t);
   mesh.faces = t.faces;
+  mesh.directions = t.directions;
   // A model fitted to a mesh stored inward turns its faces as that mesh
   // did (its sphere is mirrored); the file's faces turn outward. An open
   // mesh has no volume: a trimmed part asks its whole (closed) surface,
