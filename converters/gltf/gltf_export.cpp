@@ -272,8 +272,10 @@ StatusOr<std::string> EncodeDraco(const SurfaceMesh& mesh,
     const int uv = add(draco::GeometryAttribute::TEX_COORD, 2,
                        draco::DT_FLOAT32, false, 4);
     for (int v = 0; v < nv; ++v) {
+      // Draco's meshes hold v up (its glTF decoder flips v, its encoder
+      // flips it back).
       const float t[2] = {float(mesh.texcoords(v, 0)),
-                          float(mesh.texcoords(v, 1))};
+                          float(1.0 - mesh.texcoords(v, 1))};
       dm.attribute(uv)->SetAttributeValue(draco::AttributeValueIndex(v), t);
     }
   }
