@@ -8,6 +8,8 @@ PACKAGES=(build-essential cmake ninja-build pkg-config
   libeigen3-dev libcgal-dev libcgal-demo libopenmesh-dev libtinygltf-dev
   nlohmann-json3-dev libosd-dev libdraco-dev libgtest-dev libtbb-dev
   libsuitesparse-dev libopenblas0-serial zlib1g-dev libmeshoptimizer-dev
+  # stb_image / stb_image_write: the glTF texture bake's image codecs.
+  libstb-dev
   # The glTF reader's tests: the glTF 2 files of assimp-testmodels, and the
   # Khronos Duck converted from its COLLADA duck.dae by `assimp export`.
   assimp-testmodels assimp-utils

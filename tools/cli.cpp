@@ -14,6 +14,7 @@
 
 #include "sdcb/converters/gltf/gltf_asset.h"
 #include "sdcb/converters/gltf/gltf_import.h"
+#include "sdcb/converters/gltf/texture_bake.h"
 #include "sdcb/core/mesh/mesh_repair.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/mesh/self_intersections.h"
@@ -340,18 +341,89 @@ StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
     origin->face_primitive = std::move(face_primitive);
     origin->primitive_names.clear();
     origin->primitive_ids.clear();
-    for (const GltfPrimitive& p : asset.primitives) {
+    origin->primitive_first_face.clear();
+    origin->primitive_materials.clear();
+    origin->primitive_texcoords.clear();
+    origin->primitive_colors.clear();
+    int first_face = 0;
+    for (GltfPrimitive& p : asset.primitives) {
       origin->primitive_names.push_back(p.name);
       origin->primitive_ids.push_back({p.mesh, p.primitive});
+      origin->primitive_first_face.push_back(first_face);
+      first_face += p.triangles.num_faces();
+      origin->primitive_materials.push_back(p.material);
+      origin->primitive_texcoords.push_back(std::move(p.texcoords));
+      origin->primitive_colors.push_back(std::move(p.colors));
     }
     origin->document = std::move(asset.document);
   }
   return mesh;
 }
 
+namespace {
+
+// What BakeCubeAtlas needs of input part `part` of primitive `p`: its
+// vertices' sphere points, its faces, their corners' texture coordinates
+// and colours.
+TextureBakePart BakePartOf(const MeshPart& part, const ModelPart& fitted,
+                           const MeshOrigin& origin, int p) {
+  TextureBakePart out;
+  out.sphere_points =
+      fitted.spline.parameters.topRows(part.mesh.num_vertices());
+  out.faces = part.mesh.faces;
+  const Eigen::MatrixX2d& uv = origin.primitive_texcoords[p];
+  const Eigen::MatrixX4d& rgba = origin.primitive_colors[p];
+  const Eigen::Index corners = 3 * part.mesh.num_faces();
+  out.texcoords.resize(uv.rows() > 0 ? corners : 0, 2);
+  out.colors.resize(rgba.rows() > 0 ? corners : 0, 4);
+  for (size_t f = 0; f < part.input_faces.size(); ++f) {
+    const int local = part.input_faces[f] - origin.primitive_first_face[p];
+    for (int k = 0; k < 3; ++k) {
+      if (uv.rows() > 0) out.texcoords.row(3 * f + k) = uv.row(3 * local + k);
+      if (rgba.rows() > 0) out.colors.row(3 * f + k) = rgba.row(3 * local + k);
+    }
+  }
+  return out;
+}
+
+// Bakes the atlas of fitted primitive `f` (index p) when its material has
+// a base colour texture or it has colours; leaves it without one when a
+// part's map was not kept.
+Status BakeAtlas(const std::vector<MeshPart>& parts,
+                 const std::vector<ModelPart>& fitted, const MeshOrigin& origin,
+                 int p, GltfFittedPrimitive* f,
+                 std::vector<std::string>* warnings) {
+  StatusOr<GltfTexture> loaded =
+      LoadBaseColorTexture(origin.document, origin.primitive_materials[p]);
+  if (!loaded.ok()) {
+    warnings->push_back("primitive \"" + origin.primitive_names[p] +
+                        "\": " + loaded.status().message() +
+                        "; its fitted surface is written without its texture");
+    return Status::Ok();
+  }
+  const GltfTexture& texture = *loaded;
+  const bool textured =
+      texture.width > 0 && origin.primitive_texcoords[p].rows() > 0;
+  if (!textured && origin.primitive_colors[p].rows() == 0) return Status::Ok();
+  std::vector<TextureBakePart> bake;
+  for (const int i : f->parts) {
+    if (fitted[i].spline.parameters.rows() < parts[i].mesh.num_vertices()) {
+      return Status::Ok();
+    }
+    bake.push_back(BakePartOf(parts[i], fitted[i], origin, p));
+  }
+  SDCB_ASSIGN_OR_RETURN(BakedAtlas atlas, BakeCubeAtlas(bake, texture));
+  f->atlas_png = std::move(atlas.png);
+  f->atlas_layout = atlas.layout;
+  return Status::Ok();
+}
+
+}  // namespace
+
 StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
-                                    const Model& model,
-                                    const MeshOrigin& origin) {
+                                    const std::vector<ModelPart>& model_parts,
+                                    const MeshOrigin& origin,
+                                    std::vector<std::string>* warnings) {
   if (origin.face_primitive.empty()) return std::string();
   std::vector<GltfFittedPrimitive> of_primitive(origin.primitive_ids.size());
   std::vector<bool> any_fitted(of_primitive.size(), false);
@@ -363,11 +435,17 @@ StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
     if (parts[i].input_faces.empty()) continue;
     const int p = origin.face_primitive[parts[i].input_faces[0]];
     of_primitive[p].parts.push_back(static_cast<int>(i));
-    if (i < model.parts.size() && !model.parts[i].kept) any_fitted[p] = true;
+    if (i < model_parts.size() && !model_parts[i].kept) any_fitted[p] = true;
   }
   std::vector<GltfFittedPrimitive> fitted;
   for (size_t p = 0; p < of_primitive.size(); ++p) {
-    if (any_fitted[p]) fitted.push_back(std::move(of_primitive[p]));
+    if (!any_fitted[p]) continue;
+    if (model_parts.size() == parts.size()) {
+      SDCB_RETURN_IF_ERROR(BakeAtlas(parts, model_parts, origin,
+                                     static_cast<int>(p), &of_primitive[p],
+                                     warnings));
+    }
+    fitted.push_back(std::move(of_primitive[p]));
   }
   return MakeGltfShell(origin.document, fitted);
 }

@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/mesh_parts.h"
 #include "sdcb/core/spline/model.h"
@@ -144,6 +145,12 @@ struct MeshOrigin {
   // Per primitive, its glTF mesh and index in the mesh; the file's bytes.
   std::vector<std::array<int, 2>> primitive_ids;
   GltfDocument document;
+  // Per primitive: its first face in the mesh, its material (-1 for none)
+  // and its per-corner TEXCOORD_0 and COLOR_0 (GltfPrimitive's).
+  std::vector<int> primitive_first_face;
+  std::vector<int> primitive_materials;
+  std::vector<Eigen::MatrixX2d> primitive_texcoords;
+  std::vector<Eigen::MatrixX4d> primitive_colors;
 };
 
 // Any mesh file sdcb reads: .gltf / .glb through converters/gltf/
@@ -168,10 +175,15 @@ std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,
 // MakeGltfShell): every primitive with a fitted part becomes the parts
 // whose first face it holds (PartNames' rule); a primitive all of whose
 // parts were kept (ModelPart::kept) stays in the asset as the file had it.
-// "" when `origin` is empty.
+// A fitted primitive whose material has a base colour texture, or which
+// has COLOR_0, gets an atlas baked from its parts' maps to the sphere
+// (`model_parts[i].spline.parameters` for parts[i]; none when a part's
+// parameters were not kept or it was kept, or with a sentence in
+// `warnings` when its texture does not load). "" when `origin` is empty.
 StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
-                                    const Model& model,
-                                    const MeshOrigin& origin);
+                                    const std::vector<ModelPart>& model_parts,
+                                    const MeshOrigin& origin,
+                                    std::vector<std::string>* warnings);
 
 // What `check`, `param` and `fit` read: the MESH with the limits of the
 // options (warnings printed), repaired if asked, else, unless it is glTF

@@ -356,6 +356,9 @@ int RunFit(const std::vector<std::string>& argv) {
         p.fraction);
   };
   model_options.fit = options;
+  // A glTF input's textures are baked from the parts' maps to the sphere
+  // (KeptGltfAsset): kept in memory, written only on request.
+  if (!origin.face_primitive.empty()) model_options.fit.store_parameters = true;
   model_options.part_done = [bar = progress.Callback()](int done, int total) {
     bar("parts fitted " + std::to_string(done) + "/" + std::to_string(total),
         static_cast<double>(done) / total);
@@ -380,9 +383,13 @@ int RunFit(const std::vector<std::string>& argv) {
   const std::vector<std::string> names = PartNames(intake->parts, origin);
   for (size_t i = 0; i < names.size(); ++i) fit->model.parts[i].name = names[i];
   // ... and the asset around them is kept, to be written back by export.
+  std::vector<std::string> asset_warnings;
   StatusOr<std::string> asset =
-      KeptGltfAsset(intake->parts, fit->model, origin);
+      KeptGltfAsset(intake->parts, fit->model.parts, origin, &asset_warnings);
   if (!asset.ok()) return ReportError(asset.status().WithPrefix(path));
+  for (const std::string& w : asset_warnings) {
+    std::cerr << "sdcb: " << path << ": warning: " << w << "\n";
+  }
   fit->model.asset = std::move(asset).value();
   const std::string file_name = std::filesystem::path(path).filename().string();
   fit->model.source.file_name = file_name;

@@ -14,6 +14,9 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 constexpr const char* kPartsKey = "sdcb_parts";
+constexpr const char* kAtlasKey = "sdcb_atlas";
+constexpr int kLinear = 9729;
+constexpr int kClampToEdge = 33071;
 
 // Calls `f(index_json)` for every place the document names an accessor.
 template <typename F>
@@ -115,8 +118,82 @@ std::string MimeTypeOf(const std::string& uri) {
   return "application/octet-stream";
 }
 
-StatusOr<std::string> MakeShell(const GltfDocument& document,
-                                const std::vector<GltfFittedPrimitive>& fitted) {
+// The material `m` without any texture or extension.
+Json WithoutTextures(Json m) {
+  for (const char* key :
+       {"normalTexture", "occlusionTexture", "emissiveTexture", "extensions"}) {
+    m.erase(key);
+  }
+  if (m.contains("pbrMetallicRoughness")) {
+    m["pbrMetallicRoughness"].erase("baseColorTexture");
+    m["pbrMetallicRoughness"].erase("metallicRoughnessTexture");
+  }
+  return m;
+}
+
+// Calls `f(index_json)` for every texture index under `j` (the "index" of
+// any object whose key ends in "Texture": glTF's texture infos, those of
+// KHR_materials_* too).
+template <typename F>
+void ForEachTextureUse(Json& j, F f) {
+  if (!j.is_object() && !j.is_array()) return;
+  for (auto& [key, value] : j.items()) {
+    if (value.is_object() && key.size() >= 7 &&
+        key.compare(key.size() - 7, 7, "Texture") == 0 &&
+        value.contains("index")) {
+      f(value["index"]);
+    }
+    ForEachTextureUse(value, f);
+  }
+}
+
+// Drops the materials no primitive uses any more (those an atlas replaced),
+// then the textures no material uses, then the images and samplers no
+// texture uses, renumbering what names them.
+void DropUnusedMaterials(Json* doc) {
+  if (!doc->contains("materials")) return;
+  std::vector<bool> used((*doc)["materials"].size(), false);
+  for (Json& mesh : (*doc)["meshes"]) {
+    for (Json& p : mesh["primitives"]) {
+      if (p.contains("material")) used.at(p["material"].get<size_t>()) = true;
+    }
+  }
+  const std::vector<int> material_of = KeepUsed(doc, "materials", used);
+  for (Json& mesh : (*doc)["meshes"]) {
+    for (Json& p : mesh["primitives"]) {
+      if (p.contains("material"))
+        p["material"] = material_of[p["material"].get<size_t>()];
+    }
+  }
+  if (!doc->contains("textures")) return;
+  used.assign((*doc)["textures"].size(), false);
+  if (doc->contains("materials")) {
+    ForEachTextureUse((*doc)["materials"],
+                      [&](Json& t) { used.at(t.get<size_t>()) = true; });
+  }
+  const std::vector<int> texture_of = KeepUsed(doc, "textures", used);
+  if (doc->contains("materials")) {
+    ForEachTextureUse((*doc)["materials"],
+                      [&](Json& t) { t = texture_of[t.get<size_t>()]; });
+  }
+  for (const char* key : {"images", "samplers"}) {
+    if (!doc->contains(key)) continue;
+    const char* field = key[0] == 'i' ? "source" : "sampler";
+    used.assign((*doc)[key].size(), false);
+    for (Json& t : doc->value("textures", Json::array())) {
+      if (t.contains(field)) used.at(t[field].get<size_t>()) = true;
+    }
+    const std::vector<int> of = KeepUsed(doc, key, used);
+    if (!doc->contains("textures")) continue;
+    for (Json& t : (*doc)["textures"]) {
+      if (t.contains(field)) t[field] = of[t[field].get<size_t>()];
+    }
+  }
+}
+
+StatusOr<std::string> MakeShell(
+    const GltfDocument& document,
+    const std::vector<GltfFittedPrimitive>& fitted) {
   Json doc = Json::parse(document.json);
   for (const GltfFittedPrimitive& f : fitted) {
     Json& p = doc.at("meshes").at(f.mesh).at("primitives").at(f.primitive);
@@ -153,8 +230,8 @@ StatusOr<std::string> MakeShell(const GltfDocument& document,
   const size_t num_accessors =
       doc.contains("accessors") ? doc["accessors"].size() : 0;
   std::vector<bool> accessor_used(num_accessors, false);
-  ForEachAccessorUse(doc,
-                     [&](Json& a) { accessor_used.at(a.get<size_t>()) = true; });
+  ForEachAccessorUse(
+      doc, [&](Json& a) { accessor_used.at(a.get<size_t>()) = true; });
   const std::vector<int> accessor_of =
       KeepUsed(&doc, "accessors", accessor_used);
   ForEachAccessorUse(doc, [&](Json& a) { a = accessor_of[a.get<size_t>()]; });
@@ -179,6 +256,38 @@ StatusOr<std::string> MakeShell(const GltfDocument& document,
       image_bytes.push_back(document.images[i]);
     }
   }
+  // Each atlas: an image in a new view, a sampler, a texture and a copy of
+  // the primitive's material that samples it.
+  for (const GltfFittedPrimitive& f : fitted) {
+    if (f.atlas_png.empty()) continue;
+    Json& p = doc["meshes"][f.mesh]["primitives"][f.primitive];
+    const size_t image = doc.contains("images") ? doc["images"].size() : 0;
+    doc["images"].push_back({{"mimeType", "image/png"},
+                             {"bufferView", num_views + image_bytes.size()}});
+    image_bytes.push_back(f.atlas_png);
+    const size_t sampler =
+        doc.contains("samplers") ? doc["samplers"].size() : 0;
+    doc["samplers"].push_back({{"magFilter", kLinear},
+                               {"minFilter", kLinear},
+                               {"wrapS", kClampToEdge},
+                               {"wrapT", kClampToEdge}});
+    const size_t texture =
+        doc.contains("textures") ? doc["textures"].size() : 0;
+    doc["textures"].push_back({{"sampler", sampler}, {"source", image}});
+    Json material =
+        p.contains("material")
+            ? WithoutTextures(doc["materials"].at(p["material"].get<size_t>()))
+            : Json::object();
+    material["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", texture}};
+    p["material"] = doc.contains("materials") ? doc["materials"].size() : 0;
+    doc["materials"].push_back(std::move(material));
+    p["extras"][kAtlasKey] = {{"tile", f.atlas_layout.tile},
+                              {"parts", f.atlas_layout.parts},
+                              {"extent", f.atlas_layout.extent}};
+  }
+  bool atlases = false;
+  for (const GltfFittedPrimitive& f : fitted) atlases |= !f.atlas_png.empty();
+  if (atlases) DropUnusedMaterials(&doc);
   std::vector<bool> view_used(num_views + image_bytes.size(), false);
   ForEachViewUse(doc, [&](Json& v) { view_used.at(v.get<size_t>()) = true; });
   // The bytes of every view kept, in one buffer, each view 4-aligned.
@@ -276,8 +385,8 @@ namespace {
 
 // Whether material `m` of `doc` samples any texture.
 bool SamplesTexture(const Json& m) {
-  for (const char* key : {"normalTexture", "occlusionTexture",
-                          "emissiveTexture"}) {
+  for (const char* key :
+       {"normalTexture", "occlusionTexture", "emissiveTexture"}) {
     if (m.contains(key)) return true;
   }
   if (m.contains("pbrMetallicRoughness")) {
@@ -290,16 +399,34 @@ bool SamplesTexture(const Json& m) {
   return m.contains("extensions");  // e.g. KHR_materials_* textures
 }
 
-Json WithoutTextures(Json m) {
-  for (const char* key : {"normalTexture", "occlusionTexture",
-                          "emissiveTexture", "extensions"}) {
-    m.erase(key);
+// `part` with its vertices split and texture coordinates set for the
+// atlas tiles of block `slot` (CubeAtlasTexcoords).
+StatusOr<SurfaceMesh> WithAtlasTexcoords(const SurfaceMesh& part,
+                                         const CubeAtlasLayout& layout,
+                                         int slot, int* beyond) {
+  if (part.directions.rows() != part.positions.rows()) {
+    return InvalidArgumentError(
+        "a part of a primitive with a texture atlas has no sphere points");
   }
-  if (m.contains("pbrMetallicRoughness")) {
-    m["pbrMetallicRoughness"].erase("baseColorTexture");
-    m["pbrMetallicRoughness"].erase("metallicRoughnessTexture");
+  const CubeAtlasMesh atlas =
+      CubeAtlasTexcoords(layout, slot, part.directions, part.faces);
+  *beyond += atlas.corners_beyond_extent;
+  const Eigen::Index n = static_cast<Eigen::Index>(atlas.vertex.size());
+  SurfaceMesh out;
+  out.positions.resize(n, 3);
+  out.normals.resize(part.normals.rows() > 0 ? n : 0, 3);
+  out.colors.resize(part.colors.rows() > 0 ? n : 0, 3);
+  out.directions.resize(n, 3);
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const int from = atlas.vertex[v];
+    out.positions.row(v) = part.positions.row(from);
+    if (out.normals.rows() > 0) out.normals.row(v) = part.normals.row(from);
+    if (out.colors.rows() > 0) out.colors.row(v) = part.colors.row(from);
+    out.directions.row(v) = part.directions.row(from);
   }
-  return m;
+  out.faces = atlas.faces;
+  out.texcoords = atlas.texcoords;
+  return out;
 }
 
 StatusOr<EncodedGltfAsset> EncodeAsset(
@@ -342,32 +469,67 @@ StatusOr<EncodedGltfAsset> EncodeAsset(
     }
     SurfaceMesh mesh;
     GltfExportOptions o;
-    Eigen::Index nv = 0, nf = 0;
     for (const int k : f.parts) {
       if (k < 0 || k >= static_cast<int>(parts.size())) {
         return InvalidArgumentError("the asset names part " +
                                     std::to_string(k + 1) + " of " +
                                     std::to_string(parts.size()));
       }
-      nv += parts[k].positions.rows();
-      nf += parts[k].faces.rows();
     }
-    const SurfaceMesh& first = parts[f.parts[0]];
+    // The parts as written: split for the atlas's tiles if it has one.
+    const Json& shell_primitive =
+        gather.json()["meshes"].at(f.mesh).at("primitives").at(f.primitive);
+    const bool atlas = shell_primitive.contains("extras") &&
+                       shell_primitive["extras"].contains(kAtlasKey);
+    std::vector<SurfaceMesh> split;
+    if (atlas) {
+      const Json& a = shell_primitive["extras"][kAtlasKey];
+      CubeAtlasLayout layout;
+      layout.tile = a.at("tile").get<int>();
+      layout.parts = a.at("parts").get<int>();
+      layout.extent = a.at("extent").get<double>();
+      if (layout.parts != static_cast<int>(f.parts.size()) || layout.tile < 1) {
+        return CorruptFileError(
+            "the stored glTF asset: an atlas's layout does not match its "
+            "primitive's parts");
+      }
+      for (size_t slot = 0; slot < f.parts.size(); ++slot) {
+        SDCB_ASSIGN_OR_RETURN(
+            SurfaceMesh m,
+            WithAtlasTexcoords(parts[f.parts[slot]], layout,
+                               static_cast<int>(slot),
+                               &out.atlas_vertices_beyond_extent));
+        split.push_back(std::move(m));
+      }
+      ++out.atlas_primitives;
+    }
+    const auto part_mesh = [&](size_t slot) -> const SurfaceMesh& {
+      return atlas ? split[slot] : parts[f.parts[slot]];
+    };
+    Eigen::Index nv = 0, nf = 0;
+    for (size_t slot = 0; slot < f.parts.size(); ++slot) {
+      nv += part_mesh(slot).positions.rows();
+      nf += part_mesh(slot).faces.rows();
+    }
+    const SurfaceMesh& first = part_mesh(0);
     o = options[f.parts[0]];
     mesh.positions.resize(nv, 3);
     mesh.normals.resize(first.normals.rows() > 0 ? nv : 0, 3);
     mesh.colors.resize(first.colors.rows() > 0 ? nv : 0, 3);
+    mesh.texcoords.resize(atlas ? nv : 0, 2);
     mesh.faces.resize(nf, 3);
     nv = nf = 0;
-    for (const int k : f.parts) {
-      const SurfaceMesh& p = parts[k];
+    for (size_t slot = 0; slot < f.parts.size(); ++slot) {
+      const SurfaceMesh& p = part_mesh(slot);
       const Eigen::Index v = p.positions.rows();
       mesh.positions.middleRows(nv, v) = p.positions;
       if (mesh.normals.rows() > 0) mesh.normals.middleRows(nv, v) = p.normals;
       if (mesh.colors.rows() > 0) mesh.colors.middleRows(nv, v) = p.colors;
+      if (atlas) mesh.texcoords.middleRows(nv, v) = p.texcoords;
       mesh.faces.middleRows(nf, p.faces.rows()) =
           p.faces.array() + static_cast<int>(nv);
-      o.position_bits = std::max(o.position_bits, options[k].position_bits);
+      o.position_bits =
+          std::max(o.position_bits, options[f.parts[slot]].position_bits);
       nv += v;
       nf += p.faces.rows();
     }
@@ -383,8 +545,9 @@ StatusOr<EncodedGltfAsset> EncodeAsset(
     }
     if (from.contains("extensions")) p["extensions"].update(from["extensions"]);
     p["extras"].erase(kPartsKey);
+    p["extras"].erase(kAtlasKey);
     if (p["extras"].empty()) p.erase("extras");
-    if (p.contains("material")) {
+    if (p.contains("material") && !atlas) {
       const int m = p["material"].get<int>();
       if (SamplesTexture(doc["materials"].at(m))) {
         auto it = textureless.find(m);

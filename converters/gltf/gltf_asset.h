@@ -19,14 +19,20 @@
 #include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/converters/mesh/surface_mesh.h"
 #include "sdcb/core/common/status.h"
+#include "sdcb/core/sphere/cube_atlas.h"
 
 namespace sdcb {
 
 // The parts that replace one primitive.
 struct GltfFittedPrimitive {
-  int mesh = 0;       // glTF mesh index
-  int primitive = 0;  // index in its `primitives`
+  int mesh = 0;            // glTF mesh index
+  int primitive = 0;       // index in its `primitives`
   std::vector<int> parts;  // model parts (0-based), in the order written
+  // Its base colour baked into a cube-map atlas of its parts' spheres
+  // (converters/gltf/texture_bake.h; tile block k for parts[k]): the PNG's
+  // bytes, "" for none.
+  std::string atlas_png;
+  CubeAtlasLayout atlas_layout;
 };
 
 // The shell of `document` with the geometry of `fitted` taken out: those
@@ -38,6 +44,11 @@ struct GltfFittedPrimitive {
 // one buffer, the GLB's BIN chunk. kInvalidInput when the document does
 // not parse or a primitive, accessor or view it names is not there;
 // kUnsupported for a kept primitive whose views are meshopt-compressed.
+// A fitted primitive with an atlas gets it as an embedded PNG image with a
+// texture and sampler (clamp to edge, linear) and a copy of its material
+// (a default one if it has none) whose base colour texture is the atlas,
+// other textures and the material's extensions dropped; the primitive's
+// extras hold "sdcb_atlas": {"tile", "parts", "extent"}, the layout.
 StatusOr<std::string> MakeGltfShell(
     const GltfDocument& document,
     const std::vector<GltfFittedPrimitive>& fitted);
@@ -50,16 +61,22 @@ StatusOr<std::vector<GltfFittedPrimitive>> ShellFittedPrimitives(
 // its parts (`parts[k]` for part k, in the mesh's local coordinates)
 // appended into one, encoded as EncodeGltf does with the options of its
 // first part (position bits: the largest of its parts'), its material and
-// mode kept. A fitted primitive's material that samples a texture loses
-// its textures (a fitted surface carries no texture coordinates), kept in a
-// copy when other primitives use the material too; textureless_materials
-// counts them. kUnsupported for meshopt (its dequantizing node transform
-// would replace the asset's nodes'); kInvalidArgument when a part index is
-// out of range.
+// mode kept. A primitive with an atlas gets TEXCOORD_0 from its parts'
+// `directions` (CubeAtlasTexcoords: vertices split where their triangles
+// take different cube faces; kInvalidArgument when a part has no
+// directions); atlas_primitives counts them and atlas_vertices_beyond_extent
+// sums CubeAtlasMesh::corners_beyond_extent. Any other fitted primitive's
+// material that samples a texture loses its textures (its surface has no
+// texture coordinates), kept in a copy when other primitives use the
+// material too; textureless_materials counts them. kUnsupported for meshopt
+// (its dequantizing node transform would replace the asset's nodes');
+// kInvalidArgument when a part index is out of range.
 struct EncodedGltfAsset {
   EncodedGltf gltf;
   int fitted_primitives = 0;
   int textureless_materials = 0;
+  int atlas_primitives = 0;
+  int atlas_vertices_beyond_extent = 0;
 };
 StatusOr<EncodedGltfAsset> EncodeGltfAsset(
     std::string_view shell, const std::vector<SurfaceMesh>& parts,

@@ -99,6 +99,7 @@ StatusOr<std::string> EncodePlain(const SurfaceMesh& mesh, bool glb) {
   const size_t nv = mesh.positions.rows(), nf = mesh.faces.rows();
   const bool normals = mesh.normals.rows() > 0;
   const bool colors = mesh.colors.rows() > 0;
+  const bool texcoords = mesh.texcoords.rows() > 0;
   std::string bin;
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
@@ -169,6 +170,17 @@ StatusOr<std::string> EncodePlain(const SurfaceMesh& mesh, bool glb) {
     primitive.attributes["COLOR_0"] =
         add_accessor(add_view(offset, bin.size() - offset, kArrayBuffer, 0),
                      kUnsignedByte, TINYGLTF_TYPE_VEC4, nv, true);
+  }
+  if (texcoords) {
+    std::vector<float> uv(2 * nv);
+    for (size_t v = 0; v < nv; ++v) {
+      for (int k = 0; k < 2; ++k) uv[2 * v + k] = float(mesh.texcoords(v, k));
+    }
+    const size_t offset = bin.size();
+    Append(&bin, uv.data(), uv.size());
+    primitive.attributes["TEXCOORD_0"] =
+        add_accessor(add_view(offset, bin.size() - offset, kArrayBuffer, 0),
+                     kFloat, TINYGLTF_TYPE_VEC2, nv, false);
   }
   {
     const size_t offset = bin.size();
@@ -256,6 +268,17 @@ StatusOr<std::string> EncodeDraco(const SurfaceMesh& mesh,
       dm.attribute(col)->SetAttributeValue(draco::AttributeValueIndex(v), c);
     }
   }
+  if (mesh.texcoords.rows() > 0) {
+    const int uv = add(draco::GeometryAttribute::TEX_COORD, 2,
+                       draco::DT_FLOAT32, false, 4);
+    for (int v = 0; v < nv; ++v) {
+      // Draco's meshes hold v up (its glTF decoder flips v, its encoder
+      // flips it back).
+      const float t[2] = {float(mesh.texcoords(v, 0)),
+                          float(1.0 - mesh.texcoords(v, 1))};
+      dm.attribute(uv)->SetAttributeValue(draco::AttributeValueIndex(v), t);
+    }
+  }
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
     dm.AddFace({draco::PointIndex(mesh.faces(f, 0)),
                 draco::PointIndex(mesh.faces(f, 1)),
@@ -265,6 +288,8 @@ StatusOr<std::string> EncodeDraco(const SurfaceMesh& mesh,
   compression.compression_level = options.draco_level;
   compression.quantization_position.SetQuantizationBits(options.position_bits);
   compression.quantization_bits_normal = 12;
+  // A 2048-texel atlas to a sixteenth of a texel.
+  compression.quantization_bits_tex_coord = 15;
   dm.SetCompressionEnabled(true);
   dm.SetCompressionOptions(compression);
   draco::GltfEncoder encoder;
@@ -469,6 +494,15 @@ StatusOr<EncodedGltf> EncodeGltf(const SurfaceMesh& mesh,
                                     " is not a unit vector");
       }
     }
+  }
+  if (mesh.texcoords.rows() > 0 &&
+      options.compression == GltfCompression::kMeshopt) {
+    return InvalidArgumentError(
+        "meshopt compression does not write texture coordinates");
+  }
+  if (mesh.texcoords.rows() != 0 &&
+      mesh.texcoords.rows() != mesh.positions.rows()) {
+    return InvalidArgumentError("texture coordinates are not one per vertex");
   }
   EncodedGltf out;
   GltfExportResult& result = out.result;

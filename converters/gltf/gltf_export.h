@@ -1,8 +1,9 @@
 // Writes a SurfaceMesh as glTF 2.0 (.gltf with the buffer embedded as a data
 // URI, or .glb): one mesh, one node, one scene, asset generator "sdcb" (or
 // several meshes, one node each: EncodeGltfParts);
-// POSITION (with min / max), NORMAL, COLOR_0 when the mesh has colors, and
-// triangle indices. Three encodings:
+// POSITION (with min / max), NORMAL, COLOR_0 when the mesh has colors,
+// TEXCOORD_0 when it has texture coordinates (plain and Draco; Draco
+// quantizes them to 15 bits), and triangle indices. Three encodings:
 //   - plain: float32 attributes through tinygltf;
 //   - Draco: KHR_draco_mesh_compression (a required extension) through
 //     Draco's glTF encoder, positions quantized to `position_bits` over the
@@ -62,8 +63,8 @@ struct EncodedGltf {
 };
 
 // `mesh` as a .glb (`binary`) or a .gltf with its buffer embedded.
-// kInvalidArgument for bits out of range or normals that are not unit
-// vectors.
+// kInvalidArgument for bits out of range, normals that are not unit
+// vectors, or texture coordinates with meshopt.
 StatusOr<EncodedGltf> EncodeGltf(const SurfaceMesh& mesh,
                                  const GltfExportOptions& options, bool binary);
 

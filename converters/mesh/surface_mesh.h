@@ -14,6 +14,14 @@ struct SurfaceMesh {
   Eigen::MatrixX3i faces;      // #F by 3, counter-clockwise from outside
   // #V by 3 RGB colors (0..255), or 0 rows for none.
   Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 3> colors;
+  // #V by 2 texture coordinates (glTF's: u right, v down), or 0 rows for
+  // none; only the glTF writer stores them (TEXCOORD_0).
+  Eigen::MatrixX2d texcoords;
+  // #V by 3 unit vectors: each vertex's point on the sphere of the surface
+  // it samples (the spline's domain), or 0 rows when not known. Not
+  // written: what texture coordinates of a sphere atlas are made from
+  // (converters/gltf/gltf_asset.h).
+  Eigen::MatrixX3d directions;
 };
 
 }  // namespace sdcb

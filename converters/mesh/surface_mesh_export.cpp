@@ -428,6 +428,7 @@ StatusOr<PartExport> ExportPart(const PartView& part,
   mesh.positions = transform.ToInput(t.positions);
   mesh.normals = CompleteNormals(t);
   mesh.faces = t.faces;
+  mesh.directions = t.directions;
   // A model fitted to a mesh stored inward turns its faces as that mesh
   // did (its sphere is mirrored); the file's faces turn outward. An open
   // mesh has no volume: a trimmed part asks its whole (closed) surface,
@@ -581,6 +582,8 @@ StatusOr<SurfaceMeshExport> ExportParts(const std::vector<PartView>& parts,
                             EncodeGltfAsset(asset, meshes, per_part, glb));
       encoded = std::move(asset.gltf);
       report.textureless_materials = asset.textureless_materials;
+      report.atlas_primitives = asset.atlas_primitives;
+      report.atlas_vertices_beyond_extent = asset.atlas_vertices_beyond_extent;
     } else if (done.size() == 1) {
       SDCB_ASSIGN_OR_RETURN(encoded, EncodeGltf(mesh, per_part[0], glb));
     } else {
@@ -799,6 +802,10 @@ nlohmann::ordered_json SurfaceMeshExportReportToJson(
   if (r.parts > 1 || r.trim_loops > 0) {
     j["parts"] = r.parts;
     j["trim_loops"] = r.trim_loops;
+  }
+  if (r.atlas_primitives > 0) {
+    j["atlas_primitives"] = r.atlas_primitives;
+    j["atlas_vertices_beyond_extent"] = r.atlas_vertices_beyond_extent;
   }
   if (r.textureless_materials > 0) {
     j["textureless_materials"] = r.textureless_materials;

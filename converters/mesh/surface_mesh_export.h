@@ -133,6 +133,11 @@ struct SurfaceMeshExportReport {
   // A glTF asset written back (Model::asset): materials of fitted
   // primitives written without their textures (EncodeGltfAsset).
   int textureless_materials = 0;
+  // glTF asset: fitted primitives written with a baked texture atlas, and
+  // their vertices whose atlas coordinates were clamped
+  // (EncodedGltfAsset's).
+  int atlas_primitives = 0;
+  int atlas_vertices_beyond_extent = 0;
   int64_t evaluations = 0;  // surface points the tessellator sampled
   int64_t samples = 0;      // surface samples the tessellation certified on
   struct Seconds {

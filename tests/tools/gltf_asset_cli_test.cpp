@@ -146,9 +146,8 @@ TEST(GltfAssetCliTest, SceneOfASharedMeshComesBackWithItsNodesAndMaterials) {
   const Json in = Json::parse(ReadBytes(input));
   for (const bool draco : {false, true}) {
     const std::string out = dir + (draco ? "/draco.glb" : "/plain.glb");
-    std::vector<std::string> args = {"export", model,         "-o",
-                                     out,      "--tolerance", "0.5",
-                                     "--quiet"};
+    std::vector<std::string> args = {"export",      model, "-o",     out,
+                                     "--tolerance", "0.5", "--quiet"};
     if (draco) args.push_back("--draco");
     const RunResult exported = RunSdcb(args, dir);
     ASSERT_EQ(exported.exit_code, 0) << exported.err;
@@ -168,8 +167,8 @@ TEST(GltfAssetCliTest, SceneOfASharedMeshComesBackWithItsNodesAndMaterials) {
     EXPECT_EQ(primitives[0]["material"], 1);
     EXPECT_EQ(primitives[1]["material"], 0);
     if (draco) {
-      EXPECT_TRUE(primitives[0]["extensions"].contains(
-          "KHR_draco_mesh_compression"));
+      EXPECT_TRUE(
+          primitives[0]["extensions"].contains("KHR_draco_mesh_compression"));
       continue;
     }
     // Each primitive's surface lies around its own octahedron: every
@@ -192,35 +191,50 @@ TEST(GltfAssetCliTest, SceneOfASharedMeshComesBackWithItsNodesAndMaterials) {
   }
 }
 
-TEST(GltfAssetCliTest, BoxTexturedKeepsItsSceneAndEmbedsItsImage) {
-  const std::string gltf = std::string(testing::kAssimpGltf2) +
-                           "/BoxTextured-glTF/BoxTextured.gltf";
+TEST(GltfAssetCliTest, BoxTexturedKeepsItsSceneAndComesOutTextured) {
+  const std::string gltf =
+      std::string(testing::kAssimpGltf2) + "/BoxTextured-glTF/BoxTextured.gltf";
   if (!std::filesystem::exists(gltf)) GTEST_SKIP() << "no assimp-testmodels";
   const std::string dir = FreshTestDir();
-  const std::string model = dir + "/box.sdcb", out = dir + "/box.glb";
+  const std::string model = dir + "/box.sdcb";
   RunResult r =
       RunSdcb({"fit", gltf, "-o", model, "--rmse", "0.5", "--quiet"}, dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = RunSdcb({"export", model, "-o", out, "--tolerance", "0.5", "--quiet",
-               "--json", dir + "/export.json"},
-              dir);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const Json report = Validate(out, dir);
-  EXPECT_EQ(report["errors"], 0) << report.dump();
   const Json in = Json::parse(ReadBytes(gltf));
-  const Glb glb = ReadGlb(out);
-  EXPECT_EQ(glb.json["nodes"], in["nodes"]);
-  EXPECT_EQ(glb.json["meshes"][0]["name"], in["meshes"][0]["name"]);
-  // The PNG moved into the GLB: its bytes are the file's.
-  const Json& image = glb.json["images"][0];
-  ASSERT_TRUE(image.contains("bufferView"));
-  EXPECT_EQ(image["mimeType"], "image/png");
-  const Json& view = glb.json["bufferViews"][image["bufferView"].get<int>()];
-  const std::string png = ReadBytes(std::string(testing::kAssimpGltf2) +
-                                    "/BoxTextured-glTF/CesiumLogoFlat.png");
-  EXPECT_EQ(glb.bin.substr(view.value("byteOffset", size_t{0}),
-                           view["byteLength"].get<size_t>()),
-            png);
+  for (const char* compression : {"", "--draco"}) {
+    const std::string out = dir + "/box" + compression + ".glb";
+    std::vector<std::string> args = {"export",      model, "-o",     out,
+                                     "--tolerance", "0.5", "--quiet"};
+    if (*compression != '\0') args.push_back(compression);
+    r = RunSdcb(args, dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Json report = Validate(out, dir);
+    EXPECT_EQ(report["errors"], 0) << report.dump();
+    const Glb glb = ReadGlb(out);
+    EXPECT_EQ(glb.json["nodes"], in["nodes"]);
+    EXPECT_EQ(glb.json["meshes"][0]["name"], in["meshes"][0]["name"]);
+    // The fitted primitive samples a texture through TEXCOORD_0: its
+    // material's base colour texture is an embedded PNG (the atlas; the
+    // input's image, which nothing uses any more, is gone).
+    const Json& primitive = glb.json["meshes"][0]["primitives"][0];
+    EXPECT_TRUE(primitive["attributes"].contains("TEXCOORD_0"))
+        << primitive.dump();
+    const Json& material =
+        glb.json["materials"][primitive["material"].get<int>()];
+    ASSERT_TRUE(material["pbrMetallicRoughness"].contains("baseColorTexture"))
+        << material.dump();
+    const int texture =
+        material["pbrMetallicRoughness"]["baseColorTexture"]["index"]
+            .get<int>();
+    const Json& image =
+        glb.json["images"][glb.json["textures"][texture]["source"].get<int>()];
+    ASSERT_TRUE(image.contains("bufferView"));
+    EXPECT_EQ(image["mimeType"], "image/png");
+    EXPECT_EQ(glb.json["images"].size(), 1u);
+    const Json& view = glb.json["bufferViews"][image["bufferView"].get<int>()];
+    EXPECT_EQ(glb.bin.substr(view.value("byteOffset", size_t{0}), 8),
+              std::string("\x89PNG\r\n\x1a\n", 8));
+  }
 }
 
 }  // namespace

@@ -1,0 +1,53 @@
+// Point location on a triangulated region of the unit sphere: which
+// spherical triangle (great-arc edges) holds a direction, and where in it.
+// The map of a mesh part to its sphere (the fit's parameters) is such a
+// triangulation; the texture bake (converters/gltf/texture_bake.h) asks it
+// for every texel of an atlas.
+#ifndef SDCB_CORE_SPHERE_SPHERE_TRIANGLE_LOCATOR_H_
+#define SDCB_CORE_SPHERE_SPHERE_TRIANGLE_LOCATOR_H_
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace sdcb {
+
+class SphereTriangleLocator {
+ public:
+  // `points`: #V by 3 unit vectors; `faces`: #F by 3 rows into them, each
+  // triangle within an open hemisphere, in either orientation. Both are
+  // copied. Triangles are bucketed on a cube-map grid (cube faces as in
+  // core/sphere/cube_atlas.h, about two triangles per cell): the gnomonic
+  // projection maps great arcs to segments, so the box of a triangle's
+  // projected corners covers every cell it meets.
+  SphereTriangleLocator(const Eigen::MatrixX3d& points,
+                        const Eigen::MatrixX3i& faces);
+
+  struct Location {
+    int face = -1;  // -1: no triangle holds the direction
+    // Weights of the corners, summing to 1: those of the point where the
+    // ray of the direction meets the flat triangle of the three corners
+    // (spherical barycentric coordinates, eq. 2, normalized).
+    Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();
+  };
+
+  // The lowest-numbered triangle that holds `direction` (any nonzero
+  // vector), its boundary included, decided with exact signs (Det3Sign).
+  Location Locate(const Eigen::Vector3d& direction) const;
+
+  // Whether triangle `face` holds `direction` (exact, boundary included).
+  bool Holds(int face, const Eigen::Vector3d& direction) const;
+
+ private:
+  int CellOf(int face, const Eigen::Vector2d& ab) const;
+
+  Eigen::MatrixX3d points_;
+  Eigen::MatrixX3i faces_;       // each counter-clockwise seen from outside
+  std::vector<char> flipped_;    // per face: corners 1 and 2 swapped
+  int n_ = 1;                    // cells per cube-face side
+  std::vector<int> cell_begin_;  // 6 n^2 + 1 offsets into cell_faces_
+  std::vector<int> cell_faces_;  // ascending per cell
+};
+
+}  // namespace sdcb
+
+#endif  // SDCB_CORE_SPHERE_SPHERE_TRIANGLE_LOCATOR_H_
