@@ -14,11 +14,10 @@
 #include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/mesh/mesh_parts.h"
-#include "sdcb/core/spline/model.h"
 #include "sdcb/core/mesh/self_intersections.h"
 #include "sdcb/core/mesh/triangle_mesh.h"
 #include "sdcb/core/mesh/vertex_welding.h"
-#include "sdcb/converters/gltf/gltf_import.h"
+#include "sdcb/core/spline/model.h"
 #include "sdcb/io/mesh/mesh_reader.h"
 
 namespace sdcb::cli {

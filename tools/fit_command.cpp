@@ -319,8 +319,8 @@ int RunFit(const std::vector<std::string>& argv) {
                                             : int{tbb::task_arena::automatic});
   MeshIntakeNotes notes;
   MeshOrigin origin;
-  StatusOr<TriangleMesh> mesh = arena.execute(
-      [&] { return ReadMeshToFit(args, path, &notes, &origin); });
+  StatusOr<TriangleMesh> mesh =
+      arena.execute([&] { return ReadMeshToFit(args, path, &notes, &origin); });
   if (!mesh.ok()) return ReportError(mesh.status());
   ModelFitOptions model_options;
   model_options.max_parts =
@@ -335,10 +335,10 @@ int RunFit(const std::vector<std::string>& argv) {
   });
   if (!intake.ok()) {
     return ReportError(
-        NameRefusedPrimitive(Status(intake.status().code(),
-                                    WithSeamHint(intake.status().message(),
-                                                 notes.seams)),
-                             *mesh, origin, model_options)
+        NameRefusedPrimitive(
+            Status(intake.status().code(),
+                   WithSeamHint(intake.status().message(), notes.seams)),
+            *mesh, origin, model_options)
             .WithPrefix(path));
   }
   // A glTF input's primitives are in their own local frames: pairs of

@@ -8,6 +8,9 @@
 #include <cstdio>
 #include <sstream>
 
+#include "sdcb/core/mesh/mesh_topology.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
+
 namespace sdcb {
 namespace {
 
@@ -52,36 +55,34 @@ StatusOr<std::string> EncodeSurfaceMesh(const SurfaceMesh& mesh,
     }
     handles.push_back(h);
   }
-  // OpenMesh reports a face it refuses on its own error stream; a library
-  // does not print (the refusal is handled below), so that is off meanwhile.
-  OpenMesh::mostream& om_errors = omerr();
-  const bool errors_shown = om_errors.is_enabled();
-  om_errors.disable();
-  struct Restore {
-    OpenMesh::mostream& stream;
-    bool shown;
-    ~Restore() {
-      if (shown) stream.enable();
-    }
-  } restore{om_errors, errors_shown};
+  // A mesh OpenMesh's half-edge structure cannot hold (a non-manifold or
+  // inconsistently oriented kept part) is found first, so that no face is
+  // refused (OpenMesh would print that on its own error stream): the OBJ is
+  // written as given; PLY and STL (one mesh of floats) get every face on
+  // copies of its three vertices, as OpenMesh's readers do.
+  TriangleMesh triangles;
+  triangles.vertices = mesh.positions;
+  triangles.faces = mesh.faces;
+  const StatusOr<MeshTopologyReport> topology = AnalyzeMeshTopology(triangles);
+  bool soup = !topology.ok() || topology->non_manifold_edges > 0 ||
+              topology->non_manifold_vertices > 0 ||
+              topology->inconsistently_oriented_edges > 0;
+  for (Eigen::Index f = 0; !soup && f < mesh.faces.rows(); ++f) {
+    const auto& c = mesh.faces.row(f);
+    soup = c(0) == c(1) || c(1) == c(2) || c(2) == c(0);
+  }
+  if (soup && ext == ".obj") return EncodeObjWithDoubles(mesh);
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
-    if (om.add_face(handles[mesh.faces(f, 0)], handles[mesh.faces(f, 1)],
-                    handles[mesh.faces(f, 2)])
-            .is_valid()) {
-      continue;
-    }
-    // A face that is not manifold: the OBJ is written as given; PLY and STL
-    // (one mesh of floats) get the face on copies of its three vertices, as
-    // OpenMesh's readers do.
-    if (ext == ".obj") return EncodeObjWithDoubles(mesh);
-    OmMesh::VertexHandle copies[3];
+    OmMesh::VertexHandle corners[3];
     for (int k = 0; k < 3; ++k) {
       const OmMesh::VertexHandle h = handles[mesh.faces(f, k)];
-      copies[k] = om.add_vertex(om.point(h));
-      if (normals) om.set_normal(copies[k], om.normal(h));
-      if (colors) om.set_color(copies[k], om.color(h));
+      corners[k] = h;
+      if (!soup) continue;
+      corners[k] = om.add_vertex(om.point(h));
+      if (normals) om.set_normal(corners[k], om.normal(h));
+      if (colors) om.set_color(corners[k], om.color(h));
     }
-    if (!om.add_face(copies[0], copies[1], copies[2]).is_valid()) {
+    if (!om.add_face(corners[0], corners[1], corners[2]).is_valid()) {
       return InvalidInputError("face " + std::to_string(f) +
                                " cannot be written");
     }

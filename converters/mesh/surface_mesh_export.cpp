@@ -724,8 +724,7 @@ StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
 StatusOr<SurfaceMeshExport> ExportSurfaceMesh(
     const SplineModel& model, const SurfaceMeshExportOptions& options) {
   static const std::vector<TrimLoop> kNoTrims;
-  return ExportParts({{&model, &kNoTrims, nullptr, "", "part1"}}, options,
-                     "");
+  return ExportParts({{&model, &kNoTrims, nullptr, "", "part1"}}, options, "");
 }
 
 StatusOr<SurfaceMeshExportReport> WriteSurfaceMeshExport(

@@ -86,8 +86,7 @@ bool NeedsVersion4(const Model& model) {
   if (model.parts.size() != 1) return true;
   const ModelPart& part = model.parts[0];
   return part.kept || !part.name.empty() || part.trimmed() ||
-         !model.asset.empty() ||
-         !SameSource(model.source, part.spline.source);
+         !model.asset.empty() || !SameSource(model.source, part.spline.source);
 }
 
 // TRIM: u64 number of loops L >= 1, L x u64 point counts, then the points of
