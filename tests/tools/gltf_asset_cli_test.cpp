@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "testing/gltf_assets.h"
+#include "testing/gltf_validator.h"
 #include "testing/run_sdcb.h"
 
 namespace sdcb {
@@ -60,14 +61,10 @@ std::vector<std::array<float, 3>> Vec3s(const Glb& glb, int a) {
   return out;
 }
 
-// The Khronos validator's report of `file` (one JSON line).
+// The Khronos validator's report of `file`.
 Json Validate(const std::string& file, const std::string& dir) {
-  const std::string out = dir + "/validator.out";
-  std::system(("node " + std::string(SDCB_SOURCE_DIR) +
-               "/scripts/gltf_tools/validate.js " + file + " > " + out +
-               " 2>&1")
-                  .c_str());
-  return Json::parse(ReadBytes(out));
+  const std::vector<Json> reports = testing::ValidateGltf({file}, dir);
+  return reports.empty() ? Json{{"errors", -1}} : reports[0];
 }
 
 // An octahedron of "radius" r around c: 6 vertices, 8 faces outward.

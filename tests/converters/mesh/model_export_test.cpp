@@ -20,6 +20,7 @@
 #include "sdcb/core/common/constants.h"
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/io/mesh/mesh_reader.h"
+#include "testing/gltf_validator.h"
 #include "testing/open_sphere.h"
 #include "testing/run_sdcb.h"
 #include "testing/temp_dir.h"
@@ -208,14 +209,14 @@ TEST_F(ModelExportTest, GltfOfTwoPartsPassesTheValidatorWithTwoNodes) {
       {"plain.gltf", ExportFormat::kGltf, GltfCompression::kNone},
       {"draco.glb", ExportFormat::kGlb, GltfCompression::kDraco},
       {"meshopt.gltf", ExportFormat::kGltf, GltfCompression::kMeshopt}};
-  std::string files;
+  std::vector<std::string> files;
   for (const Case& c : cases) {
     SurfaceMeshExportOptions o = Options(c.format);
     o.compression = c.compression;
     auto exported = ExportSurfaceMesh(model, o);
     ASSERT_TRUE(exported.ok()) << exported.status().message();
     std::ofstream(dir + "/" + c.name, std::ios::binary) << exported->bytes;
-    files += " " + testing::ShellQuote(dir + "/" + c.name);
+    files.push_back(dir + "/" + c.name);
     if (c.format == ExportFormat::kGltf) {
       const auto j = nlohmann::json::parse(exported->bytes);
       ASSERT_EQ(j["nodes"].size(), 2u) << c.name;
@@ -226,23 +227,12 @@ TEST_F(ModelExportTest, GltfOfTwoPartsPassesTheValidatorWithTwoNodes) {
       EXPECT_EQ(j["scenes"][0]["nodes"], nlohmann::json({0, 1}));
     }
   }
-  const std::string out_file = dir + "/validator.out";
-  const int status = std::system(("node " + std::string(SDCB_SOURCE_DIR) +
-                                  "/scripts/gltf_tools/validate.js" + files +
-                                  " > " + out_file + " 2>&1")
-                                     .c_str());
-  const std::string out = testing::ReadBytes(out_file);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
-  std::istringstream lines(out);
-  std::string line;
-  int checked = 0;
-  while (std::getline(lines, line)) {
-    const auto j = nlohmann::json::parse(line);
-    EXPECT_EQ(j["errors"], 0) << line;
-    EXPECT_EQ(j["warnings"], 0) << line;
-    ++checked;
+  const std::vector<nlohmann::json> reports = testing::ValidateGltf(files, dir);
+  EXPECT_EQ(reports.size(), cases.size());
+  for (const nlohmann::json& j : reports) {
+    EXPECT_EQ(j["errors"], 0) << j.dump();
+    EXPECT_EQ(j["warnings"], 0) << j.dump();
   }
-  EXPECT_EQ(checked, static_cast<int>(cases.size()));
 }
 
 // Part 1 fitted, part 2 a kept torus, part 3 a kept fan (not manifold):
@@ -257,7 +247,7 @@ TEST_F(ModelExportTest, KeptPartsPassThroughToGltfAsTheirOwnNodes) {
   model.parts.emplace_back();
   model.parts[2].name = "fan";
   model.parts[2].kept = KeptMesh{testing::NonManifoldFan(5.0), "part 3: fan"};
-  std::string files;
+  std::vector<std::string> files;
   for (const GltfCompression compression :
        {GltfCompression::kNone, GltfCompression::kDraco,
         GltfCompression::kMeshopt}) {
@@ -268,7 +258,7 @@ TEST_F(ModelExportTest, KeptPartsPassThroughToGltfAsTheirOwnNodes) {
     const std::string name =
         dir + "/kept" + std::to_string(static_cast<int>(compression)) + ".gltf";
     std::ofstream(name, std::ios::binary) << exported->bytes;
-    files += " " + testing::ShellQuote(name);
+    files.push_back(name);
     const auto j = nlohmann::json::parse(exported->bytes);
     ASSERT_EQ(j["nodes"].size(), 3u);
     EXPECT_EQ(j["nodes"][1]["name"], "part2");
@@ -286,22 +276,9 @@ TEST_F(ModelExportTest, KeptPartsPassThroughToGltfAsTheirOwnNodes) {
     }
     EXPECT_EQ(exported->report.parts, 3);
   }
-  const std::string out_file = dir + "/validator.out";
-  const int status = std::system(("node " + std::string(SDCB_SOURCE_DIR) +
-                                  "/scripts/gltf_tools/validate.js" + files +
-                                  " > " + out_file + " 2>&1")
-                                     .c_str());
-  const std::string out = testing::ReadBytes(out_file);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
-  std::istringstream lines(out);
-  std::string line;
-  int checked = 0;
-  while (std::getline(lines, line)) {
-    const auto j = nlohmann::json::parse(line);
-    EXPECT_EQ(j["errors"], 0) << line;
-    ++checked;
-  }
-  EXPECT_EQ(checked, 3);
+  const std::vector<nlohmann::json> reports = testing::ValidateGltf(files, dir);
+  EXPECT_EQ(reports.size(), 3u);
+  for (const nlohmann::json& j : reports) EXPECT_EQ(j["errors"], 0) << j.dump();
 }
 
 TEST_F(ModelExportTest, UniformMeshOfATrimmedPartIsRefusedNamingIt) {
