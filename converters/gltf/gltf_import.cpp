@@ -122,10 +122,13 @@ struct ImageBytes {
   int64_t budget = 0;
 };
 
-bool KeepImageBytes(tinygltf::Image*, const int index, std::string* err,
+bool KeepImageBytes(tinygltf::Image* image, const int index, std::string* err,
                     std::string*, int, int, const unsigned char* data,
                     int size, void* user) {
   auto* images = static_cast<ImageBytes*>(user);
+  // An image in a buffer view keeps its bytes there; tinygltf passes them
+  // without checking the view against its buffer, so they are not read.
+  if (image == nullptr || image->bufferView >= 0) return true;
   if (index < 0 || size < 0) return true;
   images->budget -= size;
   if (images->budget < 0) {
