@@ -314,6 +314,11 @@ StatusOr<PlacedRound> PlaceRound(const RoundContext& c,
       placed.shortfall = std::move(*limit);
       return placed;
     }
+    if (c.stop.Pauses(c.round,
+                      static_cast<int>(placed.configurations.sets.size()))) {
+      placed.paused = true;
+      return placed;
+    }
 
     // 3. Basis, samples, design matrix.
     c.progress.StartRoundStage(FitStage::kBasis, c.round);

@@ -47,6 +47,8 @@ struct PlacedRound {
   DelaunayConfigurations configurations;
   std::optional<RoundProblem> problem;
   std::string shortfall;
+  // Held back before its basis (StopRule::Pauses): no problem, no shortfall.
+  bool paused = false;
 };
 
 // Places `new_knots` knots by `density` with `fixed_knots` fixed (as many

@@ -35,13 +35,6 @@ bool AnyRoundFolded(const FitStatistics& stats) {
   return false;
 }
 
-// `kept` gets the seconds of `other`, a fit of the same input not returned.
-void AddSeconds(const FitResult& other, FitResult* kept) {
-  AddRoundStages(other.timings, &kept->timings);
-  kept->timings.parameterization += other.timings.parameterization;
-  kept->timings.total += other.timings.total;
-}
-
 std::string Summary(const FitResult& fit) {
   const RoundStatistics& r = fit.model.statistics.final_result;
   return std::to_string(r.control_points) + " control points, rms " +
@@ -77,15 +70,10 @@ FitResult FitAgainSplit(const TriangleMesh& mesh, const FitOptions& options,
                            returned.control_points > mesh.num_vertices();
   const bool folded = MissedFolded(first) && !intersects_itself;
   if (!dense_knots && !folded) return first;
-  if (!SplitForMap(mesh, options.retry_map_vertices)) return first;
-  FitOptions again = Retry(options, "split");
-  again.map_vertices = options.retry_map_vertices;
-  // Smooth: corners' clusters, had they been kept, would have ended it above
-  // (and they are tried on the input's own triangles only).
-  again.keep_features = false;
-  again.max_control_points =
-      std::min(options.max_control_points, returned.control_points);
-  StatusOr<FitResult> second = fit(again);
+  const std::optional<FitOptions> again =
+      SplitFitOptions(mesh, options, returned.control_points);
+  if (!again) return first;
+  StatusOr<FitResult> second = fit(*again);
   if (!second.ok()) return first;
   // Of two that reach, the one with fewer control points.
   const bool take_second =
@@ -155,6 +143,26 @@ FitResult FitWithSmallerLambdas(const TriangleMesh& mesh,
 
 }  // namespace
 
+void AddSeconds(const FitResult& other, FitResult* kept) {
+  AddRoundStages(other.timings, &kept->timings);
+  kept->timings.parameterization += other.timings.parameterization;
+  kept->timings.total += other.timings.total;
+}
+
+std::optional<FitOptions> SplitFitOptions(const TriangleMesh& mesh,
+                                          const FitOptions& options,
+                                          int max_control_points) {
+  if (!SplitForMap(mesh, options.retry_map_vertices)) return std::nullopt;
+  FitOptions again = Retry(options, "split");
+  again.map_vertices = options.retry_map_vertices;
+  // Smooth: corners' clusters, had they been kept, would have ended the
+  // first fit (and they are tried on the input's own triangles only).
+  again.keep_features = false;
+  again.max_control_points =
+      std::min(options.max_control_points, max_control_points);
+  return again;
+}
+
 bool ReplacesMissedFit(const FitResult& candidate, const FitResult& current,
                        const FitOptions& options) {
   if (candidate.reached_target()) return true;
@@ -177,11 +185,13 @@ bool RunsNoFurtherFits(const TriangleMesh& mesh, const FitOptions& options) {
 }
 
 FitResult FitAgain(const TriangleMesh& mesh, const FitOptions& options,
-                   FitResult first, const FitRunner& fit) {
+                   FitResult first, const FitRunner& fit,
+                   const FitRunner* split_fit) {
   const bool intersects_itself =
       MissedFolded(first) && IntersectsItself(mesh, options.threads);
   FitResult best =
-      FitAgainSplit(mesh, options, std::move(first), intersects_itself, fit);
+      FitAgainSplit(mesh, options, std::move(first), intersects_itself,
+                    split_fit != nullptr ? *split_fit : fit);
   return FitWithSmallerLambdas(mesh, options, std::move(best),
                                intersects_itself, fit);
 }

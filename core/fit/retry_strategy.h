@@ -9,6 +9,7 @@
 #define SDCB_CORE_FIT_RETRY_STRATEGY_H_
 
 #include <functional>
+#include <optional>
 
 #include "sdcb/core/common/status.h"
 #include "sdcb/core/fit/fit_options.h"
@@ -27,6 +28,16 @@ using FitRunner = std::function<StatusOr<FitResult>(const FitOptions&)>;
 bool ReplacesMissedFit(const FitResult& candidate, const FitResult& current,
                        const FitOptions& options);
 
+// `kept` gets the seconds of `other`, a fit of the same input not returned.
+void AddSeconds(const FitResult& other, FitResult* kept);
+
+// The options of the fit on `mesh` split to retry_map_vertices (smooth: no
+// feature rounds), with at most `max_control_points` control points; nullopt
+// when the map would not split `mesh` (SplitForMap).
+std::optional<FitOptions> SplitFitOptions(const TriangleMesh& mesh,
+                                          const FitOptions& options,
+                                          int max_control_points);
+
 // Whether `fit` missed its target with a round that folded.
 bool MissedFolded(const FitResult& fit);
 
@@ -38,8 +49,10 @@ bool RunsNoFurtherFits(const TriangleMesh& mesh, const FitOptions& options);
 // The further fits of `mesh` after `first` (above), run by `fit`; the fit to
 // return, with the seconds of all of them and, when it misses, what the
 // others did in its shortfall. The result is the same for any thread count.
+// `split_fit`, when given, runs the fit on the split input instead of `fit`.
 FitResult FitAgain(const TriangleMesh& mesh, const FitOptions& options,
-                   FitResult first, const FitRunner& fit);
+                   FitResult first, const FitRunner& fit,
+                   const FitRunner* split_fit = nullptr);
 
 }  // namespace sdcb
 

@@ -51,6 +51,7 @@ struct SplineFitter::State {
   // vertex, not a thinned round's cell values.
   bool vertex_errors_exact = true;
   bool finished = false;
+  bool paused = false;  // the latest AddRound held its round back
 
   template <typename F>
   auto InArena(F&& f) {
@@ -189,6 +190,28 @@ SplineFitter::~SplineFitter() = default;
 
 bool SplineFitter::finished() const { return !state_ || state_->finished; }
 
+void SplineFitter::PauseAbove(int control_points) {
+  if (!state_) return;
+  state_->stop.set_pause_above(control_points);
+  state_->paused = false;
+}
+
+bool SplineFitter::paused() const { return state_ && state_->paused; }
+
+bool SplineFitter::taken() const { return !state_; }
+
+bool SplineFitter::reached_target() const {
+  return state_ && state_->result.model.statistics.reached_target;
+}
+
+void SplineFitter::SetMaxControlPoints(int control_points) {
+  if (!state_) return;
+  State& s = *state_;
+  s.options.max_control_points = control_points;
+  s.stop.set_max_control_points(control_points);
+  s.result.model.statistics.options = RecordFitOptions(s.options);
+}
+
 int SplineFitter::rounds() const {
   return state_
              ? static_cast<int>(state_->result.model.statistics.rounds.size())
@@ -200,6 +223,9 @@ const SplineModel& SplineFitter::model() const { return state_->result.model; }
 Status SplineFitter::AddRound() {
   if (finished()) {
     return InvalidArgumentError("the fit is finished; no round can be added");
+  }
+  if (paused()) {
+    return InvalidArgumentError("the fit is paused; PauseAbove(0) resumes it");
   }
   return state_->InArena([&] {
     // The round on the feature clusters is an attempt: when it cannot be
@@ -233,6 +259,10 @@ Status SplineFitter::State::RunRound() {
       PlaceRound(context, density, model.knots,
                  stop.RoundKnots(rounds, static_cast<int>(model.knots.rows())),
                  on_features ? &feature_round.knots() : nullptr, &details));
+  if (placed.paused) {
+    paused = true;  // placed again, the same way, when resumed
+    return Status::Ok();
+  }
   if (!placed.problem) return Finish(false, std::move(placed.shortfall));
   RoundProblem& problem = *placed.problem;
   // 4. Least squares; 5. measure.
@@ -387,6 +417,14 @@ StatusOr<FitResult> RunFit(const Input& input, const FitOptions& options) {
   return fitter.TakeResult();
 }
 
+// Adds rounds until `fitter` is finished or paused.
+Status RunUntilPaused(SplineFitter* fitter) {
+  while (!fitter->finished() && !fitter->paused()) {
+    SDCB_RETURN_IF_ERROR(fitter->AddRound());
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
@@ -394,9 +432,61 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
   const FitRunner run = [&mesh](const FitOptions& o) {
     return RunFit(mesh, o);
   };
-  SDCB_ASSIGN_OR_RETURN(FitResult first, run(options));
-  if (RunsNoFurtherFits(mesh, options)) return first;
-  return FitAgain(mesh, options, std::move(first), run);
+  if (RunsNoFurtherFits(mesh, options)) return run(options);
+  // FitAgain fits a first fit that needs more control points than the input
+  // has vertices again on the split input. That split fit starts as soon as
+  // the first would pass that many, and runs as far: when it reaches the
+  // target there, it is what FitAgain returns, and the first fit stops.
+  // (Had the first fit gone on to miss with folds on an input that passes
+  // through itself, FitAgain would not have split; a split fit that reaches
+  // is returned.) Otherwise the first fit goes on, and FitAgain follows with
+  // the split fit continued where it paused: the same fits as without the
+  // pauses.
+  const int vertices = static_cast<int>(mesh.num_vertices());
+  SDCB_ASSIGN_OR_RETURN(SplineFitter first,
+                        SplineFitter::Create(mesh, options));
+  first.PauseAbove(vertices);
+  SDCB_RETURN_IF_ERROR(RunUntilPaused(&first));
+  std::optional<StatusOr<SplineFitter>> split;
+  if (first.paused()) {
+    if (const std::optional<FitOptions> split_options =
+            SplitFitOptions(mesh, options, options.max_control_points)) {
+      split = SplineFitter::Create(mesh, *split_options);
+      if (split->ok()) {
+        (*split)->PauseAbove(vertices);
+        const Status ran = RunUntilPaused(&**split);
+        if (!ran.ok()) split = ran;
+      }
+    }
+    if (split && split->ok() && (*split)->finished() &&
+        (*split)->reached_target()) {
+      FitResult early = (*split)->TakeResult();
+      early.split_retry_run = true;
+      early.split_retry_returned = true;
+      AddSeconds(first.TakeResult(), &early);
+      return early;
+    }
+    first.PauseAbove(0);
+    SDCB_RETURN_IF_ERROR(RunUntilPaused(&first));
+  }
+  if (!split) return FitAgain(mesh, options, first.TakeResult(), run);
+  // The split fit FitAgain asks for, with its control-point cap: the one
+  // started above, continued.
+  const FitRunner continue_split =
+      [&split](const FitOptions& o) -> StatusOr<FitResult> {
+    if (!split->ok()) return split->status();
+    SplineFitter& fitter = **split;
+    fitter.SetMaxControlPoints(o.max_control_points);
+    fitter.PauseAbove(0);
+    SDCB_RETURN_IF_ERROR(RunUntilPaused(&fitter));
+    return fitter.TakeResult();
+  };
+  FitResult best =
+      FitAgain(mesh, options, first.TakeResult(), run, &continue_split);
+  // A split fit FitAgain did not ask for still took its seconds.
+  if (split->ok() && !(*split)->taken())
+    AddSeconds((*split)->TakeResult(), &best);
+  return best;
 }
 
 StatusOr<FitResult> FitSphericalSpline(const FilledMesh& filled,

@@ -64,14 +64,31 @@ class SplineFitter {
 
   // No further round will run: the target is reached or a limit is hit.
   bool finished() const;
+
+  // From now on, AddRound holds back a round (after round 0) that would
+  // have more than `control_points` control points: it returns before the
+  // round's basis with nothing added, and paused() is true. PauseAbove
+  // again (0: never) resumes; the next AddRound places that round again,
+  // the same way. AddRound while paused is kInvalidArgument.
+  void PauseAbove(int control_points);
+  bool paused() const;
+  // The cap on control points from now on (FitOptions::max_control_points,
+  // also as the model records it).
+  void SetMaxControlPoints(int control_points);
+
+  // Whether the finished fit reached its target.
+  bool reached_target() const;
   // Rounds run so far.
   int rounds() const;
   // The model of the latest round (its control points, knots and
   // statistics); valid after the first AddRound.
   const SplineModel& model() const;
 
-  // The result; call once, after finished(). Leaves the fitter empty.
+  // The result; call once, after finished() (or, for the rounds so far and
+  // their seconds, when paused()). Leaves the fitter empty.
   FitResult TakeResult();
+  // Whether TakeResult was called.
+  bool taken() const;
 
  private:
   struct State;

@@ -73,6 +73,17 @@ class StopRule {
   std::optional<std::string> ControlPointLimit(int round,
                                                int control_points) const;
 
+  // Whether a round `round` of `control_points` control points is held back
+  // for the caller to decide (SplineFitter::PauseAbove): more than
+  // `pause_above` of them, round 0 never; 0 holds none back.
+  bool Pauses(int round, int control_points) const {
+    return round > 0 && pause_above_ > 0 && control_points > pause_above_;
+  }
+  void set_pause_above(int control_points) { pause_above_ = control_points; }
+  void set_max_control_points(int control_points) {
+    max_control_points_ = control_points;
+  }
+
   // After a round that did not reach the target (the last of `rounds`):
   // why the fit stops there (its shortfall), or nullopt when it goes on.
   // `estimated_rounds` becomes the rounds the fit will run at the recent
@@ -90,6 +101,7 @@ class StopRule {
   int max_rounds_;
   int max_fold_rounds_;
   int max_control_points_;
+  int pause_above_ = 0;
   int initial_knots_;
   int knots_per_round_;
   double knots_growth_;

@@ -296,6 +296,37 @@ TEST(SplineFitterTest, SteppedRoundByRoundItGivesFitSphericalSplinesModel) {
   EXPECT_EQ(once->lambda_retries_run, 0);
 }
 
+// Paused before every round after round 0 (PauseAbove(1)) and resumed each
+// time, a fit places each held-back round again the same way: the model is
+// the one never paused. AddRound while paused is refused.
+TEST(SplineFitterTest, PausedAndResumedItGivesTheModelNeverPaused) {
+  const TriangleMesh sphere = MakeIcosphere(2);
+  const FitOptions options = TinyFitOptions();
+  StatusOr<SplineFitter> fitter = SplineFitter::Create(sphere, options);
+  ASSERT_TRUE(fitter.ok()) << fitter.status().message();
+  int pauses = 0;
+  while (!fitter->finished()) {
+    fitter->PauseAbove(1);
+    ASSERT_TRUE(fitter->AddRound().ok());
+    if (!fitter->paused()) continue;
+    ++pauses;
+    ASSERT_LE(pauses, options.max_rounds);
+    const int rounds = fitter->rounds();
+    EXPECT_EQ(fitter->AddRound().code(), StatusCode::kInvalidArgument);
+    fitter->PauseAbove(0);
+    EXPECT_FALSE(fitter->paused());
+    ASSERT_TRUE(fitter->AddRound().ok());
+    EXPECT_EQ(fitter->rounds(), rounds + 1);
+  }
+  EXPECT_GE(pauses, 1);
+  const FitResult paused = fitter->TakeResult();
+  StatusOr<FitResult> once = FitSphericalSpline(sphere, options);
+  ASSERT_TRUE(once.ok()) << once.status().message();
+  EXPECT_EQ(once->model.knots, paused.model.knots);
+  EXPECT_EQ(once->model.control_points, paused.model.control_points);
+  EXPECT_EQ(once->vertex_errors_percent, paused.vertex_errors_percent);
+}
+
 // A fit of the sphere that misses, stepped by two AddRound calls: not
 // finished after the first, finished after the second with `rounds`
 // rounds; its result.
