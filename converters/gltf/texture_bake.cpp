@@ -68,7 +68,21 @@ StatusOr<GltfTexture> LoadTexture(const GltfDocument& document, int material) {
     return out;
   }
   const Json& info = m["pbrMetallicRoughness"]["baseColorTexture"];
-  if (info.value("texCoord", 0) != 0) return out;
+  int tex_coord = info.value("texCoord", 0);
+  if (info.contains("extensions") &&
+      info["extensions"].contains("KHR_texture_transform")) {
+    const Json& t = info["extensions"]["KHR_texture_transform"];
+    tex_coord = t.value("texCoord", tex_coord);
+    const std::array<double, 2> offset =
+        t.value("offset", std::array<double, 2>{0, 0});
+    const std::array<double, 2> scale =
+        t.value("scale", std::array<double, 2>{1, 1});
+    const double rotation = t.value("rotation", 0.0);
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    out.transform << c * scale[0], s * scale[1], offset[0], -s * scale[0],
+        c * scale[1], offset[1];
+  }
+  if (tex_coord != 0) return out;
   const Json& texture = doc.at("textures").at(info.at("index").get<size_t>());
   if (!texture.contains("source")) return out;
   if (texture.contains("sampler")) {
@@ -221,8 +235,9 @@ StatusOr<GltfTexture> LoadBaseColorTexture(const GltfDocument& document,
 
 Eigen::Vector4d SampleTexture(const GltfTexture& texture,
                               const Eigen::Vector2d& uv) {
-  const double x = uv[0] * texture.width - 0.5;
-  const double y = uv[1] * texture.height - 0.5;
+  const Eigen::Vector2d at = texture.transform * uv.homogeneous();
+  const double x = at[0] * texture.width - 0.5;
+  const double y = at[1] * texture.height - 0.5;
   const double fx = std::floor(x), fy = std::floor(y);
   const double wx = x - fx, wy = y - fy;
   // Far outside [0, 1] the wrap repeats; keep the indices in int range.

@@ -32,21 +32,28 @@ struct GltfTexture {
   // glTF sampler wrap modes: 33071 clamp to edge, 33648 mirrored repeat,
   // 10497 repeat (the default).
   int wrap_s = 10497, wrap_t = 10497;
+  // KHR_texture_transform of the texture reference: a texture coordinate uv
+  // is read at transform * (u, v, 1) (translation * rotation * scale, the
+  // extension's order); the identity without it.
+  Eigen::Matrix<double, 2, 3> transform =
+      Eigen::Matrix<double, 2, 3>::Identity();
 };
 
 // The base colour texture of material `material` of `document` (the image
 // of pbrMetallicRoughness.baseColorTexture, decoded from PNG, JPEG, TGA or
 // BMP with stb_image, and its sampler), or a GltfTexture of width 0 when the
-// material has none, samples a texture coordinate other than TEXCOORD_0, or
-// `material` is -1. KHR_texture_transform is not applied. kCorruptFile for
+// material has none, samples a texture coordinate other than TEXCOORD_0
+// (KHR_texture_transform's texCoord included), or `material` is -1; a
+// KHR_texture_transform on the reference becomes GltfTexture::transform.
+// kCorruptFile for
 // an image that does not decode; kInvalidInput for an index out of range;
 // kUnsupported for an image given by a URI whose file was not read.
 StatusOr<GltfTexture> LoadBaseColorTexture(const GltfDocument& document,
                                            int material);
 
-// `texture` (width > 0) at texture coordinate `uv` (u right, v down):
-// bilinear over the four nearest texel centres, wrapped by the sampler's
-// modes. Linear RGBA.
+// `texture` (width > 0) at texture coordinate `uv` (u right, v down), taken
+// through GltfTexture::transform: bilinear over the four nearest texel
+// centres, wrapped by the sampler's modes. Linear RGBA.
 Eigen::Vector4d SampleTexture(const GltfTexture& texture,
                               const Eigen::Vector2d& uv);
 

@@ -8,6 +8,7 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 #include "sdcb/core/mesh/icosphere.h"
@@ -75,6 +76,47 @@ TEST(TextureBakeTest, SamplerWrapModesFollowTheirDefinitions) {
   none.images = {"not an image"};
   EXPECT_EQ(LoadBaseColorTexture(none, 0).status().code(),
             StatusCode::kCorruptFile);
+}
+
+// KHR_texture_transform on the base colour texture: a sample at uv reads
+// the untransformed texture at translation * rotation * scale * (u, v, 1),
+// the three matrices as the extension defines them; its texCoord 1 means
+// no TEXCOORD_0 texture.
+TEST(TextureBakeTest, TextureTransformFollowsTheExtensionsMatrices) {
+  std::vector<uint8_t> rgb(3 * 8 * 8);
+  for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = (i * 37) % 251;
+  const std::string png = Png(8, 8, rgb);
+  const GltfDocument plain = DocumentWithImage(png, 10497);
+  GltfDocument moved = plain;
+  const std::string reference = R"("baseColorTexture":{"index":0})";
+  const std::string transformed =
+      R"("baseColorTexture":{"index":0,"extensions":{"KHR_texture_transform":)"
+      R"({"offset":[0.25,-0.5],"rotation":0.7,"scale":[2,0.5]}}})";
+  moved.json.replace(moved.json.find(reference), reference.size(), transformed);
+  const StatusOr<GltfTexture> a = LoadBaseColorTexture(plain, 0);
+  const StatusOr<GltfTexture> b = LoadBaseColorTexture(moved, 0);
+  ASSERT_TRUE(a.ok() && b.ok());
+  Eigen::Matrix3d translation, rotation, scale;
+  translation << 1, 0, 0.25, 0, 1, -0.5, 0, 0, 1;
+  rotation << std::cos(0.7), std::sin(0.7), 0, -std::sin(0.7), std::cos(0.7), 0,
+      0, 0, 1;
+  scale << 2, 0, 0, 0, 0.5, 0, 0, 0, 1;
+  for (const Eigen::Vector2d uv :
+       {Eigen::Vector2d(0.1, 0.2), Eigen::Vector2d(0.63, 0.91),
+        Eigen::Vector2d(-0.4, 1.3)}) {
+    const Eigen::Vector3d at =
+        translation * rotation * scale * uv.homogeneous();
+    EXPECT_LT((SampleTexture(*b, uv) - SampleTexture(*a, at.head<2>()))
+                  .cwiseAbs()
+                  .maxCoeff(),
+              1e-9);
+  }
+  GltfDocument other = moved;
+  other.json.replace(other.json.find(R"("rotation")"), 10,
+                     R"("texCoord":1,"rotation")");
+  const StatusOr<GltfTexture> c = LoadBaseColorTexture(other, 0);
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  EXPECT_EQ(c->width, 0);
 }
 
 // The unit sphere as a part, its sphere points its own vertices.
