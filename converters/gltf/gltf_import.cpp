@@ -18,6 +18,7 @@
 #include <set>
 
 #include "sdcb/converters/gltf/glb_container.h"
+#include "sdcb/converters/gltf/gltf_schema_check.h"
 
 namespace sdcb {
 namespace {
@@ -123,8 +124,8 @@ struct ImageBytes {
 };
 
 bool KeepImageBytes(tinygltf::Image* image, const int index, std::string* err,
-                    std::string*, int, int, const unsigned char* data,
-                    int size, void* user) {
+                    std::string*, int, int, const unsigned char* data, int size,
+                    void* user) {
   auto* images = static_cast<ImageBytes*>(user);
   // An image in a buffer view keeps its bytes there; tinygltf passes them
   // without checking the view against its buffer, so they are not read.
@@ -1168,20 +1169,17 @@ StatusOr<GltfAsset> Reader::Read() {
 // which has no data). A file that names either extension is rewritten for
 // it: such a primitive loses its `indices`, and a fallback buffer becomes a
 // data URI of 4 zero bytes (its views are decoded from the compressed
-// buffer, never read from it). Returns "" when nothing needs rewriting.
-StatusOr<std::string> RewriteForTinygltf(std::string_view bytes, bool binary) {
-  if (bytes.find("KHR_draco_mesh_compression") == std::string_view::npos &&
-      bytes.find("EXT_meshopt_compression") == std::string_view::npos) {
+// buffer, never read from it). `json_in_out` is the file's JSON, changed in
+// place; `chunks` the file's (a .gltf's text as chunks.json). Returns ""
+// when nothing needs rewriting.
+std::string RewriteForTinygltf(const GlbChunks& chunks, bool binary,
+                               nlohmann::json* json_in_out) {
+  if (chunks.json.find("KHR_draco_mesh_compression") ==
+          std::string_view::npos &&
+      chunks.json.find("EXT_meshopt_compression") == std::string_view::npos) {
     return std::string();
   }
-  GlbChunks chunks;
-  if (binary) {
-    SDCB_ASSIGN_OR_RETURN(chunks, SplitGlb(bytes));
-  } else {
-    chunks.json = bytes;
-  }
-  nlohmann::json json = nlohmann::json::parse(chunks.json, nullptr, false);
-  if (json.is_discarded() || !json.is_object()) return std::string();
+  nlohmann::json& json = *json_in_out;
   bool changed = false;
   const auto accessors = json.find("accessors");
   const auto meshes = json.find("meshes");
@@ -1225,6 +1223,19 @@ StatusOr<std::string> RewriteForTinygltf(std::string_view bytes, bool binary) {
   return PackGlb(json.dump(), std::string(chunks.bin));
 }
 
+// The file's JSON (a .gltf's text, a GLB's JSON chunk) parsed once:
+// checked against the schema's types (gltf_schema_check.h), then rewritten
+// for tinygltf if needed (RewriteForTinygltf). JSON that does not parse is
+// left to tinygltf, which names the syntax error. Returns "" when the bytes
+// go to tinygltf as they are.
+StatusOr<std::string> CheckAndRewriteJson(const GlbChunks& chunks,
+                                          bool binary) {
+  nlohmann::json json = nlohmann::json::parse(chunks.json, nullptr, false);
+  if (json.is_discarded()) return std::string();
+  SDCB_RETURN_IF_ERROR(CheckGltfSchemaTypes(json));
+  return RewriteForTinygltf(chunks, binary, &json);
+}
+
 StatusOr<GltfAsset> Load(std::string_view bytes, const std::string& base_dir,
                          const MeshReadLimits& limits) {
   if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
@@ -1243,9 +1254,14 @@ StatusOr<GltfAsset> Load(std::string_view bytes, const std::string& base_dir,
   tinygltf::Model model;
   std::string err, warn;
   const bool binary = bytes.size() >= 4 && bytes.substr(0, 4) == "glTF";
-  const std::string_view original = bytes;
+  GlbChunks chunks;  // views into the file's bytes
+  if (binary) {
+    SDCB_ASSIGN_OR_RETURN(chunks, SplitGlb(bytes));
+  } else {
+    chunks.json = bytes;
+  }
   SDCB_ASSIGN_OR_RETURN(const std::string rewritten,
-                        RewriteForTinygltf(bytes, binary));
+                        CheckAndRewriteJson(chunks, binary));
   if (!rewritten.empty()) bytes = rewritten;
   bool loaded = false;
   try {
@@ -1275,12 +1291,7 @@ StatusOr<GltfAsset> Load(std::string_view bytes, const std::string& base_dir,
   }
   SDCB_ASSIGN_OR_RETURN(GltfAsset asset, Reader(model, limits).Read());
   GltfDocument& document = asset.document;
-  if (binary) {
-    SDCB_ASSIGN_OR_RETURN(const GlbChunks chunks, SplitGlb(original));
-    document.json = std::string(chunks.json);
-  } else {
-    document.json = std::string(original);
-  }
+  document.json = std::string(chunks.json);
   for (tinygltf::Buffer& buffer : model.buffers) {
     document.buffers.emplace_back(buffer.data.begin(), buffer.data.end());
     buffer.data.clear();

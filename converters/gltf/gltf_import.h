@@ -4,9 +4,10 @@
 // equal position (UV and normal seams are not holes). Decodes
 // KHR_draco_mesh_compression (Draco's decoder), EXT_meshopt_compression
 // (libmeshoptimizer's codecs and filters) and the accessor types of
-// KHR_mesh_quantization. JSON parsing is tinygltf's; every accessor, buffer
-// view and index is checked against the bytes present, and every count
-// against MeshReadLimits, before anything is allocated for it. See
+// KHR_mesh_quantization. The JSON's types are checked against the glTF 2.0
+// schema (gltf_schema_check.h) before tinygltf parses it; every accessor,
+// buffer view and index is checked against the bytes present, and every
+// count against MeshReadLimits, before anything is allocated for it. See
 // docs/INTAKE.md ("glTF").
 #ifndef SDCB_CONVERTERS_GLTF_GLTF_IMPORT_H_
 #define SDCB_CONVERTERS_GLTF_GLTF_IMPORT_H_
@@ -56,8 +57,8 @@ struct GltfPrimitive {
   int dropped_degenerate = 0;  // triangles dropped (two corners merged)
 };
 
-// The bytes of a glTF file as read (what MakeGltfShell keeps of it): its JSON text,
-// the data of every buffer (external files and data URIs resolved, a
+// The bytes of a glTF file as read (what MakeGltfShell keeps of it): its JSON
+// text, the data of every buffer (external files and data URIs resolved, a
 // GLB's BIN chunk for its buffer without a URI) and, per image, its encoded
 // bytes when the image is given by a URI ("" for one in a buffer view).
 struct GltfDocument {
@@ -86,7 +87,8 @@ struct GltfAsset {
 // glTF forbids: indices out of range, non-finite positions, node cycles, no
 // scene, no triangles; kCorruptFile for bytes that do not match: accessors
 // past their buffer views, wrong component types, undecodable Draco or
-// meshopt data, tinygltf's JSON errors; kUnsupported beyond `limits`).
+// meshopt data, JSON types the schema forbids, tinygltf's JSON errors;
+// kUnsupported beyond `limits`).
 StatusOr<GltfAsset> ReadGltfFromBuffer(std::string_view bytes,
                                        const MeshReadLimits& limits = {});
 
