@@ -54,7 +54,8 @@ StatusOr<GlbChunks> SplitGlb(std::string_view glb) {
   if (ReadU32(glb, 4) != 2) {
     return CorruptFileError("the GLB is of version " +
                             std::to_string(ReadU32(glb, 4)) +
-                            ", not 2 (glTF 2.0)");
+                            ", not 2 (glTF 2.0; `assimp export FILE "
+                            "OUT.glb -f glb2` converts glTF 1)");
   }
   const uint64_t json_length = ReadU32(glb, 12);
   if (ReadU32(glb, 16) != kJsonChunk) {

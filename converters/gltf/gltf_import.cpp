@@ -1223,6 +1223,25 @@ std::string RewriteForTinygltf(const GlbChunks& chunks, bool binary,
   return PackGlb(json.dump(), std::string(chunks.bin));
 }
 
+// kUnsupported, naming the converter, for a glTF 1 file (asset.version
+// "1", "1.x" or the number 1), whose layout the glTF 2.0 schema check would
+// otherwise report property by property.
+Status RequireGltf2(const nlohmann::json& json) {
+  if (!json.is_object() || !json.contains("asset")) return Status::Ok();
+  const nlohmann::json& asset = json["asset"];
+  if (!asset.is_object() || !asset.contains("version")) return Status::Ok();
+  const nlohmann::json& v = asset["version"];
+  // glTF 1 wrote the version as a string or, in early exporters, a number.
+  const std::string version = v.is_string()           ? v.get<std::string>()
+                              : v.is_number_integer() ? v.dump()
+                                                      : std::string();
+  if (version != "1" && version.rfind("1.", 0) != 0) return Status::Ok();
+  return UnsupportedError(
+      "the file is glTF " + version +
+      "; sdcb reads glTF 2.0 (`assimp export FILE OUT.glb -f glb2` converts "
+      "it)");
+}
+
 // The file's JSON (a .gltf's text, a GLB's JSON chunk) parsed once:
 // checked against the schema's types (gltf_schema_check.h), then rewritten
 // for tinygltf if needed (RewriteForTinygltf). JSON that does not parse is
@@ -1232,6 +1251,7 @@ StatusOr<std::string> CheckAndRewriteJson(const GlbChunks& chunks,
                                           bool binary) {
   nlohmann::json json = nlohmann::json::parse(chunks.json, nullptr, false);
   if (json.is_discarded()) return std::string();
+  SDCB_RETURN_IF_ERROR(RequireGltf2(json));
   SDCB_RETURN_IF_ERROR(CheckGltfSchemaTypes(json));
   return RewriteForTinygltf(chunks, binary, &json);
 }

@@ -434,6 +434,28 @@ TEST(GltfImport, MalformedAssimpTestModelsGiveOneSentenceEach) {
   }
 }
 
+// assimp-testmodels' glTF 1 files (their asset.version "1.0", or the
+// number 1 in the Cesium Milk Truck's; a GLB's header version 1) are
+// refused as glTF 1, naming the converter.
+TEST(GltfImport, GltfOneFilesAreRefusedAsSuch) {
+  const std::string dir = "/usr/share/assimp/models/glTF";
+  if (!std::filesystem::exists(dir)) GTEST_SKIP();
+  for (const char* file : {"BoxTextured-glTF/BoxTextured.gltf",
+                           "CesiumMilkTruck/CesiumMilkTruck.gltf"}) {
+    const Status s = ReadGltf(dir + "/" + file).status();
+    EXPECT_EQ(s.code(), StatusCode::kUnsupported) << s.message();
+    EXPECT_NE(s.message().find(": the file is glTF 1"), std::string::npos)
+        << s.message();
+    EXPECT_NE(s.message().find("-f glb2"), std::string::npos);
+  }
+  const Status glb =
+      ReadGltf(dir + "/BoxTextured-glTF-Binary/BoxTextured.glb").status();
+  EXPECT_EQ(glb.code(), StatusCode::kCorruptFile);
+  EXPECT_NE(glb.message().find("the GLB is of version 1, not 2"),
+            std::string::npos)
+      << glb.message();
+}
+
 TEST(GltfImport, EveryOtherAssimpTestModelIsRead) {
   if (!std::filesystem::exists(kAssimpGltf2)) GTEST_SKIP();
   std::set<std::string> refused;
