@@ -6,7 +6,10 @@
 # fit and export seconds, the Khronos validator's errors, then
 # gltf_texture_bench's row per primitive (colour differences in /255 at
 # output points against the input's closest point, two-sided distance in
-# % of the primitive's side). Usage: gltf_assets_table.sh [RMSE [TOL [OUT]]]
+# % of the primitive's side). Beside them, the tool a pipeline uses today:
+# gltfpack -cc on the input (quantized, meshopt-compressed, not simplified),
+# with the same rows. Bytes of every file. Usage: gltf_assets_table.sh
+# [RMSE [TOL [OUT]]]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RMSE=${1:-0.1}
@@ -38,9 +41,19 @@ for name in BoxTextured Duck CesiumMilkTruck; do
   for kind in out draco; do
     errors=$(node scripts/gltf_tools/validate.js "$OUT/$name.$kind.glb" |
       sed -n 's/.*"errors":\([0-9]*\).*/\1/p')
-    printf '== %s (%s): fit %.1f s, export %.1f s, validator errors %s\n' \
+    printf '== %s (%s): fit %.1f s, export %.1f s, validator errors %s, %s bytes (input %s)\n' \
       "$name" "$kind" "$(echo "$s1 - $s0" | bc)" "$(echo "$s2 - $s1" | bc)" \
-      "$errors"
+      "$errors" "$(stat -c %s "$OUT/$name.$kind.glb")" "$(stat -c %s "$in")"
     ./build/bench/gltf_texture_bench "$in" "$OUT/$name.$kind.glb"
   done
+  packed="$OUT/$name.gltfpack.glb"
+  g0=$(date +%s.%N)
+  scripts/gltf_tools/node_modules/.bin/gltfpack -i "$in" -o "$packed" -cc \
+    >/dev/null
+  g1=$(date +%s.%N)
+  errors=$(node scripts/gltf_tools/validate.js "$packed" |
+    sed -n 's/.*"errors":\([0-9]*\).*/\1/p')
+  printf '== %s (gltfpack -cc): %.1f s, validator errors %s, %s bytes\n' \
+    "$name" "$(echo "$g1 - $g0" | bc)" "$errors" "$(stat -c %s "$packed")"
+  ./build/bench/gltf_texture_bench "$in" "$packed"
 done

@@ -3,7 +3,9 @@
 // points sampled on the output's triangles (area-weighted, fixed seed),
 // their colour (the base colour texture at the interpolated TEXCOORD_0,
 // times COLOR_0) against the input's colour at the closest input point
-// (CGAL's AABB tree, core/mesh/mesh_distance.h, mesh-local frame): the
+// (CGAL's AABB tree, core/mesh/mesh_distance.h), both in the world frame
+// of the first node that shows the primitive's mesh (gltfpack's quantized
+// positions come with a dequantizing node transform): the
 // 50th / 90th / 99th percentiles of the largest RGB difference in sRGB
 // /255; and the dense two-sided distance (samples both ways, the largest
 // and the rms) in percent of the input primitive's largest bounding-box
@@ -95,6 +97,36 @@ double Percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<size_t>(q * v.size()))];
 }
 
+// The world transform of the first node (depth first from the scene's
+// roots) that shows mesh `mesh`; the identity when none does.
+Eigen::Matrix4d WorldOfMesh(const GltfAsset& asset, int mesh) {
+  std::vector<std::pair<int, Eigen::Matrix4d>> stack;
+  for (auto r = asset.roots.rbegin(); r != asset.roots.rend(); ++r) {
+    stack.emplace_back(*r, Eigen::Matrix4d::Identity());
+  }
+  while (!stack.empty()) {
+    const auto [n, parent] = stack.back();
+    stack.pop_back();
+    const GltfNode& node = asset.nodes[n];
+    const Eigen::Matrix4d world = parent * node.local;
+    if (node.mesh == mesh) return world;
+    for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) {
+      stack.emplace_back(*c, world);
+    }
+  }
+  return Eigen::Matrix4d::Identity();
+}
+
+// `p` with its positions in the world frame of WorldOfMesh.
+GltfPrimitive InWorld(const GltfAsset& asset, GltfPrimitive p) {
+  const Eigen::Matrix4d world = WorldOfMesh(asset, p.mesh);
+  Eigen::MatrixX3d& v = p.triangles.vertices;
+  v = ((v * world.topLeftCorner<3, 3>().transpose()).rowwise() +
+       world.topRightCorner<3, 1>().transpose())
+          .eval();
+  return p;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -113,15 +145,21 @@ int main(int argc, char** argv) {
   std::printf("%-24s %9s %9s %9s %6s %6s %6s %9s %9s\n", "primitive",
               "in_faces", "out_faces", "textured", "p50", "p90", "p99", "max_%",
               "rms_%");
-  for (const GltfPrimitive& pi : in->primitives) {
-    const GltfPrimitive* po = nullptr;
+  for (const GltfPrimitive& local_in : in->primitives) {
+    const GltfPrimitive* found = nullptr;
     for (const GltfPrimitive& q : out->primitives) {
-      if (q.mesh == pi.mesh && q.primitive == pi.primitive) po = &q;
+      if (q.mesh == local_in.mesh && q.primitive == local_in.primitive) {
+        found = &q;
+      }
     }
-    if (po == nullptr) {
-      std::printf("%-24s missing in the output\n", pi.name.c_str());
+    if (found == nullptr) {
+      std::printf("%-24s missing in the output\n", local_in.name.c_str());
       continue;
     }
+    const GltfPrimitive in_world = InWorld(*in, local_in);
+    const GltfPrimitive out_world = InWorld(*out, *found);
+    const GltfPrimitive& pi = in_world;
+    const GltfPrimitive* po = &out_world;
     StatusOr<GltfTexture> ti = LoadBaseColorTexture(in->document, pi.material);
     StatusOr<GltfTexture> to =
         LoadBaseColorTexture(out->document, po->material);
