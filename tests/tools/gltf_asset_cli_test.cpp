@@ -188,6 +188,31 @@ TEST(GltfAssetCliTest, SceneOfASharedMeshComesBackWithItsNodesAndMaterials) {
   }
 }
 
+// `sdcb batch` with a glTF row whose output is a .glb: the row's fit and
+// export give the asset back as `fit` then `export` do (nodes, materials,
+// both primitives), valid, with the row's JSON line saying ok.
+TEST(GltfAssetCliTest, BatchRowOfAGltfAssetWritesTheAssetBack) {
+  const std::string dir = FreshTestDir();
+  const std::string input = WriteSharedMeshScene(dir);
+  const std::string manifest = dir + "/rows.txt";
+  WriteBytes(manifest,
+             input + " " + dir + "/batch.glb --rmse 0.5 --tolerance 0.5\n");
+  const RunResult batch = RunSdcb(
+      {"batch", manifest, "--json-lines", dir + "/rows.jsonl", "--quiet"}, dir);
+  ASSERT_EQ(batch.exit_code, 0) << batch.err;
+  const Json row = Json::parse(ReadBytes(dir + "/rows.jsonl"));
+  EXPECT_EQ(row["status"], "ok") << row.dump();
+  EXPECT_EQ(row["steps"], Json::array({"fit", "export"}));
+  const Json report = Validate(dir + "/batch.glb", dir);
+  EXPECT_EQ(report["errors"], 0) << report.dump();
+  const Json in = Json::parse(ReadBytes(input));
+  const Glb glb = ReadGlb(dir + "/batch.glb");
+  EXPECT_EQ(glb.json["nodes"], in["nodes"]);
+  EXPECT_EQ(glb.json["materials"], in["materials"]);
+  ASSERT_EQ(glb.json["meshes"].size(), 1u);
+  EXPECT_EQ(glb.json["meshes"][0]["primitives"].size(), 2u);
+}
+
 TEST(GltfAssetCliTest, BoxTexturedKeepsItsSceneAndComesOutTextured) {
   const std::string gltf =
       std::string(testing::kAssimpGltf2) + "/BoxTextured-glTF/BoxTextured.gltf";
