@@ -11,6 +11,7 @@
 #include "sdcb/core/fit/spline_fitter.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/spline/spherical_spline.h"
+#include "testing/finger_mesh.h"
 #include "testing/honest_fit_errors.h"
 #include "testing/open_sphere.h"
 
@@ -219,6 +220,48 @@ TEST(FitModel, KeepUnfittableKeepsTheTorusAndTheFanAsTheyWere) {
   EXPECT_EQ(fit->model.parts[2].kept->mesh.vertices, fan.vertices);
   EXPECT_EQ(fit->model.parts[2].kept->mesh.faces, fan.faces);
   EXPECT_TRUE(fit->model.parts[1].spline.control_points.rows() == 0);
+  EXPECT_TRUE(ValidateModel(fit->model).ok());
+}
+
+// A part whose fit misses with a folded surface is kept as its mesh with
+// keep_unfittable, the reason naming the part, the folds and the fit's
+// shortfall. The finger of the thin-part test
+// (testing/finger_mesh.h: it folds at lambda 1 in four rounds, no further
+// fits; the same vertex order as there, as part 1) beside a sphere that
+// reaches.
+TEST(FitModel, KeepUnfittableKeepsAPartWhoseFitMissesFolded) {
+  TriangleMesh sphere = OpenEllipsoid(2, kAxes, {});
+  sphere.vertices.col(0).array() += 10.0;
+  const TriangleMesh finger = testing::FingerMesh(0.15, 3.0, 0.07);
+  const TriangleMesh mesh = testing::Concatenated(finger, sphere);
+  ModelFitOptions options;
+  options.fit.rmse_percent = 0.1;
+  options.fit.max_rounds = 4;
+  options.fit.retry_map_vertices = finger.num_vertices() + 1;
+  options.fit.retry_lambda_factors = {};
+  options.fit.threads = 2;
+  options.keep_unfittable = true;
+  StatusOr<ModelFit> fit = FitModel(mesh, options);
+  ASSERT_TRUE(fit.ok()) << fit.status().message();
+  ASSERT_EQ(fit->model.parts.size(), 2u);
+  EXPECT_TRUE(fit->model.parts[1].fitted());
+  EXPECT_TRUE(fit->parts[1].fit.reached_target());
+  const ModelPart& thin = fit->model.parts[0];
+  ASSERT_TRUE(thin.kept.has_value()) << fit->parts[0].fit.shortfall;
+  // The missed fit is still reported beside the kept mesh.
+  EXPECT_FALSE(fit->parts[0].fit.reached_target());
+  EXPECT_GT(fit->parts[0].fit.model.statistics.final_result.folded_area_percent,
+            0.0);
+  EXPECT_EQ(thin.kept->reason.rfind("part 1: the fit missed its targets "
+                                    "with a surface folded over ",
+                                    0),
+            0u)
+      << thin.kept->reason;
+  EXPECT_NE(thin.kept->reason.find(fit->parts[0].fit.shortfall),
+            std::string::npos);
+  EXPECT_EQ(thin.kept->mesh.vertices, finger.vertices);
+  EXPECT_EQ(thin.kept->mesh.faces, finger.faces);
+  EXPECT_TRUE(fit->reached_target());  // every fitted part
   EXPECT_TRUE(ValidateModel(fit->model).ok());
 }
 
