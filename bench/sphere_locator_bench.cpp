@@ -1,7 +1,8 @@
 // How fast SphereTriangleLocator (core/sphere/sphere_triangle_locator.h)
 // answers the texture bake's queries: per sphere triangulation, the build
 // time and one Locate per texel of a one-part cube atlas of tile side TILE
-// (the bake's directions), on one thread, with the fraction of texels held
+// (the bake's directions), on one thread (CPU seconds: steadier than wall
+// time on a shared machine), with the fraction of texels held
 // and an FNV-1a hash of every answer (face and weight bytes), so two builds
 // of the locator can be checked to answer identically.
 //   sphere_locator_bench [--tile TILE] [SPHERE_MESH ...]
@@ -15,10 +16,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <string>
 #include <vector>
 
-#include "sdcb/core/common/stopwatch.h"
 #include "sdcb/core/sphere/cube_atlas.h"
 #include "sdcb/core/sphere/sphere_triangle_locator.h"
 #include "sdcb/io/mesh/mesh_reader.h"
@@ -39,15 +40,19 @@ void Hash(const void* data, size_t bytes, uint64_t* h) {
   }
 }
 
+double CpuSeconds(std::clock_t start) {
+  return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+}
+
 void Run(const Input& in, int tile) {
-  sdcb::Stopwatch watch;
+  std::clock_t start = std::clock();
   const sdcb::SphereTriangleLocator locator(in.mesh.vertices, in.mesh.faces);
-  const double build_ms = 1e3 * watch.Seconds();
+  const double build_ms = 1e3 * CpuSeconds(start);
   sdcb::CubeAtlasLayout layout;
   layout.tile = tile;
   uint64_t hash = 1469598103934665603ull;
   long held = 0;
-  watch.Restart();
+  start = std::clock();
   for (int y = 0; y < layout.height(); ++y) {
     for (int x = 0; x < layout.width(); ++x) {
       const sdcb::CubeAtlasTexel texel = sdcb::CubeAtlasTexelAt(layout, x, y);
@@ -58,7 +63,7 @@ void Run(const Input& in, int tile) {
       held += at.face >= 0;
     }
   }
-  const double seconds = watch.Seconds();
+  const double seconds = CpuSeconds(start);
   const double texels = static_cast<double>(layout.width()) * layout.height();
   std::printf("%-28s %9d %9.1f %9.0f %9.3f %9.1f %7.4f %016llx\n",
               in.name.c_str(), in.mesh.num_faces(), build_ms, texels, seconds,

@@ -17,8 +17,10 @@ class SphereTriangleLocator {
   // triangle within an open hemisphere, in either orientation. Both are
   // copied. Triangles are bucketed on a cube-map grid (cube faces as in
   // core/sphere/cube_atlas.h, about two triangles per cell): the gnomonic
-  // projection maps great arcs to segments, so the box of a triangle's
-  // projected corners covers every cell it meets.
+  // projection maps great arcs to segments, so the box of the projected
+  // corners of a triangle clipped to a cube face's pyramid covers every cell
+  // of the face it meets. Triangles with det = 0 hold nothing and are left
+  // out.
   SphereTriangleLocator(const Eigen::MatrixX3d& points,
                         const Eigen::MatrixX3i& faces);
 
