@@ -1,10 +1,13 @@
 // How fast SphereTriangleLocator (core/sphere/sphere_triangle_locator.h)
-// answers the texture bake's queries: per sphere triangulation, the build
-// time and one Locate per texel of a one-part cube atlas of tile side TILE
-// (the bake's directions), on one thread (CPU seconds: steadier than wall
-// time on a shared machine), with the fraction of texels held
-// and an FNV-1a hash of every answer (face and weight bytes), so two builds
-// of the locator can be checked to answer identically.
+// answers: per sphere triangulation, the build time, the cells' size
+// (leaves, entries per triangle, longest list), and Locate's time per query
+// for two sets of directions: every texel of a one-part cube atlas of tile
+// side TILE (the texture bake's queries, uniform on the sphere) and as many
+// random points of random triangles (where the triangles are, so crowded
+// regions count by their triangles), on one thread, in CPU time (steadier
+// than wall time on a shared machine). Then the fraction of texels held and
+// an FNV-1a hash of every answer (face and weight bytes), so two builds of
+// the locator can be checked to answer identically.
 //   sphere_locator_bench [--tile TILE] [SPHERE_MESH ...]
 // SPHERE_MESH: a mesh whose vertices are on the unit sphere, e.g. one
 // written by `sdcb param MESH -o SPHERE_MESH.off` (rows are normalized).
@@ -17,6 +20,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -32,43 +36,68 @@ struct Input {
   sdcb::TriangleMesh mesh;
 };
 
-void Hash(const void* data, size_t bytes, uint64_t* h) {
-  const unsigned char* p = static_cast<const unsigned char*>(data);
-  for (size_t i = 0; i < bytes; ++i) {
-    *h ^= p[i];
-    *h *= 1099511628211ull;
-  }
-}
-
 double CpuSeconds(std::clock_t start) {
   return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
 }
 
-void Run(const Input& in, int tile) {
-  std::clock_t start = std::clock();
-  const sdcb::SphereTriangleLocator locator(in.mesh.vertices, in.mesh.faces);
-  const double build_ms = 1e3 * CpuSeconds(start);
-  sdcb::CubeAtlasLayout layout;
-  layout.tile = tile;
-  uint64_t hash = 1469598103934665603ull;
-  long held = 0;
-  start = std::clock();
-  for (int y = 0; y < layout.height(); ++y) {
-    for (int x = 0; x < layout.width(); ++x) {
-      const sdcb::CubeAtlasTexel texel = sdcb::CubeAtlasTexelAt(layout, x, y);
-      const sdcb::SphereTriangleLocator::Location at =
-          locator.Locate(texel.direction);
-      Hash(&at.face, sizeof(at.face), &hash);
-      Hash(at.barycentric.data(), 3 * sizeof(double), &hash);
-      held += at.face >= 0;
+// FNV-1a over the answers.
+struct Hash {
+  uint64_t h = 1469598103934665603ull;
+  void Add(const sdcb::SphereTriangleLocator::Location& at) {
+    Bytes(&at.face, sizeof(at.face));
+    Bytes(at.barycentric.data(), 3 * sizeof(double));
+  }
+  void Bytes(const void* data, size_t bytes) {
+    const unsigned char* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < bytes; ++i) {
+      h ^= p[i];
+      h *= 1099511628211ull;
     }
   }
-  const double seconds = CpuSeconds(start);
-  const double texels = static_cast<double>(layout.width()) * layout.height();
-  std::printf("%-28s %9d %9.1f %9.0f %9.3f %9.1f %7.4f %016llx\n",
-              in.name.c_str(), in.mesh.num_faces(), build_ms, texels, seconds,
-              1e9 * seconds / texels, held / texels,
-              static_cast<unsigned long long>(hash));
+};
+
+void Run(const Input& in, int tile) {
+  const sdcb::TriangleMesh& m = in.mesh;
+  std::clock_t start = std::clock();
+  const sdcb::SphereTriangleLocator locator(m.vertices, m.faces);
+  const double build_ms = 1e3 * CpuSeconds(start);
+  const sdcb::SphereTriangleLocator::CellStats stats = locator.Stats();
+  // The directions first, so only Locate is timed.
+  sdcb::CubeAtlasLayout layout;
+  layout.tile = tile;
+  std::vector<Eigen::Vector3d> texels, points;
+  for (int y = 0; y < layout.height(); ++y) {
+    for (int x = 0; x < layout.width(); ++x) {
+      texels.push_back(sdcb::CubeAtlasTexelAt(layout, x, y).direction);
+    }
+  }
+  std::mt19937 rng(1);
+  std::uniform_int_distribution<int> pick(0, m.num_faces() - 1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (size_t i = 0; i < texels.size(); ++i) {
+    const int f = pick(rng);
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (int c = 0; c < 3; ++c) p += u(rng) * m.vertices.row(m.faces(f, c));
+    points.push_back(p);
+  }
+  Hash hash;
+  long held = 0;
+  double ns[2];
+  for (int set = 0; set < 2; ++set) {
+    start = std::clock();
+    for (const Eigen::Vector3d& d : set == 0 ? texels : points) {
+      const sdcb::SphereTriangleLocator::Location at = locator.Locate(d);
+      hash.Add(at);
+      held += set == 0 && at.face >= 0;
+    }
+    ns[set] = 1e9 * CpuSeconds(start) / texels.size();
+  }
+  std::printf("%-26s %9d %8.1f %8d %7.2f %7d %9zu %9.1f %9.1f %7.4f %016llx\n",
+              in.name.c_str(), m.num_faces(), build_ms, stats.leaves,
+              static_cast<double>(stats.entries) / m.num_faces(), stats.longest,
+              texels.size(), ns[0], ns[1],
+              static_cast<double>(held) / texels.size(),
+              static_cast<unsigned long long>(hash.h));
 }
 
 }  // namespace
@@ -96,9 +125,12 @@ int main(int argc, char** argv) {
       inputs.push_back({name, sdcb::testing::CrowdedIcosphere(5, scale)});
     }
   }
-  std::printf("%-28s %9s %9s %9s %9s %9s %7s %16s\n", "sphere mesh",
-              "triangles", "build ms", "texels", "locate s", "ns/texel", "held",
-              "answers' hash");
+  std::printf("%-26s %9s %8s %8s %7s %7s %9s %9s %9s %7s %16s\n", "sphere mesh",
+              "triangles", "build ms", "leaves", "entries", "longest",
+              "queries", "ns/texel", "ns/point", "held", "answers' hash");
+  std::printf("%-26s %9s %8s %8s %7s %7s %9s %9s %9s %7s %16s\n", "", "",
+              "(CPU)", "", "per tri", "list", "per set", "(CPU)", "(CPU)",
+              "texels", "");
   for (const Input& in : inputs) Run(in, tile);
   return 0;
 }

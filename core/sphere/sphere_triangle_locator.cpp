@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <queue>
+#include <utility>
 
 #include "sdcb/core/sphere/cube_atlas.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
@@ -94,6 +96,163 @@ int GridCell(double u, int n) {
   return std::clamp(static_cast<int>(std::floor((u + 1) / 2 * n)), 0, n - 1);
 }
 
+// A cell splits into four while it lists more than kLeafTriangles, at most
+// kMaxDepth times below a grid cell (1/1024 of its side), unless its
+// quarters would list more than 5/2 times its triangles together, and while
+// the leaves list at most kEntriesPerTriangle times the triangles (or what
+// the grid alone lists, if more: its cells are about as large as the
+// triangles on average, so it lists a triangle about four to six times).
+constexpr int kLeafTriangles = 8;
+constexpr int kMaxDepth = 10;
+constexpr int kEntriesPerTriangle = 8;
+
+// A triangle's box on one cube face (FaceBox).
+struct TriangleBox {
+  int triangle = 0;
+  int face = 0;
+  Eigen::Vector2d lo, hi;
+};
+
+// A cell: the closed square [lo, hi] of gnomonic coordinates on its face.
+struct Square {
+  Eigen::Vector2d lo, hi;
+};
+
+Square GridSquare(int x, int y, int n) {
+  return {Eigen::Vector2d(-1.0 + 2.0 * x / n, -1.0 + 2.0 * y / n),
+          Eigen::Vector2d(-1.0 + 2.0 * (x + 1) / n, -1.0 + 2.0 * (y + 1) / n)};
+}
+
+Eigen::Vector2d Middle(const Square& s) { return 0.5 * (s.lo + s.hi); }
+
+// The quarter of `s` that holds `ab` (a point of `s`): 2 * (a in the upper
+// half) + (b in the upper half); a point on a middle line goes up.
+int QuarterOf(const Square& s, const Eigen::Vector2d& ab) {
+  const Eigen::Vector2d m = Middle(s);
+  return 2 * (ab[0] >= m[0]) + (ab[1] >= m[1]);
+}
+
+Square Quarter(const Square& s, int q) {
+  const Eigen::Vector2d m = Middle(s);
+  Square out = s;
+  (q / 2 == 1 ? out.lo : out.hi)[0] = m[0];
+  (q % 2 == 1 ? out.lo : out.hi)[1] = m[1];
+  return out;
+}
+
+bool Meets(const TriangleBox& b, const Square& s) {
+  return b.lo[0] <= s.hi[0] && b.hi[0] >= s.lo[0] && b.lo[1] <= s.hi[1] &&
+         b.hi[1] >= s.lo[1];
+}
+
+// The cells of the grid of n by n cells per cube face for `boxes` (of
+// `triangles` triangles), split as above.
+struct Cells {
+  // As SphereTriangleLocator's cell_child_, cell_begin_, cell_faces_.
+  std::vector<int> child, begin, faces;
+};
+Cells BuildCells(int n, const std::vector<TriangleBox>& boxes,
+                 Eigen::Index triangles) {
+  // Cells: the grid's 6 n^2 (cell (face, x, y) is (face n + x) n + y), then
+  // quarters four at a time. While building, each lists its triangles' boxes
+  // (indices into `boxes`, ascending) at [begin, begin + count) of `listed`,
+  // where a split cell's list stays unused.
+  Cells out;
+  const int grid_cells = 6 * n * n;
+  std::vector<Square> square(grid_cells);
+  std::vector<int> depth(grid_cells, 0), begin(grid_cells + 1, 0),
+      count(grid_cells, 0);
+  out.child.assign(grid_cells, -1);
+  for (int c = 0; c < grid_cells; ++c) {
+    square[c] = GridSquare(c / n % n, c % n, n);
+  }
+  // Two passes over the boxes' grid cells: count, then fill.
+  std::vector<int> listed;
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) {
+      for (int c = 0; c < grid_cells; ++c) begin[c + 1] = begin[c] + count[c];
+      listed.resize(begin[grid_cells]);
+      std::fill(count.begin(), count.end(), 0);
+    }
+    for (size_t i = 0; i < boxes.size(); ++i) {
+      const TriangleBox& b = boxes[i];
+      for (int x = GridCell(b.lo[0], n); x <= GridCell(b.hi[0], n); ++x) {
+        for (int y = GridCell(b.lo[1], n); y <= GridCell(b.hi[1], n); ++y) {
+          const int c = (b.face * n + x) * n + y;
+          if (pass == 1) listed[begin[c] + count[c]] = static_cast<int>(i);
+          ++count[c];
+        }
+      }
+    }
+  }
+  begin.pop_back();
+  // Split the fullest cell first (ties: the lowest), so a cut budget is
+  // spent where the lists are longest.
+  const size_t budget = std::max(
+      listed.size(), static_cast<size_t>(kEntriesPerTriangle * triangles));
+  size_t live = listed.size();
+  std::priority_queue<std::pair<int, int>> fullest;  // (count, -cell)
+  for (int c = 0; c < grid_cells; ++c) {
+    if (count[c] > kLeafTriangles) fullest.emplace(count[c], -c);
+  }
+  while (!fullest.empty()) {
+    const int c = -fullest.top().second;
+    fullest.pop();
+    const size_t start = listed.size();
+    std::array<int, 4> quarter_count{};
+    for (int q = 0; q < 4; ++q) {
+      const Square s = Quarter(square[c], q);
+      for (int i = begin[c]; i < begin[c] + count[c]; ++i) {
+        const int box = listed[i];
+        if (!Meets(boxes[box], s)) continue;
+        listed.push_back(box);
+        ++quarter_count[q];
+      }
+    }
+    const size_t added = listed.size() - start;
+    // Quarters listing on average more than 5/8 of the cell's triangles:
+    // they are large against the cell (or slivers, whose boxes are), and
+    // splitting would mostly copy them.
+    if (2 * added > 5 * static_cast<size_t>(count[c])) {
+      listed.resize(start);
+      continue;
+    }
+    if (live + added - count[c] > budget) {
+      listed.resize(start);
+      break;
+    }
+    live += added - count[c];
+    const int first = static_cast<int>(square.size());
+    out.child[c] = first;
+    int at = static_cast<int>(start);
+    for (int q = 0; q < 4; ++q) {
+      square.push_back(Quarter(square[c], q));
+      depth.push_back(depth[c] + 1);
+      begin.push_back(at);
+      count.push_back(quarter_count[q]);
+      out.child.push_back(-1);
+      at += quarter_count[q];
+      if (quarter_count[q] > kLeafTriangles && depth[c] + 1 < kMaxDepth) {
+        fullest.emplace(quarter_count[q], -(first + q));
+      }
+    }
+  }
+  // The leaves' lists, in cell order, as triangle indices.
+  const int cells = static_cast<int>(square.size());
+  out.begin.assign(cells + 1, 0);
+  out.faces.clear();
+  out.faces.reserve(live);
+  for (int c = 0; c < cells; ++c) {
+    if (out.child[c] < 0) {
+      for (int i = begin[c]; i < begin[c] + count[c]; ++i) {
+        out.faces.push_back(boxes[listed[i]].triangle);
+      }
+    }
+    out.begin[c + 1] = static_cast<int>(out.faces.size());
+  }
+  return out;
+}
+
 }  // namespace
 
 SphereTriangleLocator::SphereTriangleLocator(const Eigen::MatrixX3d& points,
@@ -112,46 +271,39 @@ SphereTriangleLocator::SphereTriangleLocator(const Eigen::MatrixX3d& points,
     }
     flat[f] = det == 0;
   }
-  n_ = std::clamp(static_cast<int>(std::ceil(std::sqrt(nf / 12.0))), 1, 512);
-  const int cells = 6 * n_ * n_;
-  // Two passes over the triangles' cells: count, then fill.
-  std::vector<int> count(cells + 1, 0);
-  cell_faces_.clear();
-  for (int pass = 0; pass < 2; ++pass) {
-    std::vector<int> at;
-    if (pass == 1) {
-      cell_begin_.assign(cells + 1, 0);
-      for (int c = 0; c < cells; ++c)
-        cell_begin_[c + 1] = cell_begin_[c] + count[c];
-      cell_faces_.resize(cell_begin_[cells]);
-      at.assign(cell_begin_.begin(), cell_begin_.end() - 1);
-    }
-    for (Eigen::Index f = 0; f < nf; ++f) {
-      if (flat[f]) continue;
-      const std::array<Eigen::Vector3d, 3> t = {
-          points_.row(faces_(f, 0)).transpose(),
-          points_.row(faces_(f, 1)).transpose(),
-          points_.row(faces_(f, 2)).transpose()};
-      for (int face = 0; face < 6; ++face) {
-        Eigen::Vector2d lo, hi;
-        if (!FaceBox(t, face, &lo, &hi)) continue;
-        for (int x = GridCell(lo[0], n_); x <= GridCell(hi[0], n_); ++x) {
-          for (int y = GridCell(lo[1], n_); y <= GridCell(hi[1], n_); ++y) {
-            const int c = (face * n_ + x) * n_ + y;
-            if (pass == 0) {
-              ++count[c];
-            } else {
-              cell_faces_[at[c]++] = static_cast<int>(f);
-            }
-          }
-        }
-      }
+  std::vector<TriangleBox> boxes;
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    if (flat[f]) continue;
+    const std::array<Eigen::Vector3d, 3> t = {
+        points_.row(faces_(f, 0)).transpose(),
+        points_.row(faces_(f, 1)).transpose(),
+        points_.row(faces_(f, 2)).transpose()};
+    for (int face = 0; face < 6; ++face) {
+      TriangleBox b;
+      if (!FaceBox(t, face, &b.lo, &b.hi)) continue;
+      b.triangle = static_cast<int>(f);
+      b.face = face;
+      boxes.push_back(b);
     }
   }
+  n_ = std::clamp(static_cast<int>(std::ceil(std::sqrt(nf / 12.0))), 1, 512);
+  Cells cells = BuildCells(n_, boxes, nf);
+  cell_child_ = std::move(cells.child);
+  cell_begin_ = std::move(cells.begin);
+  cell_faces_ = std::move(cells.faces);
 }
 
-int SphereTriangleLocator::CellOf(int face, const Eigen::Vector2d& ab) const {
-  return (face * n_ + GridCell(ab[0], n_)) * n_ + GridCell(ab[1], n_);
+int SphereTriangleLocator::LeafOf(int face, const Eigen::Vector2d& ab) const {
+  const int x = GridCell(ab[0], n_), y = GridCell(ab[1], n_);
+  int c = (face * n_ + x) * n_ + y;
+  if (cell_child_[c] < 0) return c;
+  Square s = GridSquare(x, y, n_);
+  do {
+    const int q = QuarterOf(s, ab);
+    s = Quarter(s, q);
+    c = cell_child_[c] + q;
+  } while (cell_child_[c] >= 0);
+  return c;
 }
 
 bool SphereTriangleLocator::Holds(int face, const Eigen::Vector3d& p) const {
@@ -162,12 +314,23 @@ bool SphereTriangleLocator::Holds(int face, const Eigen::Vector3d& p) const {
          Det3Sign(c, a, p) >= 0 && Det3Sign(a, b, c) != 0;
 }
 
+SphereTriangleLocator::CellStats SphereTriangleLocator::Stats() const {
+  CellStats out;
+  for (size_t c = 0; c < cell_child_.size(); ++c) {
+    if (cell_child_[c] >= 0) continue;
+    ++out.leaves;
+    out.longest = std::max(out.longest, cell_begin_[c + 1] - cell_begin_[c]);
+  }
+  out.entries = static_cast<int64_t>(cell_faces_.size());
+  return out;
+}
+
 SphereTriangleLocator::Location SphereTriangleLocator::Locate(
     const Eigen::Vector3d& direction) const {
   Location out;
   if (faces_.rows() == 0) return out;
   const int face = CubeFaceOf(direction);
-  const int c = CellOf(face, GnomonicOnFace(direction, face));
+  const int c = LeafOf(face, GnomonicOnFace(direction, face));
   for (int i = cell_begin_[c]; i < cell_begin_[c + 1]; ++i) {
     const int f = cell_faces_[i];
     if (!Holds(f, direction)) continue;

@@ -3,7 +3,8 @@
 // weights with a dense solve, on a rotated icosphere with some triangles
 // turned over, and on half of it (directions outside find nothing); and
 // against a scan of every triangle with the exact Holds, bit for bit, on a
-// sphere crowded towards a pole (hundreds of triangles per grid cell), at
+// sphere crowded towards a pole (the grid's fullest cell, unsplit, lists a
+// hundred triangles), at
 // random directions and exactly on its vertices and edges.
 #include "sdcb/core/sphere/sphere_triangle_locator.h"
 
@@ -14,6 +15,7 @@
 #include <random>
 
 #include "sdcb/core/mesh/icosphere.h"
+#include "sdcb/core/sphere/cube_atlas.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/sphere/spherical_barycentric.h"
 #include "testing/crowded_sphere.h"
@@ -126,8 +128,8 @@ SphereTriangleLocator::Location BruteForce(const SphereTriangleLocator& locator,
 }
 
 TEST(SphereTriangleLocatorTest, MatchesEveryTriangleScanOnACrowdedSphere) {
-  // Area ratio ~10^4 between the poles' triangles: the south pole's grid
-  // cells hold hundreds of triangles. Rotated twice: the dense pole at a cube
+  // Area ratio ~10^4 between the poles' triangles: a grid cell at the south
+  // pole meets about a hundred. Rotated twice: the dense pole at a cube
   // face's centre, and near a cube corner (three faces meet there).
   const TriangleMesh crowded = testing::CrowdedIcosphere(3, 0.1);
   const Eigen::Matrix3d rotations[2] = {
@@ -145,6 +147,12 @@ TEST(SphereTriangleLocatorTest, MatchesEveryTriangleScanOnACrowdedSphere) {
       std::swap(faces(f, 1), faces(f, 2));  // either orientation is accepted
     }
     const SphereTriangleLocator locator(points, faces);
+    // The crowded cells were split (unsplit, the grid's fullest cell lists
+    // 101 triangles with the dense pole at a face's centre, 39 near a cube
+    // corner), within the memory bound.
+    const SphereTriangleLocator::CellStats stats = locator.Stats();
+    EXPECT_LE(stats.longest, 16);
+    EXPECT_LE(stats.entries, 8 * faces.rows());
     std::vector<Eigen::Vector3d> directions;
     std::mt19937 rng(5);
     for (int i = 0; i < 2000; ++i) directions.push_back(RandomDirection(&rng));
@@ -157,6 +165,15 @@ TEST(SphereTriangleLocatorTest, MatchesEveryTriangleScanOnACrowdedSphere) {
       directions.push_back(u(rng) * points.row(faces(f, 0)).transpose() +
                            u(rng) * points.row(faces(f, 1)).transpose() +
                            u(rng) * points.row(faces(f, 2)).transpose());
+    }
+    // A lattice on every cube face, its edges included (ties between faces).
+    for (int face = 0; face < 6; ++face) {
+      for (int i = -16; i <= 16; ++i) {
+        for (int j = -16; j <= 16; ++j) {
+          directions.push_back(
+              DirectionOnFace(face, Eigen::Vector2d(i / 16.0, j / 16.0)));
+        }
+      }
     }
     int on_edges = 0;
     for (Eigen::Index v = 0; v < points.rows(); ++v) {
