@@ -2,10 +2,10 @@
 // weights against a brute-force scan that solves for each triangle's
 // weights with a dense solve, on a rotated icosphere with some triangles
 // turned over, and on half of it (directions outside find nothing); and
-// against a scan of every triangle with the exact Holds, bit for bit, on a
-// sphere crowded towards a pole (the grid's fullest cell, unsplit, lists a
-// hundred triangles), at
-// random directions and exactly on its vertices and edges.
+// against a scan of every triangle with the exact predicate, bit for bit,
+// on a sphere crowded towards a pole (the grid's fullest cell, unsplit,
+// lists a hundred triangles), at random directions, exactly on its vertices
+// and edges, and within ~1e-15 of its edges.
 #include "sdcb/core/sphere/sphere_triangle_locator.h"
 
 #include <gtest/gtest.h>
@@ -103,20 +103,24 @@ TEST(SphereTriangleLocatorTest, DirectionsOutsideAnOpenRegionFindNothing) {
 }
 
 // What Locate must answer, from every triangle: the lowest-numbered one
-// that holds `d` (exact, boundary included), and its weights computed as the
-// contract says (eq. 2 with the corners counter-clockwise, normalized, in
-// the caller's corner order), so the comparison is bit for bit.
-SphereTriangleLocator::Location BruteForce(const SphereTriangleLocator& locator,
-                                           const Eigen::MatrixX3d& points,
+// that holds `d` (exact, boundary included: Det3Sign, CGAL's predicate, on
+// the corners counter-clockwise), and its weights computed as the contract
+// says (eq. 2 with the corners counter-clockwise, normalized, in the
+// caller's corner order), so the comparison is bit for bit.
+SphereTriangleLocator::Location BruteForce(const Eigen::MatrixX3d& points,
                                            const Eigen::MatrixX3i& faces,
                                            const Eigen::Vector3d& d) {
   SphereTriangleLocator::Location out;
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    if (!locator.Holds(static_cast<int>(f), d)) continue;
     Eigen::Vector3d t[3];
     for (int c = 0; c < 3; ++c) t[c] = points.row(faces(f, c)).transpose();
-    const bool flipped = Det3Sign(t[0], t[1], t[2]) < 0;
+    const int orientation = Det3Sign(t[0], t[1], t[2]);
+    const bool flipped = orientation < 0;
     if (flipped) std::swap(t[1], t[2]);
+    if (orientation == 0 || Det3Sign(t[0], t[1], d) < 0 ||
+        Det3Sign(t[1], t[2], d) < 0 || Det3Sign(t[2], t[0], d) < 0) {
+      continue;
+    }
     Eigen::Vector3d b = SphericalBarycentric(d, t[0], t[1], t[2]);
     b /= b.sum();
     if (flipped) std::swap(b[1], b[2]);
@@ -192,10 +196,20 @@ TEST(SphereTriangleLocatorTest, MatchesEveryTriangleScanOnACrowdedSphere) {
       }
     }
     ASSERT_EQ(on_edges, 6 * faces.rows());
+    // Off the edges by ~1e-15 relative to the corners' length: determinants
+    // too small for a floating-point sign, where the exact predicate
+    // decides.
+    for (Eigen::Index f = 0; f < faces.rows(); f += 7) {
+      const Eigen::Vector3d a = points.row(faces(f, 0)).transpose();
+      const Eigen::Vector3d b = points.row(faces(f, 1)).transpose();
+      const Eigen::Vector3d c = points.row(faces(f, 2)).transpose();
+      for (double e : {1e-15, -1e-15, 1e-13, -1e-13}) {
+        directions.push_back(a + b + e * (c - a));
+      }
+    }
     int found = 0;
     for (const Eigen::Vector3d& d : directions) {
-      const SphereTriangleLocator::Location want =
-          BruteForce(locator, points, faces, d);
+      const SphereTriangleLocator::Location want = BruteForce(points, faces, d);
       const SphereTriangleLocator::Location at = locator.Locate(d);
       ASSERT_EQ(at.face, want.face) << d.transpose();
       ASSERT_EQ(at.barycentric, want.barycentric) << d.transpose();
