@@ -128,16 +128,22 @@ int GridCell(double u, int n) {
 // quarters would list more than 5/2 times its triangles together, and while
 // the leaves list at most kEntriesPerTriangle times the triangles (or what
 // the grid alone lists, if more: its cells are about as large as the
-// triangles on average, so it lists a triangle about four to six times).
+// triangles on average, so it lists a triangle a few times).
 constexpr int kLeafTriangles = 8;
 constexpr int kMaxDepth = 10;
 constexpr int kEntriesPerTriangle = 8;
 
-// A triangle's box on one cube face (FaceBox).
+// A triangle on one cube face: its box (FaceBox) and its edges' lines. On
+// the face's plane x = s e_k + u e_k1 + v e_k2 (k the face's axis, s its
+// sign, k1, k2 the next axes), det[t_i t_i+1 x] = L_i(u, v) = line[i] .
+// (s, u, v), with (line[i][0], line[i][1], line[i][2]) = the k, k1, k2
+// components of t_i x t_i+1; the triangle (counter-clockwise) is where all
+// three are >= 0, in front of the face's plane or not.
 struct TriangleBox {
   int triangle = 0;
   int face = 0;
   Eigen::Vector2d lo, hi;
+  std::array<Eigen::Vector3d, 3> line;
 };
 
 // A cell: the closed square [lo, hi] of gnomonic coordinates on its face.
@@ -167,9 +173,28 @@ Square Quarter(const Square& s, int q) {
   return out;
 }
 
+// Whether the triangle of `b` may meet the closed square `s`: their boxes
+// meet and no edge's line has all four corners clearly outside. The lines'
+// values carry rounding errors below 3e-15 (unit corners, |u|, |v| <= 1),
+// and a query's coordinates may be off by 1e-14 (|grad L_i| <= |line[i]|),
+// so "clearly" is below -(1e-12 + 1e-9 |line[i]|_1).
 bool Meets(const TriangleBox& b, const Square& s) {
-  return b.lo[0] <= s.hi[0] && b.hi[0] >= s.lo[0] && b.lo[1] <= s.hi[1] &&
-         b.hi[1] >= s.lo[1];
+  if (b.lo[0] > s.hi[0] || b.hi[0] < s.lo[0] || b.lo[1] > s.hi[1] ||
+      b.hi[1] < s.lo[1]) {
+    return false;
+  }
+  const double sign = b.face % 2 == 0 ? 1.0 : -1.0;
+  for (const Eigen::Vector3d& l : b.line) {
+    const double tol = 1e-12 + 1e-9 * l.lpNorm<1>();
+    const double at = sign * l[0];
+    if (at + l[1] * s.lo[0] + l[2] * s.lo[1] < -tol &&
+        at + l[1] * s.hi[0] + l[2] * s.lo[1] < -tol &&
+        at + l[1] * s.lo[0] + l[2] * s.hi[1] < -tol &&
+        at + l[1] * s.hi[0] + l[2] * s.hi[1] < -tol) {
+      return false;
+    }
+  }
+  return true;
 }
 
 // The cells of the grid of n by n cells per cube face for `boxes` (of
@@ -206,6 +231,7 @@ Cells BuildCells(int n, const std::vector<TriangleBox>& boxes,
       for (int x = GridCell(b.lo[0], n); x <= GridCell(b.hi[0], n); ++x) {
         for (int y = GridCell(b.lo[1], n); y <= GridCell(b.hi[1], n); ++y) {
           const int c = (b.face * n + x) * n + y;
+          if (!Meets(b, square[c])) continue;
           if (pass == 1) listed[begin[c] + count[c]] = static_cast<int>(i);
           ++count[c];
         }
@@ -308,6 +334,12 @@ SphereTriangleLocator::SphereTriangleLocator(const Eigen::MatrixX3d& points,
     for (int face = 0; face < 6; ++face) {
       TriangleBox b;
       if (!FaceBox(t, face, &b.lo, &b.hi)) continue;
+      const int k = face / 2;
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Vector3d normal = t[i].cross(t[(i + 1) % 3]);
+        b.line[i] = Eigen::Vector3d(normal[k], normal[(k + 1) % 3],
+                                    normal[(k + 2) % 3]);
+      }
       b.triangle = static_cast<int>(f);
       b.face = face;
       boxes.push_back(b);

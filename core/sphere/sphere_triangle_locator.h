@@ -24,9 +24,10 @@ class SphereTriangleLocator {
   // split helps (its quarters list at most 5/2 times its triangles in all),
   // and while all leaves list at most 8 #F triangles in all (or what the
   // grid lists, if more). The gnomonic projection maps great arcs to
-  // segments, so the box of the projected corners of a triangle clipped to a
-  // cube face's pyramid covers every cell of the face it meets. Triangles
-  // with det = 0 hold nothing and are left out.
+  // segments: a cell lists the triangles that meet it, found by the box of
+  // the projected corners of the triangle clipped to the cube face's pyramid
+  // and by its edges' lines (with margins for rounding). Triangles with
+  // det = 0 hold nothing and are left out.
   SphereTriangleLocator(const Eigen::MatrixX3d& points,
                         const Eigen::MatrixX3i& faces);
 
