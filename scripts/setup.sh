@@ -3,6 +3,7 @@
 # sample meshes into data/meshes, and builds into build/. Idempotent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/debian_packages.sh
 
 PACKAGES=(build-essential cmake ninja-build pkg-config
   libeigen3-dev libcgal-dev libcgal-demo libopenmesh-dev libtinygltf-dev
@@ -18,21 +19,7 @@ PACKAGES=(build-essential cmake ninja-build pkg-config
   libocct-foundation-dev libocct-modeling-data-dev
   libocct-modeling-algorithms-dev libocct-data-exchange-dev)
 
-as_root() {
-  if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
-}
-
-missing=()
-for p in "${PACKAGES[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
-    missing+=("$p")
-  fi
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "setup: installing ${missing[*]}"
-  as_root apt-get update -qq
-  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+install_missing_packages setup "${PACKAGES[@]}"
 
 # CGAL's test meshes (bunny00, fandisk, ...) from libcgal-demo's data.tar.gz.
 if [ ! -f data/meshes/bunny00.off ]; then
