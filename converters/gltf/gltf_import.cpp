@@ -1316,9 +1316,10 @@ StatusOr<GltfAsset> Load(std::string_view bytes, const std::string& base_dir,
     document.buffers.emplace_back(buffer.data.begin(), buffer.data.end());
     buffer.data.clear();
   }
+  // By the image's bufferView: tinygltf leaves `uri` empty for a data URI.
   images.bytes.resize(model.images.size());
   for (size_t i = 0; i < model.images.size(); ++i) {
-    if (model.images[i].uri.empty()) images.bytes[i].clear();
+    if (model.images[i].bufferView >= 0) images.bytes[i].clear();
   }
   document.images = std::move(images.bytes);
   return asset;

@@ -60,7 +60,8 @@ struct GltfPrimitive {
 // The bytes of a glTF file as read (what MakeGltfShell keeps of it): its JSON
 // text, the data of every buffer (external files and data URIs resolved, a
 // GLB's BIN chunk for its buffer without a URI) and, per image, its encoded
-// bytes when the image is given by a URI ("" for one in a buffer view).
+// bytes when the image is given by a URI, a file's or a data URI ("" for
+// one in a buffer view).
 struct GltfDocument {
   std::string json;
   std::vector<std::string> buffers;

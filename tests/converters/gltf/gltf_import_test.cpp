@@ -131,7 +131,15 @@ TEST(GltfImport, BoxTexturedMergesItsSplitVerticesIntoAClosedBox) {
     ASSERT_TRUE(same.ok()) << same.status().message();
     EXPECT_EQ(same->primitives[0].triangles.vertices, p.triangles.vertices);
     EXPECT_EQ(same->primitives[0].triangles.faces, p.triangles.faces);
+    // The image's bytes, from its file or its data URI: a PNG.
+    ASSERT_EQ(same->document.images.size(), 1u);
+    EXPECT_EQ(same->document.images[0].substr(0, 8),
+              std::string("\x89PNG\r\n\x1a\n", 8))
+        << other;
   }
+  // The GLB's image is in a buffer view: no bytes of its own.
+  ASSERT_EQ(asset->document.images.size(), 1u);
+  EXPECT_EQ(asset->document.images[0], "");
 }
 
 // The exporter's Draco and meshopt GLBs of an icosphere read back to the
