@@ -283,6 +283,7 @@ class Reader {
   Status ApplySparse(const tinygltf::Accessor& accessor,
                      const std::string& name, int64_t element_bytes,
                      AccessorValues* out);
+  bool ReadsMeshoptViews(const tinygltf::Primitive& primitive) const;
   Status ReadDraco(const tinygltf::Primitive& primitive,
                    const tinygltf::Value& ext, const std::string& what,
                    std::map<std::string, AccessorValues>* attributes,
@@ -784,6 +785,35 @@ std::vector<int64_t> TriangleCorners(const std::vector<int64_t>& list,
   return corners;
 }
 
+// Whether an accessor of `primitive` (attributes, indices, morph targets)
+// reads a view that is EXT_meshopt_compression's, sparse values included.
+bool Reader::ReadsMeshoptViews(const tinygltf::Primitive& primitive) const {
+  auto compressed_view = [&](int v) {
+    return v >= 0 && static_cast<size_t>(v) < model_.bufferViews.size() &&
+           model_.bufferViews[v].extensions.count("EXT_meshopt_compression");
+  };
+  auto compressed = [&](int a) {
+    if (a < 0 || static_cast<size_t>(a) >= model_.accessors.size()) {
+      return false;
+    }
+    const tinygltf::Accessor& accessor = model_.accessors[a];
+    return compressed_view(accessor.bufferView) ||
+           (accessor.sparse.isSparse &&
+            (compressed_view(accessor.sparse.indices.bufferView) ||
+             compressed_view(accessor.sparse.values.bufferView)));
+  };
+  if (compressed(primitive.indices)) return true;
+  for (const auto& [semantic, a] : primitive.attributes) {
+    if (compressed(a)) return true;
+  }
+  for (const std::map<std::string, int>& target : primitive.targets) {
+    for (const auto& [semantic, a] : target) {
+      if (compressed(a)) return true;
+    }
+  }
+  return false;
+}
+
 Status Reader::ReadPrimitive(int mesh_index, int primitive_index,
                              GltfPrimitive* out) {
   const tinygltf::Mesh& mesh = model_.meshes[mesh_index];
@@ -973,6 +1003,14 @@ Status Reader::ReadPrimitive(int mesh_index, int primitive_index,
   triangles.faces.resize(num_faces, 3);
   for (Eigen::Index f = 0; f < num_faces; ++f) {
     for (int k = 0; k < 3; ++k) triangles.faces(f, k) = faces[3 * f + k];
+  }
+  if (draco == primitive.extensions.end() && !ReadsMeshoptViews(primitive)) {
+    out->source_corners.resize(num_faces, 3);
+    for (Eigen::Index f = 0; f < num_faces; ++f) {
+      for (int k = 0; k < 3; ++k) {
+        out->source_corners(f, k) = static_cast<int>(kept_corners[3 * f + k]);
+      }
+    }
   }
   out->source_vertices = static_cast<int>(n);
   const auto texcoords = attributes.find("TEXCOORD_0");

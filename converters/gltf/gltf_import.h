@@ -53,6 +53,13 @@ struct GltfPrimitive {
   // in 0..1 (alpha 1 for a VEC3 COLOR_0).
   Eigen::MatrixX2d texcoords;
   Eigen::MatrixX4d colors;
+  // #F by 3: row f holds, for each corner of face f of `triangles`, the
+  // index of its vertex in the primitive's accessors (the file's numbering,
+  // before merging by position; strips and fans as their triangles, the
+  // dropped triangles left out). Empty when the primitive's vertices are
+  // Draco- or meshopt-compressed: new indices into the file's accessors
+  // would then need the data decoded and written again.
+  Eigen::MatrixX3i source_corners;
   int source_vertices = 0;     // POSITION count before merging
   int dropped_degenerate = 0;  // triangles dropped (two corners merged)
 };

@@ -164,6 +164,9 @@ TEST(GltfImport, DracoAndMeshoptGlbsReadBackWithinTheQuantizationError) {
     const TriangleMesh& read = asset->primitives[0].triangles;
     EXPECT_EQ(read.num_vertices(), sphere.num_vertices());
     EXPECT_EQ(read.num_faces(), sphere.num_faces());
+    // Compressed vertices have no indices in the file's numbering.
+    EXPECT_EQ(asset->primitives[0].source_corners.rows(),
+              compression == GltfCompression::kNone ? read.num_faces() : 0);
     // The scene's node transform undoes meshopt's quantization: the
     // positions in the world are node.local * p.
     Eigen::Matrix4d world = Eigen::Matrix4d::Identity();
@@ -252,6 +255,45 @@ TEST(GltfImport, ReadsTheNodeHierarchyAndTrsOfAHandWrittenFile) {
   EXPECT_EQ(fan.vertices.row(fan.faces(1, 2)), Eigen::RowVector3d(0, 0, 0));
   // Mesh-local coordinates: no node transform applied.
   EXPECT_EQ(strip.vertices.row(3), Eigen::RowVector3d(1, 1, 0));
+}
+
+// The file's vertex of each corner: vertex 4 is at vertex 1's position
+// (merged), and a triangle with two corners at one position is dropped;
+// a strip's triangles take the spec's corners.
+TEST(GltfImport, SourceCornersAreTheFilesVerticesOfTheTrianglesRead) {
+  const float corners[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 1, 0, 0};
+  const uint8_t indices[13] = {0, 4, 2, 1, 1, 3, 4, 3, 2,  // TRIANGLES
+                               0, 4, 2, 3};                // strip
+  const std::string bytes =
+      std::string(reinterpret_cast<const char*>(corners), 60) +
+      std::string(reinterpret_cast<const char*>(indices), 13);
+  const std::string text =
+      R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [
+      {"attributes": {"POSITION": 0}, "indices": 1},
+      {"attributes": {"POSITION": 0}, "indices": 2, "mode": 5}]}],
+    "buffers": [{"byteLength": 73, "uri": "data:application/octet-stream;base64,)" +
+      Base64(bytes) + R"("}],
+    "bufferViews": [{"buffer": 0, "byteLength": 60},
+                    {"buffer": 0, "byteOffset": 60, "byteLength": 13}],
+    "accessors": [
+      {"bufferView": 0, "componentType": 5126, "count": 5, "type": "VEC3"},
+      {"bufferView": 1, "componentType": 5121, "count": 9, "type": "SCALAR"},
+      {"bufferView": 1, "byteOffset": 9, "componentType": 5121, "count": 4,
+       "type": "SCALAR"}]})";
+  StatusOr<GltfAsset> asset = ReadGltfFromBuffer(text);
+  ASSERT_TRUE(asset.ok()) << asset.status().message();
+  ASSERT_EQ(asset->primitives.size(), 2u);
+  Eigen::MatrixX3i expected(2, 3);
+  expected << 0, 4, 2, 4, 3, 2;
+  Eigen::MatrixX3i merged(2, 3);
+  merged << 0, 1, 2, 1, 3, 2;
+  for (const GltfPrimitive& p : asset->primitives) {
+    EXPECT_EQ(p.source_corners, expected) << p.name;
+    EXPECT_EQ(p.triangles.faces, merged) << p.name;
+  }
+  EXPECT_EQ(asset->primitives[0].dropped_degenerate, 1);
 }
 
 // A sparse POSITION without a buffer view: zeros, with corners 1..3
