@@ -1,26 +1,33 @@
 // The colours and shape of a glTF asset written back by `sdcb export`
-// against its input, per primitive (matched by mesh and primitive index):
-// points sampled on the output's triangles (area-weighted, fixed seed),
-// their colour (the base colour texture at the interpolated TEXCOORD_0,
-// times COLOR_0) against the input's colour at the closest input point
-// (CGAL's AABB tree, core/mesh/mesh_distance.h), both in the world frame
-// of the first node that shows the primitive's mesh (gltfpack's quantized
-// positions come with a dequantizing node transform): the
-// 50th / 90th / 99th percentiles of the largest RGB difference in sRGB
-// /255; and the dense two-sided distance (samples both ways, the largest
-// and the rms) in percent of the input primitive's largest bounding-box
-// side. Usage: gltf_texture_bench INPUT.gl(b|tf) OUTPUT.glb [SAMPLES]
+// against its input, per primitive (matched by mesh and primitive index; a
+// primitive the export split, its kept triangles in place and its fitted
+// parts in a primitive appended to the mesh, is measured as its pieces
+// together, each appended primitive the piece of the input primitive of its
+// mesh nearest its vertices): points sampled on the output's triangles
+// (area-weighted, fixed seed), their colour (the base colour texture at the
+// interpolated TEXCOORD_0, times COLOR_0) against the input's colour at the
+// closest input point (CGAL's AABB tree, core/mesh/mesh_distance.h), both
+// in the world frame of the first node that shows the primitive's mesh
+// (gltfpack's quantized positions come with a dequantizing node
+// transform): the 50th / 90th / 99th percentiles of the largest RGB
+// difference in sRGB /255; and the dense two-sided distance (samples both
+// ways, the largest and the rms) in percent of the input primitive's
+// largest bounding-box side. Usage: gltf_texture_bench INPUT.gl(b|tf)
+// OUTPUT.glb [SAMPLES]
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <nlohmann/json.hpp>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/converters/gltf/texture_bake.h"
 #include "sdcb/core/mesh/mesh_distance.h"
+#include "sdcb/core/mesh/triangle_mesh.h"
 
 namespace {
 
@@ -127,6 +134,26 @@ GltfPrimitive InWorld(const GltfAsset& asset, GltfPrimitive p) {
   return p;
 }
 
+// Area of the triangles of `m`.
+double Area(const TriangleMesh& m) { return VertexAreas(m).sum(); }
+
+// The primitives each mesh of `document` lists (points and lines too).
+std::vector<int> PrimitivesPerMesh(const GltfDocument& document) {
+  const nlohmann::json j = nlohmann::json::parse(document.json);
+  std::vector<int> count;
+  for (const nlohmann::json& mesh :
+       j.value("meshes", nlohmann::json::array())) {
+    count.push_back(static_cast<int>(mesh.at("primitives").size()));
+  }
+  return count;
+}
+
+// One output primitive measured as (part of) an input primitive.
+struct Piece {
+  GltfPrimitive world;  // InWorld
+  GltfTexture texture;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -142,72 +169,142 @@ int main(int argc, char** argv) {
                  (!in.ok() ? in.status() : out.status()).message().c_str());
     return 1;
   }
-  std::printf("%-24s %9s %9s %9s %6s %6s %6s %9s %9s\n", "primitive",
-              "in_faces", "out_faces", "textured", "p50", "p90", "p99", "max_%",
-              "rms_%");
-  for (const GltfPrimitive& local_in : in->primitives) {
-    const GltfPrimitive* found = nullptr;
-    for (const GltfPrimitive& q : out->primitives) {
-      if (q.mesh == local_in.mesh && q.primitive == local_in.primitive) {
-        found = &q;
+  std::vector<GltfPrimitive> in_world, out_world;
+  for (const GltfPrimitive& p : in->primitives) {
+    in_world.push_back(InWorld(*in, p));
+  }
+  for (const GltfPrimitive& p : out->primitives) {
+    out_world.push_back(InWorld(*out, p));
+  }
+  std::vector<MeshDistance> in_distance;
+  for (const GltfPrimitive& p : in_world) {
+    StatusOr<MeshDistance> d = MeshDistance::Create(p.triangles);
+    if (!d.ok()) return 1;
+    in_distance.push_back(std::move(d).value());
+  }
+  // Per input primitive, the output primitives that are its pieces: the
+  // one of its mesh and index, and each primitive appended to its mesh
+  // (index past the input's) that lies nearest it (mean vertex distance).
+  const std::vector<int> in_count = PrimitivesPerMesh(in->document);
+  std::vector<std::vector<int>> pieces_of(in_world.size());
+  for (size_t q = 0; q < out_world.size(); ++q) {
+    const GltfPrimitive& o = out_world[q];
+    const bool appended = o.mesh < static_cast<int>(in_count.size()) &&
+                          o.primitive >= in_count[o.mesh];
+    int best = -1;
+    double best_mean = HUGE_VAL;
+    for (size_t i = 0; i < in_world.size(); ++i) {
+      if (in_world[i].mesh != o.mesh) continue;
+      if (!appended) {
+        if (in_world[i].primitive == o.primitive) best = static_cast<int>(i);
+        continue;
+      }
+      double sum = 0;
+      for (int v = 0; v < o.triangles.num_vertices(); ++v) {
+        sum += in_distance[i]
+                   .Find(o.triangles.vertices.row(v).transpose())
+                   .distance;
+      }
+      const double mean = sum / std::max(1, o.triangles.num_vertices());
+      if (mean < best_mean) {
+        best_mean = mean;
+        best = static_cast<int>(i);
       }
     }
-    if (found == nullptr) {
-      std::printf("%-24s missing in the output\n", local_in.name.c_str());
+    if (best >= 0) pieces_of[best].push_back(static_cast<int>(q));
+  }
+  std::printf("%-24s %9s %9s %6s %9s %6s %6s %6s %9s %9s\n", "primitive",
+              "in_faces", "out_faces", "pieces", "textured", "p50", "p90",
+              "p99", "max_%", "rms_%");
+  for (size_t i = 0; i < in_world.size(); ++i) {
+    const GltfPrimitive& pi = in_world[i];
+    bool same_index = false;
+    for (const int q : pieces_of[i]) {
+      same_index |= out_world[q].primitive == pi.primitive;
+    }
+    if (!same_index) {
+      std::printf("%-24s missing in the output\n", pi.name.c_str());
       continue;
     }
-    const GltfPrimitive in_world = InWorld(*in, local_in);
-    const GltfPrimitive out_world = InWorld(*out, *found);
-    const GltfPrimitive& pi = in_world;
-    const GltfPrimitive* po = &out_world;
     StatusOr<GltfTexture> ti = LoadBaseColorTexture(in->document, pi.material);
-    StatusOr<GltfTexture> to =
-        LoadBaseColorTexture(out->document, po->material);
-    if (!ti.ok() || !to.ok()) {
-      std::fprintf(stderr, "%s\n",
-                   (!ti.ok() ? ti.status() : to.status()).message().c_str());
+    if (!ti.ok()) {
+      std::fprintf(stderr, "%s\n", ti.status().message().c_str());
       return 1;
     }
     const bool colored =
         (ti->width > 0 && pi.texcoords.rows() > 0) || pi.colors.rows() > 0;
-    const bool textured_out =
-        (to->width > 0 && po->texcoords.rows() > 0) || po->colors.rows() > 0;
-    StatusOr<MeshDistance> din = MeshDistance::Create(pi.triangles);
-    StatusOr<MeshDistance> dout = MeshDistance::Create(po->triangles);
-    if (!din.ok() || !dout.ok()) return 1;
+    std::vector<Piece> pieces;
+    TriangleMesh all;  // the pieces' triangles together
+    double total_area = 0;
+    bool textured_out = true;
+    for (const int q : pieces_of[i]) {
+      StatusOr<GltfTexture> to =
+          LoadBaseColorTexture(out->document, out_world[q].material);
+      if (!to.ok()) {
+        std::fprintf(stderr, "%s\n", to.status().message().c_str());
+        return 1;
+      }
+      const GltfPrimitive& po = out_world[q];
+      textured_out =
+          textured_out &&
+          ((to->width > 0 && po.texcoords.rows() > 0) || po.colors.rows() > 0);
+      const int nv = all.num_vertices(), nf = all.num_faces();
+      all.vertices.conservativeResize(nv + po.triangles.num_vertices(), 3);
+      all.vertices.bottomRows(po.triangles.num_vertices()) =
+          po.triangles.vertices;
+      all.faces.conservativeResize(nf + po.triangles.num_faces(), 3);
+      all.faces.bottomRows(po.triangles.num_faces()) =
+          po.triangles.faces.array() + nv;
+      total_area += Area(po.triangles);
+      pieces.push_back({po, *to});
+    }
+    StatusOr<MeshDistance> dout = MeshDistance::Create(all);
+    if (!dout.ok()) return 1;
     const double side = (pi.triangles.vertices.colwise().maxCoeff() -
                          pi.triangles.vertices.colwise().minCoeff())
                             .maxCoeff();
-    Eigen::MatrixX3d points;
-    std::vector<int> faces;
-    std::vector<Eigen::Vector3d> weights;
-    Sample(po->triangles, samples, &points, &faces, &weights);
+    // Output samples, each piece's share by its area.
     std::vector<double> diff;
     double max_d = 0, sum2 = 0;
-    for (int i = 0; i < samples; ++i) {
-      const MeshDistance::Closest c = din->Find(points.row(i).transpose());
-      max_d = std::max(max_d, c.distance);
-      sum2 += c.distance * c.distance;
-      if (!colored) continue;
-      const Eigen::Vector3d a = Color(*po, *to, faces[i], weights[i]);
-      const Eigen::Vector3d b =
-          Color(pi, *ti, c.face, Weights(pi.triangles, c.face, c.point));
-      diff.push_back((a - b).cwiseAbs().maxCoeff());
+    int left = samples;
+    for (size_t k = 0; k < pieces.size(); ++k) {
+      const GltfPrimitive& po = pieces[k].world;
+      const int n =
+          k + 1 == pieces.size()
+              ? left
+              : static_cast<int>(samples * Area(po.triangles) / total_area);
+      left -= n;
+      if (n <= 0 || po.triangles.num_faces() == 0) continue;
+      Eigen::MatrixX3d points;
+      std::vector<int> faces;
+      std::vector<Eigen::Vector3d> weights;
+      Sample(po.triangles, n, &points, &faces, &weights);
+      for (int s = 0; s < n; ++s) {
+        const MeshDistance::Closest c =
+            in_distance[i].Find(points.row(s).transpose());
+        max_d = std::max(max_d, c.distance);
+        sum2 += c.distance * c.distance;
+        if (!colored) continue;
+        const Eigen::Vector3d a =
+            Color(po, pieces[k].texture, faces[s], weights[s]);
+        const Eigen::Vector3d b =
+            Color(pi, *ti, c.face, Weights(pi.triangles, c.face, c.point));
+        diff.push_back((a - b).cwiseAbs().maxCoeff());
+      }
     }
     Eigen::MatrixX3d back;
     std::vector<int> back_faces;
     std::vector<Eigen::Vector3d> back_weights;
     Sample(pi.triangles, samples, &back, &back_faces, &back_weights);
-    for (int i = 0; i < samples; ++i) {
-      const double d = dout->Find(back.row(i).transpose()).distance;
+    for (int s = 0; s < samples; ++s) {
+      const double d = dout->Find(back.row(s).transpose()).distance;
       max_d = std::max(max_d, d);
       sum2 += d * d;
     }
     const double rms = std::sqrt(sum2 / (2.0 * samples));
-    std::printf("%-24s %9d %9d %9s %6.1f %6.1f %6.1f %9.3f %9.4f\n",
-                pi.name.c_str(), pi.triangles.num_faces(),
-                po->triangles.num_faces(),
-                colored ? (textured_out ? "yes" : "LOST") : "no",
+    std::printf("%-24s %9d %9d %6zu %9s %6.1f %6.1f %6.1f %9.3f %9.4f\n",
+                pi.name.c_str(), pi.triangles.num_faces(), all.num_faces(),
+                pieces.size(), colored ? (textured_out ? "yes" : "LOST") : "no",
                 Percentile(diff, 0.5), Percentile(diff, 0.9),
                 Percentile(diff, 0.99), 100 * max_d / side, 100 * rms / side);
   }

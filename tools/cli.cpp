@@ -345,6 +345,7 @@ StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
     origin->primitive_materials.clear();
     origin->primitive_texcoords.clear();
     origin->primitive_colors.clear();
+    origin->primitive_source_corners.clear();
     int first_face = 0;
     for (GltfPrimitive& p : asset.primitives) {
       origin->primitive_names.push_back(p.name);
@@ -354,6 +355,7 @@ StatusOr<TriangleMesh> ReadInputMesh(const std::string& path,
       origin->primitive_materials.push_back(p.material);
       origin->primitive_texcoords.push_back(std::move(p.texcoords));
       origin->primitive_colors.push_back(std::move(p.colors));
+      origin->primitive_source_corners.push_back(std::move(p.source_corners));
     }
     origin->document = std::move(asset.document);
   }
@@ -418,6 +420,26 @@ Status BakeAtlas(const std::vector<MeshPart>& parts,
   return Status::Ok();
 }
 
+// The triangles of `kept` (parts of primitive `p`) in the file's vertex
+// numbering, in the file's order.
+Eigen::MatrixX3i KeptCorners(const std::vector<MeshPart>& parts,
+                             const std::vector<int>& kept,
+                             const MeshOrigin& origin, int p) {
+  std::vector<int> faces;
+  for (const int i : kept) {
+    for (const int face : parts[i].input_faces) {
+      faces.push_back(face - origin.primitive_first_face[p]);
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  const Eigen::MatrixX3i& corners = origin.primitive_source_corners[p];
+  Eigen::MatrixX3i out(static_cast<Eigen::Index>(faces.size()), 3);
+  for (size_t f = 0; f < faces.size(); ++f) {
+    out.row(static_cast<Eigen::Index>(f)) = corners.row(faces[f]);
+  }
+  return out;
+}
+
 }  // namespace
 
 StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
@@ -425,27 +447,38 @@ StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
                                     const MeshOrigin& origin,
                                     std::vector<std::string>* warnings) {
   if (origin.face_primitive.empty()) return std::string();
-  std::vector<GltfFittedPrimitive> of_primitive(origin.primitive_ids.size());
-  std::vector<bool> any_fitted(of_primitive.size(), false);
-  for (size_t p = 0; p < of_primitive.size(); ++p) {
-    of_primitive[p].mesh = origin.primitive_ids[p][0];
-    of_primitive[p].primitive = origin.primitive_ids[p][1];
-  }
+  const size_t num_primitives = origin.primitive_ids.size();
+  // Per primitive, the parts whose first face it holds: fitted, kept.
+  std::vector<std::vector<int>> fitted_of(num_primitives),
+      kept_of(num_primitives);
   for (size_t i = 0; i < parts.size(); ++i) {
     if (parts[i].input_faces.empty()) continue;
     const int p = origin.face_primitive[parts[i].input_faces[0]];
-    of_primitive[p].parts.push_back(static_cast<int>(i));
-    if (i < model_parts.size() && !model_parts[i].kept) any_fitted[p] = true;
+    const bool is_fitted = i < model_parts.size() && !model_parts[i].kept;
+    (is_fitted ? fitted_of : kept_of)[p].push_back(static_cast<int>(i));
   }
   std::vector<GltfFittedPrimitive> fitted;
-  for (size_t p = 0; p < of_primitive.size(); ++p) {
-    if (!any_fitted[p]) continue;
+  for (size_t p = 0; p < num_primitives; ++p) {
+    if (fitted_of[p].empty()) continue;
+    GltfFittedPrimitive f;
+    f.mesh = origin.primitive_ids[p][0];
+    f.primitive = origin.primitive_ids[p][1];
+    f.parts = fitted_of[p];
+    if (!kept_of[p].empty()) {
+      if (origin.primitive_source_corners[p].rows() > 0) {
+        f.kept_corners =
+            KeptCorners(parts, kept_of[p], origin, static_cast<int>(p));
+      } else {
+        // Compressed: the primitive holds its kept parts too, in part order.
+        f.parts.insert(f.parts.end(), kept_of[p].begin(), kept_of[p].end());
+        std::sort(f.parts.begin(), f.parts.end());
+      }
+    }
     if (model_parts.size() == parts.size()) {
       SDCB_RETURN_IF_ERROR(BakeAtlas(parts, model_parts, origin,
-                                     static_cast<int>(p), &of_primitive[p],
-                                     warnings));
+                                     static_cast<int>(p), &f, warnings));
     }
-    fitted.push_back(std::move(of_primitive[p]));
+    fitted.push_back(std::move(f));
   }
   return MakeGltfShell(origin.document, fitted);
 }

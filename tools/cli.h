@@ -144,12 +144,14 @@ struct MeshOrigin {
   // Per primitive, its glTF mesh and index in the mesh; the file's bytes.
   std::vector<std::array<int, 2>> primitive_ids;
   GltfDocument document;
-  // Per primitive: its first face in the mesh, its material (-1 for none)
-  // and its per-corner TEXCOORD_0 and COLOR_0 (GltfPrimitive's).
+  // Per primitive: its first face in the mesh, its material (-1 for none),
+  // its per-corner TEXCOORD_0 and COLOR_0 and its faces' corners in the
+  // file's vertex numbering (GltfPrimitive's source_corners).
   std::vector<int> primitive_first_face;
   std::vector<int> primitive_materials;
   std::vector<Eigen::MatrixX2d> primitive_texcoords;
   std::vector<Eigen::MatrixX4d> primitive_colors;
+  std::vector<Eigen::MatrixX3i> primitive_source_corners;
 };
 
 // Any mesh file sdcb reads: .gltf / .glb through converters/gltf/
@@ -174,10 +176,15 @@ std::vector<std::string> PartNames(const std::vector<MeshPart>& parts,
 // MakeGltfShell): every primitive with a fitted part becomes the parts
 // whose first face it holds (PartNames' rule); a primitive all of whose
 // parts were kept (ModelPart::kept) stays in the asset as the file had it.
-// A fitted primitive whose material has a base colour texture, or which
-// has COLOR_0, gets an atlas baked from its parts' maps to the sphere
-// (`model_parts[i].spline.parameters` for parts[i]; none when a part's
-// parameters were not kept or it was kept, or with a sentence in
+// A primitive of fitted and kept parts is split (GltfFittedPrimitive::
+// kept_corners): it keeps the kept parts' triangles as the file had them,
+// and a primitive appended to its mesh holds the fitted parts; when its
+// vertices are Draco- or meshopt-compressed (no source_corners) it holds
+// all its parts instead, the kept ones written as their triangles.
+// A primitive holding parts whose material has a base colour texture, or
+// which has COLOR_0, gets an atlas baked from its parts' maps to the
+// sphere (`model_parts[i].spline.parameters` for parts[i]; none when a
+// part's parameters were not kept or it was kept, or with a sentence in
 // `warnings` when its texture does not load). "" when `origin` is empty.
 StatusOr<std::string> KeptGltfAsset(const std::vector<MeshPart>& parts,
                                     const std::vector<ModelPart>& model_parts,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -17,6 +18,9 @@ constexpr const char* kPartsKey = "sdcb_parts";
 constexpr const char* kAtlasKey = "sdcb_atlas";
 constexpr int kLinear = 9729;
 constexpr int kClampToEdge = 33071;
+constexpr int kUnsignedShort = 5123;
+constexpr int kUnsignedInt = 5125;
+constexpr int kElementArrayBuffer = 34963;
 
 // Calls `f(index_json)` for every place the document names an accessor.
 template <typename F>
@@ -191,24 +195,103 @@ void DropUnusedMaterials(Json* doc) {
   }
 }
 
+// Takes the geometry out of primitive `p`, which then holds `parts`.
+void HoldParts(const std::vector<int>& parts, Json* p) {
+  for (const char* key : {"attributes", "indices", "targets", "mode"}) {
+    p->erase(key);
+  }
+  if (p->contains("extensions")) {
+    (*p)["extensions"].erase("KHR_draco_mesh_compression");
+    if ((*p)["extensions"].empty()) p->erase("extensions");
+  }
+  if (!p->contains("extras") || !(*p)["extras"].is_object()) {
+    (*p)["extras"] = Json::object();
+  }
+  (*p)["extras"][kPartsKey] = parts;
+}
+
+// A buffer view appended after the file's, and its target (0 for none).
+struct AppendedView {
+  std::string bytes;
+  int target = 0;
+};
+
+// Appends an accessor of the triangles `corners` (#K by 3 vertex indices)
+// and the view of its bytes (the `num_views` file's views come first);
+// returns the accessor's index.
+size_t AppendIndices(const Eigen::MatrixX3i& corners, size_t num_views,
+                     Json* doc, std::vector<AppendedView>* appended) {
+  // glTF forbids an index of the type's largest value (primitive restart).
+  const bool shorts = corners.maxCoeff() < 65535;
+  AppendedView view;
+  view.target = kElementArrayBuffer;
+  for (Eigen::Index f = 0; f < corners.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      // Little-endian, as glTF's buffers are (and this machine's words).
+      const uint32_t index = static_cast<uint32_t>(corners(f, k));
+      const uint16_t index16 = static_cast<uint16_t>(index);
+      if (shorts) {
+        view.bytes.append(reinterpret_cast<const char*>(&index16), 2);
+      } else {
+        view.bytes.append(reinterpret_cast<const char*>(&index), 4);
+      }
+    }
+  }
+  Json& accessors = (*doc)["accessors"];
+  accessors.push_back(
+      {{"bufferView", num_views + appended->size()},
+       {"componentType", shorts ? kUnsignedShort : kUnsignedInt},
+       {"count", 3 * corners.rows()},
+       {"type", "SCALAR"}});
+  appended->push_back(std::move(view));
+  return accessors.size() - 1;
+}
+
+// Takes the geometry of `fitted` out of `doc` (HoldParts); a primitive with
+// kept triangles is split, its indices' bytes appended to `appended` (after
+// the `num_views` file's views). Returns, per fitted primitive, the index in
+// its mesh of the primitive that holds its parts.
+StatusOr<std::vector<size_t>> TakeGeometryOut(
+    const std::vector<GltfFittedPrimitive>& fitted, size_t num_views, Json* doc,
+    std::vector<AppendedView>* appended) {
+  std::vector<size_t> holder(fitted.size());
+  for (size_t i = 0; i < fitted.size(); ++i) {
+    const GltfFittedPrimitive& f = fitted[i];
+    Json& primitives = doc->at("meshes").at(f.mesh).at("primitives");
+    Json& p = primitives.at(f.primitive);
+    holder[i] = static_cast<size_t>(f.primitive);
+    if (f.kept_corners.rows() == 0) {
+      HoldParts(f.parts, &p);
+      continue;
+    }
+    if (p.contains("extensions") &&
+        p["extensions"].contains("KHR_draco_mesh_compression")) {
+      return InvalidArgumentError(
+          "kept triangles of a Draco-compressed primitive cannot be "
+          "re-indexed");
+    }
+    if (f.kept_corners.minCoeff() < 0) {
+      return InvalidArgumentError("a kept triangle has a negative index");
+    }
+    Json holding = p;
+    HoldParts(f.parts, &holding);
+    p["indices"] = AppendIndices(f.kept_corners, num_views, doc, appended);
+    p.erase("mode");
+    holder[i] = primitives.size();
+    primitives.push_back(std::move(holding));
+  }
+  return holder;
+}
+
 StatusOr<std::string> MakeShell(
     const GltfDocument& document,
     const std::vector<GltfFittedPrimitive>& fitted) {
   Json doc = Json::parse(document.json);
-  for (const GltfFittedPrimitive& f : fitted) {
-    Json& p = doc.at("meshes").at(f.mesh).at("primitives").at(f.primitive);
-    p.erase("attributes");
-    p.erase("indices");
-    p.erase("targets");
-    if (p.contains("extensions")) {
-      p["extensions"].erase("KHR_draco_mesh_compression");
-      if (p["extensions"].empty()) p.erase("extensions");
-    }
-    if (!p.contains("extras") || !p["extras"].is_object()) {
-      p["extras"] = Json::object();
-    }
-    p["extras"][kPartsKey] = f.parts;
-  }
+  const size_t num_views =
+      doc.contains("bufferViews") ? doc["bufferViews"].size() : 0;
+  std::vector<AppendedView> appended;
+  SDCB_ASSIGN_OR_RETURN(const std::vector<size_t> holder,
+                        TakeGeometryOut(fitted, num_views, &doc, &appended));
   // The compression extensions only kept primitives may still need.
   bool draco_left = false;
   for (const Json& mesh : doc.value("meshes", Json::array())) {
@@ -237,9 +320,6 @@ StatusOr<std::string> MakeShell(
   ForEachAccessorUse(doc, [&](Json& a) { a = accessor_of[a.get<size_t>()]; });
 
   // Images given by a URI move into views appended after the file's.
-  const size_t num_views =
-      doc.contains("bufferViews") ? doc["bufferViews"].size() : 0;
-  std::vector<std::string> image_bytes;
   if (doc.contains("images")) {
     for (size_t i = 0; i < doc["images"].size(); ++i) {
       Json& image = doc["images"][i];
@@ -252,19 +332,20 @@ StatusOr<std::string> MakeShell(
         image["mimeType"] = MimeTypeOf(image["uri"].get<std::string>());
       }
       image.erase("uri");
-      image["bufferView"] = num_views + image_bytes.size();
-      image_bytes.push_back(document.images[i]);
+      image["bufferView"] = num_views + appended.size();
+      appended.push_back({document.images[i], 0});
     }
   }
   // Each atlas: an image in a new view, a sampler, a texture and a copy of
   // the primitive's material that samples it.
-  for (const GltfFittedPrimitive& f : fitted) {
+  for (size_t i = 0; i < fitted.size(); ++i) {
+    const GltfFittedPrimitive& f = fitted[i];
     if (f.atlas_png.empty()) continue;
-    Json& p = doc["meshes"][f.mesh]["primitives"][f.primitive];
+    Json& p = doc["meshes"][f.mesh]["primitives"][holder[i]];
     const size_t image = doc.contains("images") ? doc["images"].size() : 0;
     doc["images"].push_back({{"mimeType", "image/png"},
-                             {"bufferView", num_views + image_bytes.size()}});
-    image_bytes.push_back(f.atlas_png);
+                             {"bufferView", num_views + appended.size()}});
+    appended.push_back({f.atlas_png, 0});
     const size_t sampler =
         doc.contains("samplers") ? doc["samplers"].size() : 0;
     doc["samplers"].push_back({{"magFilter", kLinear},
@@ -288,7 +369,7 @@ StatusOr<std::string> MakeShell(
   bool atlases = false;
   for (const GltfFittedPrimitive& f : fitted) atlases |= !f.atlas_png.empty();
   if (atlases) DropUnusedMaterials(&doc);
-  std::vector<bool> view_used(num_views + image_bytes.size(), false);
+  std::vector<bool> view_used(num_views + appended.size(), false);
   ForEachViewUse(doc, [&](Json& v) { view_used.at(v.get<size_t>()) = true; });
   // The bytes of every view kept, in one buffer, each view 4-aligned.
   std::string bin;
@@ -315,7 +396,9 @@ StatusOr<std::string> MakeShell(
       }
       bytes = std::string_view(document.buffers[buffer]).substr(offset, length);
     } else {
-      bytes = image_bytes[v - num_views];
+      const AppendedView& made = appended[v - num_views];
+      bytes = made.bytes;
+      if (made.target != 0) view["target"] = made.target;
     }
     view["buffer"] = 0;
     view["byteOffset"] = bin.size();

@@ -28,6 +28,12 @@ struct GltfFittedPrimitive {
   int mesh = 0;            // glTF mesh index
   int primitive = 0;       // index in its `primitives`
   std::vector<int> parts;  // model parts (0-based), in the order written
+  // #K by 3: the triangles of the primitive's kept parts (ModelPart::kept),
+  // as indices into its accessors (GltfPrimitive::source_corners' rows, in
+  // the file's order); empty when every part of it is fitted. When not
+  // empty, the primitive stays as the file had it with these triangles
+  // alone, and `parts` go to a new primitive appended to its mesh.
+  Eigen::MatrixX3i kept_corners;
   // Its base colour baked into a cube-map atlas of its parts' spheres
   // (converters/gltf/texture_bake.h; tile block k for parts[k]): the PNG's
   // bytes, "" for none.
@@ -36,14 +42,21 @@ struct GltfFittedPrimitive {
 };
 
 // The shell of `document` with the geometry of `fitted` taken out: those
-// primitives lose attributes, indices, morph targets and Draco data, and
-// hold their parts in extras; accessors and buffer views nothing uses any
-// more are dropped; every image given by a URI moves into a buffer view
-// (its MIME type from the data URI or the file's extension), except one
-// whose file was not there, which keeps its URI; all bytes in
-// one buffer, the GLB's BIN chunk. kInvalidInput when the document does
-// not parse or a primitive, accessor or view it names is not there;
-// kUnsupported for a kept primitive whose views are meshopt-compressed.
+// primitives lose attributes, indices, morph targets, Draco data and mode
+// (their surfaces are written as TRIANGLES), and hold their parts in
+// extras. A primitive with `kept_corners` is split in two: it keeps its
+// attributes, material and everything else, its indices replaced by a new
+// accessor of the kept triangles (unsigned short, or unsigned int from
+// 65535 vertices on) and its mode by TRIANGLES; a copy of it, its geometry
+// taken out as above, is appended to its mesh's primitives and holds the
+// parts. Accessors and buffer views nothing uses any more are dropped;
+// every image given by a URI moves into a buffer view (its MIME type from
+// the data URI or the file's extension), except one whose file was not
+// there, which keeps its URI; all bytes in one buffer, the GLB's BIN chunk.
+// kInvalidInput when the document does not parse or a primitive, accessor
+// or view it names is not there; kUnsupported for a kept primitive whose
+// views are meshopt-compressed; kInvalidArgument for kept_corners of a
+// Draco-compressed primitive.
 // A fitted primitive with an atlas gets it as an embedded PNG image with a
 // texture and sampler (clamp to edge, linear) and a copy of its material
 // (a default one if it has none) whose base colour texture is the atlas,
@@ -53,7 +66,8 @@ StatusOr<std::string> MakeGltfShell(
     const GltfDocument& document,
     const std::vector<GltfFittedPrimitive>& fitted);
 
-// The model parts each fitted primitive of `shell` holds (its extras).
+// The model parts each fitted primitive of `shell` holds (its extras);
+// kept_corners empty.
 StatusOr<std::vector<GltfFittedPrimitive>> ShellFittedPrimitives(
     std::string_view shell);
 

@@ -5,7 +5,9 @@
 // close to the input's, and the Khronos validator finds no error.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -57,6 +59,37 @@ std::vector<std::array<float, 3>> Vec3s(const Glb& glb, int a) {
   std::vector<std::array<float, 3>> out(accessor["count"].get<size_t>());
   for (size_t i = 0; i < out.size(); ++i) {
     std::memcpy(out[i].data(), glb.bin.data() + at + i * stride, 12);
+  }
+  return out;
+}
+
+// The `components` float values of each element of accessor `a`.
+std::vector<std::vector<float>> Floats(const Glb& glb, int a, int components) {
+  const Json& accessor = glb.json["accessors"][a];
+  const Json& view = glb.json["bufferViews"][accessor["bufferView"].get<int>()];
+  const size_t stride = view.value("byteStride", 4 * components);
+  const size_t at =
+      view.value("byteOffset", size_t{0}) + accessor.value("byteOffset", 0);
+  std::vector<std::vector<float>> out(accessor["count"].get<size_t>(),
+                                      std::vector<float>(components));
+  for (size_t i = 0; i < out.size(); ++i) {
+    std::memcpy(out[i].data(), glb.bin.data() + at + i * stride,
+                4 * components);
+  }
+  return out;
+}
+
+// The values of index accessor `a` (unsigned byte, short or int).
+std::vector<uint32_t> Indices(const Glb& glb, int a) {
+  const Json& accessor = glb.json["accessors"][a];
+  const Json& view = glb.json["bufferViews"][accessor["bufferView"].get<int>()];
+  const int type = accessor["componentType"].get<int>();
+  const size_t size = type == 5121 ? 1 : type == 5123 ? 2 : 4;
+  const size_t at =
+      view.value("byteOffset", size_t{0}) + accessor.value("byteOffset", 0);
+  std::vector<uint32_t> out(accessor["count"].get<size_t>(), 0);
+  for (size_t i = 0; i < out.size(); ++i) {
+    std::memcpy(&out[i], glb.bin.data() + at + i * size, size);
   }
   return out;
 }
@@ -123,6 +156,162 @@ std::string WriteSharedMeshScene(const std::string& dir) {
   const std::string path = dir + "/scene.gltf";
   WriteBytes(path, j.dump(1));
   return path;
+}
+
+// A 2 by 2 RGB PNG (red, green; blue, yellow), written by hand.
+constexpr const char* kTinyPng =
+    "iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAIAAAD91JpzAAAAFElEQVR4nGP4z8DAAMIM////"
+    "ZwAAHu8E/KPItPcAAAAASUVORK5CYII=";
+
+// One textured primitive of two components: an octahedron (vertices 0-5,
+// fitted) and three triangles on one edge (not manifold: kept), each with
+// vertices of its own (6-14: the edge's ends repeated, with other texture
+// coordinates), their triangles among the octahedron's in the index list.
+struct MixedScene {
+  std::string path;
+  std::vector<std::array<float, 3>> positions;
+  std::vector<std::array<float, 2>> texcoords;
+  std::vector<std::array<uint16_t, 3>> kept;  // the kept triangles, in order
+};
+
+MixedScene WriteMixedPrimitiveScene(const std::string& dir) {
+  MixedScene scene;
+  scene.positions = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                     {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  for (const auto& v : scene.positions) {
+    scene.texcoords.push_back({0.25f * (v[0] + 1), 0.5f * (v[1] + 1)});
+  }
+  const std::array<float, 3> ends[2] = {{3, 0, 0}, {3, 1, 0}};
+  const std::array<float, 3> tips[3] = {
+      {4, 0.5f, 0}, {3.5f, 0.5f, 0.8f}, {2.5f, 0.5f, 0.5f}};
+  for (int k = 0; k < 3; ++k) {
+    const uint16_t first = static_cast<uint16_t>(scene.positions.size());
+    scene.positions.push_back(ends[0]);
+    scene.positions.push_back(ends[1]);
+    scene.positions.push_back(tips[k]);
+    const float u = 0.6f + 0.1f * k;
+    scene.texcoords.push_back({u, 0.1f});
+    scene.texcoords.push_back({u, 0.9f});
+    scene.texcoords.push_back({u + 0.05f, 0.5f});
+    scene.kept.push_back({first, static_cast<uint16_t>(first + 1),
+                          static_cast<uint16_t>(first + 2)});
+  }
+  const std::vector<std::array<uint16_t, 3>> octahedron = {
+      {0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+      {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  const std::vector<std::array<uint16_t, 3>> triangles = {
+      octahedron[0], octahedron[1], scene.kept[0], octahedron[2],
+      octahedron[3], octahedron[4], scene.kept[1], octahedron[5],
+      octahedron[6], scene.kept[2], octahedron[7]};
+  std::string bin;
+  for (const auto& v : scene.positions) {
+    bin.append(reinterpret_cast<const char*>(v.data()), 12);
+  }
+  for (const auto& t : scene.texcoords) {
+    bin.append(reinterpret_cast<const char*>(t.data()), 8);
+  }
+  for (const auto& t : triangles) {
+    bin.append(reinterpret_cast<const char*>(t.data()), 6);
+  }
+  WriteBytes(dir + "/mixed.bin", bin);
+  const size_t n = scene.positions.size();
+  Json j = Json::parse(R"({
+    "asset": {"version": "2.0", "generator": "hand"},
+    "scene": 0,
+    "scenes": [{"nodes": [0]}],
+    "nodes": [{"name": "Both", "mesh": 0}],
+    "meshes": [{"name": "Mixed", "primitives": [{"attributes":
+      {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+    "materials": [{"name": "Painted", "pbrMetallicRoughness":
+      {"baseColorTexture": {"index": 0}, "metallicFactor": 0}}],
+    "textures": [{"source": 0}],
+    "accessors": [
+      {"bufferView": 0, "componentType": 5126, "type": "VEC3",
+       "min": [-1, -1, -1], "max": [4, 1, 1]},
+      {"bufferView": 1, "componentType": 5126, "type": "VEC2"},
+      {"bufferView": 2, "componentType": 5123, "count": 33, "type": "SCALAR"}
+    ]
+  })");
+  j["images"] = {{{"uri", std::string("data:image/png;base64,") + kTinyPng}}};
+  j["accessors"][0]["count"] = n;
+  j["accessors"][1]["count"] = n;
+  j["bufferViews"] = {
+      {{"buffer", 0}, {"byteLength", 12 * n}},
+      {{"buffer", 0}, {"byteOffset", 12 * n}, {"byteLength", 8 * n}},
+      {{"buffer", 0}, {"byteOffset", 20 * n}, {"byteLength", 66}}};
+  j["buffers"] = {{{"uri", "mixed.bin"}, {"byteLength", bin.size()}}};
+  scene.path = dir + "/mixed.gltf";
+  WriteBytes(scene.path, j.dump(1));
+  return scene;
+}
+
+// The mixed primitive becomes two: the kept triangles as the file had them
+// (its vertices, texture coordinates and material), and the fitted
+// octahedron textured through an atlas in a primitive of its own.
+TEST(GltfAssetCliTest, APrimitiveOfFittedAndKeptPartsIsSplitInTwo) {
+  const std::string dir = FreshTestDir();
+  const MixedScene scene = WriteMixedPrimitiveScene(dir);
+  const std::string model = dir + "/mixed.sdcb";
+  RunResult r = RunSdcb(
+      {"fit", scene.path, "-o", model, "--rmse", "0.5", "--quiet"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json in = Json::parse(ReadBytes(scene.path));
+  for (const bool draco : {false, true}) {
+    const std::string out = dir + (draco ? "/draco.glb" : "/plain.glb");
+    std::vector<std::string> args = {"export",      model, "-o",     out,
+                                     "--tolerance", "0.5", "--quiet"};
+    if (draco) args.push_back("--draco");
+    r = RunSdcb(args, dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Json report = Validate(out, dir);
+    EXPECT_EQ(report["errors"], 0) << report.dump();
+    EXPECT_EQ(report["warnings"], 0) << report.dump();
+    const Glb glb = ReadGlb(out);
+    EXPECT_EQ(glb.json["nodes"], in["nodes"]);
+    ASSERT_EQ(glb.json["meshes"].size(), 1u);
+    EXPECT_EQ(glb.json["meshes"][0]["name"], "Mixed");
+    const Json& primitives = glb.json["meshes"][0]["primitives"];
+    ASSERT_EQ(primitives.size(), 2u) << primitives.dump();
+
+    // The kept triangles, corner by corner: the input's positions and
+    // texture coordinates, bit for bit, with the input's material.
+    const Json& kept = primitives[0];
+    EXPECT_EQ(glb.json["materials"][kept["material"].get<int>()],
+              in["materials"][0]);
+    const auto positions =
+        Floats(glb, kept["attributes"]["POSITION"].get<int>(), 3);
+    const auto texcoords =
+        Floats(glb, kept["attributes"]["TEXCOORD_0"].get<int>(), 2);
+    const std::vector<uint32_t> corners =
+        Indices(glb, kept["indices"].get<int>());
+    ASSERT_EQ(corners.size(), 3 * scene.kept.size());
+    for (size_t t = 0; t < scene.kept.size(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = corners[3 * t + k];
+        ASSERT_LT(v, positions.size());
+        const uint16_t w = scene.kept[t][k];
+        EXPECT_EQ(positions[v], std::vector<float>(scene.positions[w].begin(),
+                                                   scene.positions[w].end()))
+            << "triangle " << t << " corner " << k;
+        EXPECT_EQ(texcoords[v], std::vector<float>(scene.texcoords[w].begin(),
+                                                   scene.texcoords[w].end()))
+            << "triangle " << t << " corner " << k;
+      }
+    }
+    // The fitted octahedron: its own texture coordinates and a copy of the
+    // material whose base colour texture is the atlas.
+    const Json& fitted = primitives[1];
+    EXPECT_TRUE(fitted["attributes"].contains("TEXCOORD_0")) << fitted.dump();
+    EXPECT_EQ(draco, fitted.contains("extensions"));
+    ASSERT_TRUE(fitted.contains("material"));
+    EXPECT_NE(fitted["material"], kept["material"]);
+    const Json& material = glb.json["materials"][fitted["material"].get<int>()];
+    EXPECT_EQ(material["name"], "Painted");
+    EXPECT_TRUE(material["pbrMetallicRoughness"].contains("baseColorTexture"))
+        << material.dump();
+    // The input's image, which the kept triangles still use, and the atlas.
+    EXPECT_EQ(glb.json["images"].size(), 2u);
+  }
 }
 
 TEST(GltfAssetCliTest, SceneOfASharedMeshComesBackWithItsNodesAndMaterials) {
