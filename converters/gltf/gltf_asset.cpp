@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "sdcb/converters/gltf/glb_container.h"
 #include "sdcb/converters/gltf/gltf_gather.h"
@@ -195,15 +196,63 @@ void DropUnusedMaterials(Json* doc) {
   }
 }
 
+// Collects the names of the extensions every "extensions" object under `j`
+// holds (extras skipped: what they hold is the application's).
+void CollectExtensionNames(const Json& j, std::set<std::string>* names) {
+  if (j.is_array()) {
+    for (const Json& v : j) CollectExtensionNames(v, names);
+    return;
+  }
+  if (!j.is_object()) return;
+  for (const auto& [key, value] : j.items()) {
+    if (key == "extras") continue;
+    if (key == "extensions" && value.is_object()) {
+      for (const auto& [name, ext] : value.items()) names->insert(name);
+    }
+    CollectExtensionNames(value, names);
+  }
+}
+
+// Drops from extensionsUsed and extensionsRequired the names no object uses
+// (gltf_asset.h, MakeGltfShell), FB_ngon_encoding too when `fitted`.
+void DropUnusedExtensionNames(Json* doc, bool fitted) {
+  std::set<std::string> used;
+  CollectExtensionNames(*doc, &used);
+  // Names a file may list without any object: the quantized accessor
+  // types of kept primitives; FB_ngon_encoding as a flag of the whole file,
+  // which a fitted primitive's triangles make false.
+  used.insert("KHR_mesh_quantization");
+  if (!fitted) used.insert("FB_ngon_encoding");
+  for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
+    if (!doc->contains(key) || !(*doc)[key].is_array()) continue;
+    Json& names = (*doc)[key];
+    names.erase(std::remove_if(names.begin(), names.end(),
+                               [&](const Json& name) {
+                                 return !name.is_string() ||
+                                        used.count(name.get<std::string>()) ==
+                                            0;
+                               }),
+                names.end());
+    if (names.empty()) doc->erase(key);
+  }
+}
+
+// Drops from primitive `p` the extensions that describe its triangles as
+// the file had them: Draco's data, FB_ngon_encoding's polygons (runs of
+// consecutive triangles with one first vertex).
+void DropTriangleExtensions(Json* p) {
+  if (!p->contains("extensions")) return;
+  (*p)["extensions"].erase("KHR_draco_mesh_compression");
+  (*p)["extensions"].erase("FB_ngon_encoding");
+  if ((*p)["extensions"].empty()) p->erase("extensions");
+}
+
 // Takes the geometry out of primitive `p`, which then holds `parts`.
 void HoldParts(const std::vector<int>& parts, Json* p) {
   for (const char* key : {"attributes", "indices", "targets", "mode"}) {
     p->erase(key);
   }
-  if (p->contains("extensions")) {
-    (*p)["extensions"].erase("KHR_draco_mesh_compression");
-    if ((*p)["extensions"].empty()) p->erase("extensions");
-  }
+  DropTriangleExtensions(p);
   if (!p->contains("extras") || !(*p)["extras"].is_object()) {
     (*p)["extras"] = Json::object();
   }
@@ -277,6 +326,9 @@ StatusOr<std::vector<size_t>> TakeGeometryOut(
     HoldParts(f.parts, &holding);
     p["indices"] = AppendIndices(f.kept_corners, num_views, doc, appended);
     p.erase("mode");
+    // With the fitted triangles gone from between them, two polygons of
+    // the kept ones could become consecutive and read as one.
+    DropTriangleExtensions(&p);
     holder[i] = primitives.size();
     primitives.push_back(std::move(holding));
   }
@@ -292,23 +344,6 @@ StatusOr<std::string> MakeShell(
   std::vector<AppendedView> appended;
   SDCB_ASSIGN_OR_RETURN(const std::vector<size_t> holder,
                         TakeGeometryOut(fitted, num_views, &doc, &appended));
-  // The compression extensions only kept primitives may still need.
-  bool draco_left = false;
-  for (const Json& mesh : doc.value("meshes", Json::array())) {
-    for (const Json& p : mesh.value("primitives", Json::array())) {
-      draco_left = draco_left ||
-                   (p.contains("extensions") &&
-                    p["extensions"].contains("KHR_draco_mesh_compression"));
-    }
-  }
-  for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
-    if (!doc.contains(key) || draco_left) continue;
-    Json& names = doc[key];
-    names.erase(std::remove(names.begin(), names.end(),
-                            Json("KHR_draco_mesh_compression")),
-                names.end());
-    if (names.empty()) doc.erase(key);
-  }
   // Accessors, then buffer views, that anything still names.
   const size_t num_accessors =
       doc.contains("accessors") ? doc["accessors"].size() : 0;
@@ -421,6 +456,7 @@ StatusOr<std::string> MakeShell(
   } else {
     doc["buffers"] = Json::array({{{"byteLength", bin.size()}}});
   }
+  DropUnusedExtensionNames(&doc, !fitted.empty());
   return PackGlb(doc.dump(), std::move(bin));
 }
 
@@ -649,6 +685,7 @@ StatusOr<EncodedGltfAsset> EncodeAsset(
     }
     ++out.fitted_primitives;
   }
+  DropUnusedExtensionNames(&gather.json(), !fitted.empty());
   out.gltf = gather.Finish(binary);
   return out;
 }

@@ -42,26 +42,32 @@ struct GltfFittedPrimitive {
 };
 
 // The shell of `document` with the geometry of `fitted` taken out: those
-// primitives lose attributes, indices, morph targets, Draco data and mode
-// (their surfaces are written as TRIANGLES), and hold their parts in
-// extras. A primitive with `kept_corners` is split in two: it keeps its
-// attributes, material and everything else, its indices replaced by a new
-// accessor of the kept triangles (unsigned short, or unsigned int from
-// 65535 vertices on) and its mode by TRIANGLES; a copy of it, its geometry
-// taken out as above, is appended to its mesh's primitives and holds the
-// parts. Accessors and buffer views nothing uses any more are dropped;
-// every image given by a URI moves into a buffer view (its MIME type from
-// the data URI or the file's extension), except one whose file was not
-// there, which keeps its URI; all bytes in one buffer, the GLB's BIN chunk.
-// kInvalidInput when the document does not parse or a primitive, accessor
-// or view it names is not there; kUnsupported for a kept primitive whose
-// views are meshopt-compressed; kInvalidArgument for kept_corners of a
-// Draco-compressed primitive.
+// primitives lose attributes, indices, morph targets, mode (their surfaces
+// are written as TRIANGLES) and the extensions that describe the file's
+// triangles (KHR_draco_mesh_compression, FB_ngon_encoding), and hold their
+// parts in extras. A primitive with `kept_corners` is split in two: it
+// keeps its attributes, material and everything else but those
+// extensions, its indices replaced by a new accessor of the kept triangles
+// (unsigned short, or unsigned int from 65535 vertices on) and its mode by
+// TRIANGLES; a copy of it, its geometry taken out as above, is appended to
+// its mesh's primitives and holds the parts. Accessors and buffer views
+// nothing uses any more are dropped; every image given by a URI moves into
+// a buffer view (its MIME type from the data URI or the file's extension),
+// except one whose file was not there, which keeps its URI; all bytes in
+// one buffer, the GLB's BIN chunk. kInvalidInput when the document does not
+// parse or a primitive, accessor or view it names is not there;
+// kUnsupported for a kept primitive whose views are meshopt-compressed;
+// kInvalidArgument for kept_corners of a Draco-compressed primitive.
 // A fitted primitive with an atlas gets it as an embedded PNG image with a
 // texture and sampler (clamp to edge, linear) and a copy of its material
 // (a default one if it has none) whose base colour texture is the atlas,
 // other textures and the material's extensions dropped; the primitive's
 // extras hold "sdcb_atlas": {"tile", "parts", "extent"}, the layout.
+// Last, extensionsUsed and extensionsRequired keep only the names that
+// some "extensions" object of the shell still has as a key, and
+// KHR_mesh_quantization, which no object names (kept primitives may still
+// read its accessor types); FB_ngon_encoding listed without any primitive
+// naming it (a flag of the whole file) stays only when nothing is fitted.
 StatusOr<std::string> MakeGltfShell(
     const GltfDocument& document,
     const std::vector<GltfFittedPrimitive>& fitted);
@@ -84,7 +90,9 @@ StatusOr<std::vector<GltfFittedPrimitive>> ShellFittedPrimitives(
 // texture coordinates), kept in a copy when other primitives use the
 // material too; textureless_materials counts them. kUnsupported for meshopt
 // (its dequantizing node transform would replace the asset's nodes');
-// kInvalidArgument when a part index is out of range.
+// kInvalidArgument when a part index is out of range. extensionsUsed and
+// extensionsRequired as MakeGltfShell leaves them, the compression's
+// extensions added.
 struct EncodedGltfAsset {
   EncodedGltf gltf;
   int fitted_primitives = 0;
