@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Textured glTF assets through `sdcb fit` and `sdcb export` (plain and
-# Draco): BoxTextured (assimp-testmodels' glTF 2), the Khronos Duck
+# Textured glTF assets through `sdcb fit` and `sdcb export` (plain, Draco
+# and meshopt): BoxTextured (assimp-testmodels' glTF 2), the Khronos Duck
 # (duck.dae converted by `assimp export`, its duckCM.tga beside it) and the
 # Cesium Milk Truck (glTF 1 converted by `assimp export -f glb2`). Per asset:
 # fit and export seconds, the Khronos validator's errors, then
@@ -23,9 +23,11 @@ for name in BoxTextured Duck CesiumMilkTruck; do
     echo "== $name: the fit refused the asset (above)"
     continue
   fi
-  ./build/sdcb export "$OUT/$name.sdcb" -o "$OUT/$name.draco.glb" \
-    --tolerance "$TOL" --draco --quiet
-  for kind in out draco; do
+  for codec in draco meshopt; do
+    ./build/sdcb export "$OUT/$name.sdcb" -o "$OUT/$name.$codec.glb" \
+      --tolerance "$TOL" --$codec --quiet
+  done
+  for kind in out draco meshopt; do
     # validate.js exits 1 on a warning too: the count is what this prints
     errors=$(node scripts/gltf_tools/validate.js "$OUT/$name.$kind.glb" |
       sed -n 's/.*"errors":\([0-9]*\).*/\1/p') || true

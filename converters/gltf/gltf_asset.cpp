@@ -554,14 +554,6 @@ StatusOr<EncodedGltfAsset> EncodeAsset(
   if (options.size() != parts.size()) {
     return InvalidArgumentError("glTF parts need one set of options each");
   }
-  for (const GltfExportOptions& o : options) {
-    if (o.compression == GltfCompression::kMeshopt) {
-      return UnsupportedError(
-          "meshopt compression of a glTF asset is not supported (its "
-          "dequantizing node transform would replace the asset's); use "
-          "--draco or no compression");
-    }
-  }
   SDCB_ASSIGN_OR_RETURN(const std::vector<GltfFittedPrimitive> fitted,
                         ShellFittedPrimitives(shell));
   SDCB_ASSIGN_OR_RETURN(const GlbChunks chunks, SplitGlb(shell));
@@ -632,6 +624,9 @@ StatusOr<EncodedGltfAsset> EncodeAsset(
     }
     const SurfaceMesh& first = part_mesh(0);
     o = options[f.parts[0]];
+    // The asset's nodes keep their own transforms: meshopt's positions are
+    // floats, not a grid that a node transform undoes.
+    o.meshopt_positions = GltfMeshoptPositions::kExponential;
     mesh.positions.resize(nv, 3);
     mesh.normals.resize(first.normals.rows() > 0 ? nv : 0, 3);
     mesh.colors.resize(first.colors.rows() > 0 ? nv : 0, 3);

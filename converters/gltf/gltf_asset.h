@@ -88,11 +88,11 @@ StatusOr<std::vector<GltfFittedPrimitive>> ShellFittedPrimitives(
 // sums CubeAtlasMesh::corners_beyond_extent. Any other fitted primitive's
 // material that samples a texture loses its textures (its surface has no
 // texture coordinates), kept in a copy when other primitives use the
-// material too; textureless_materials counts them. kUnsupported for meshopt
-// (its dequantizing node transform would replace the asset's nodes');
-// kInvalidArgument when a part index is out of range. extensionsUsed and
-// extensionsRequired as MakeGltfShell leaves them, the compression's
-// extensions added.
+// material too; textureless_materials counts them. meshopt writes
+// exponential positions (GltfMeshoptPositions::kExponential: no node
+// transform, so the asset's nodes stay its own). kInvalidArgument when a
+// part index is out of range. extensionsUsed and extensionsRequired as
+// MakeGltfShell leaves them, the compression's extensions added.
 struct EncodedGltfAsset {
   EncodedGltf gltf;
   int fitted_primitives = 0;

@@ -306,54 +306,178 @@ StatusOr<std::string> EncodeDraco(const SurfaceMesh& mesh,
 
 // --- meshopt ----------------------------------------------------------------
 
-StatusOr<std::string> EncodeMeshopt(const SurfaceMesh& mesh,
-                                    const GltfExportOptions& options, bool glb,
-                                    double step, const Eigen::RowVector3d& lo) {
+// POSITION through EXT_meshopt_compression's EXPONENTIAL filter.
+struct ExponentialPositions {
+  std::vector<uint32_t> data;  // what the view holds, 3 words per vertex
+  std::vector<float> decoded;  // what a decoder reads back
+  int bits = 0;                // mantissa bits K; 24: unfiltered floats
+  double error = 0.0;          // largest distance decoded - exact
+  double step = 0.0;           // largest 2^exponent (0 unfiltered)
+  std::vector<double> lo, hi;  // the decoded values' min / max, 3 each
+};
+
+// The largest distance between the vertices of `decoded` and `exact` (3
+// values per vertex each).
+double LargestDistance(const std::vector<double>& exact,
+                       const std::vector<float>& decoded) {
+  double worst = 0.0;
+  for (size_t i = 0; i + 2 < exact.size(); i += 3) {
+    double d2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double d = double{decoded[i + k]} - exact[i + k];
+      d2 += d * d;
+    }
+    worst = std::max(worst, std::sqrt(d2));
+  }
+  return worst;
+}
+
+// Sets `p`'s lo and hi from its decoded values.
+void SetBounds(ExponentialPositions* p) {
+  p->lo.assign(3, 0.0);
+  p->hi.assign(3, 0.0);
+  for (size_t i = 0; i < p->decoded.size(); ++i) {
+    const double x = p->decoded[i];
+    const int k = i % 3;
+    p->lo[k] = i < 3 ? x : std::min(p->lo[k], x);
+    p->hi[k] = i < 3 ? x : std::max(p->hi[k], x);
+  }
+}
+
+// `exact` (3 values per vertex) as float32 encoded by meshopt_encodeFilterExp
+// (one exponent per vertex) with the fewest mantissa bits whose decoded
+// positions (meshopt_decodeFilterExp, as a loader decodes them) are within
+// `max_error` of `exact`. Bits stop at 23: meshoptimizer 0.18 wraps a 24-bit
+// mantissa that rounds up to 2^23 into the sign bit. Where 23 are not
+// enough, the floats themselves (filter NONE).
+ExponentialPositions EncodeExponential(const std::vector<double>& exact,
+                                       double max_error) {
+  const size_t n = exact.size() / 3;
+  std::vector<float> xyz(exact.size());
+  for (size_t i = 0; i < exact.size(); ++i) xyz[i] = float(exact[i]);
+  ExponentialPositions out;
+  out.data.resize(xyz.size());
+  out.decoded.resize(xyz.size());
+  for (int bits = 1; bits <= 23; ++bits) {
+    meshopt_encodeFilterExp(out.data.data(), n, 12, bits, xyz.data());
+    std::memcpy(out.decoded.data(), out.data.data(), 4 * xyz.size());
+    meshopt_decodeFilterExp(out.decoded.data(), n, 12);
+    out.error = LargestDistance(exact, out.decoded);
+    if (out.error <= max_error) {
+      out.bits = bits;
+      for (size_t i = 0; i < out.data.size(); i += 3) {
+        const int exponent = static_cast<int8_t>(out.data[i] >> 24);
+        out.step = std::max(out.step, std::ldexp(1.0, exponent));
+      }
+      SetBounds(&out);
+      return out;
+    }
+  }
+  out.bits = 24;
+  std::memcpy(out.data.data(), xyz.data(), 4 * xyz.size());
+  out.decoded = xyz;
+  out.error = LargestDistance(exact, out.decoded);
+  out.step = 0.0;
+  SetBounds(&out);
+  return out;
+}
+
+// EncodeMeshopt's vertex streams in meshopt's order (vertex cache order for
+// the triangles, then vertex fetch order); only the vertices a face uses.
+struct MeshoptStreams {
+  std::vector<unsigned int> indices;  // 3 per triangle
+  size_t count = 0;                   // vertices
+  // Quantized positions (x, y, z, 0) on the grid of `step` from `lo`, or
+  // for exponential ones the exact positions (x, y, z).
+  std::vector<uint16_t> q;
+  uint16_t qmin[3] = {65535, 65535, 65535}, qmax[3] = {0, 0, 0};
+  std::vector<double> exact;
+  std::vector<int16_t> n;    // normals (x, y, z, 0), normalized shorts
+  std::vector<uint8_t> c;    // colors (r, g, b, 255)
+  std::vector<uint16_t> uv;  // texture coordinates, normalized
+};
+
+MeshoptStreams MakeMeshoptStreams(const SurfaceMesh& mesh, bool exponential,
+                                  int bits, double step,
+                                  const Eigen::RowVector3d& lo) {
   const size_t nv = mesh.positions.rows(), ni = 3 * mesh.faces.rows();
-  std::vector<unsigned int> indices(ni);
+  MeshoptStreams s;
+  std::vector<unsigned int>& indices = s.indices;
+  indices.resize(ni);
   for (size_t i = 0; i < ni; ++i) indices[i] = mesh.faces(i / 3, i % 3);
-  // Vertex cache order for the triangles, then vertex fetch order.
   meshopt_optimizeVertexCache(indices.data(), indices.data(), ni, nv);
   std::vector<unsigned int> remap(nv);
   const size_t unique =
       meshopt_optimizeVertexFetchRemap(remap.data(), indices.data(), ni, nv);
   meshopt_remapIndexBuffer(indices.data(), indices.data(), ni, remap.data());
+  s.count = unique;
   // Vertices never referenced by a face do not exist in a closed mesh.
   std::vector<size_t> source(unique);
   for (size_t v = 0; v < nv; ++v) {
     if (remap[v] != ~0u) source[remap[v]] = v;
   }
-  const bool normals = mesh.normals.rows() > 0, colors = mesh.colors.rows() > 0;
-  std::vector<uint16_t> q(4 * unique, 0);
-  std::vector<int16_t> n(4 * unique, 0);
-  std::vector<uint8_t> c(4 * unique, 255);
-  uint16_t qmin[3] = {65535, 65535, 65535}, qmax[3] = {0, 0, 0};
-  const double levels = std::pow(2.0, options.position_bits) - 1.0;
+  const bool normals = mesh.normals.rows() > 0, colors = mesh.colors.rows() > 0,
+             texcoords = mesh.texcoords.rows() > 0;
+  s.q.assign(exponential ? 0 : 4 * unique, 0);
+  s.exact.resize(exponential ? 3 * unique : 0);
+  s.n.assign(4 * unique, 0);
+  s.c.assign(4 * unique, 255);
+  s.uv.resize(texcoords ? 2 * unique : 0);
+  const double levels = std::pow(2.0, bits) - 1.0;
   for (size_t i = 0; i < unique; ++i) {
     const size_t v = source[i];
     for (int k = 0; k < 3; ++k) {
+      if (exponential) {
+        s.exact[3 * i + k] = mesh.positions(v, k);
+        continue;
+      }
       const double t = std::round((mesh.positions(v, k) - lo[k]) / step);
       const uint16_t u = static_cast<uint16_t>(std::clamp(t, 0.0, levels));
-      q[4 * i + k] = u;
-      qmin[k] = std::min(qmin[k], u);
-      qmax[k] = std::max(qmax[k], u);
+      s.q[4 * i + k] = u;
+      s.qmin[k] = std::min(s.qmin[k], u);
+      s.qmax[k] = std::max(s.qmax[k], u);
     }
     if (normals) {
       const Eigen::Vector3d u = mesh.normals.row(v).transpose().normalized();
       for (int k = 0; k < 3; ++k)
-        n[4 * i + k] = static_cast<int16_t>(std::lround(u[k] * 32767.0));
+        s.n[4 * i + k] = static_cast<int16_t>(std::lround(u[k] * 32767.0));
     }
     if (colors) {
-      for (int k = 0; k < 3; ++k) c[4 * i + k] = mesh.colors(v, k);
+      for (int k = 0; k < 3; ++k) s.c[4 * i + k] = mesh.colors(v, k);
+    }
+    if (texcoords) {
+      for (int k = 0; k < 2; ++k) {
+        s.uv[2 * i + k] =
+            static_cast<uint16_t>(std::lround(mesh.texcoords(v, k) * 65535.0));
+      }
     }
   }
+  return s;
+}
+
+// `result` holds the grid's step and error (QuantizationStep of
+// options.position_bits); exponential positions replace them with theirs.
+StatusOr<std::string> EncodeMeshopt(const SurfaceMesh& mesh,
+                                    const GltfExportOptions& options, bool glb,
+                                    GltfExportResult* result) {
+  const bool exponential =
+      options.meshopt_positions == GltfMeshoptPositions::kExponential;
+  const double step = result->quantization_step;
+  const Eigen::RowVector3d lo = mesh.positions.colwise().minCoeff();
+  const MeshoptStreams s =
+      MakeMeshoptStreams(mesh, exponential, options.position_bits, step, lo);
+  const std::vector<unsigned int>& indices = s.indices;
+  const size_t unique = s.count, ni = indices.size();
+  const bool normals = mesh.normals.rows() > 0, colors = mesh.colors.rows() > 0,
+             texcoords = mesh.texcoords.rows() > 0;
   std::string bin;
   Json views = Json::array();
   size_t fallback_size = 0;
   // One compressed buffer view: the uncompressed layout lives in the
   // fallback buffer 1, the encoded bytes in buffer 0.
   auto add_view = [&](const std::vector<unsigned char>& encoded, size_t stride,
-                      size_t count, const char* mode, int target) {
+                      size_t count, const char* mode, int target,
+                      const char* filter = nullptr) {
     Pad4(&bin, '\0');
     Json ext = {{"buffer", 0},
                 {"byteOffset", bin.size()},
@@ -361,6 +485,7 @@ StatusOr<std::string> EncodeMeshopt(const SurfaceMesh& mesh,
                 {"byteStride", stride},
                 {"count", count},
                 {"mode", mode}};
+    if (filter != nullptr) ext["filter"] = filter;
     bin.append(reinterpret_cast<const char*>(encoded.data()), encoded.size());
     Json view = {{"buffer", 1},
                  {"byteOffset", fallback_size},
@@ -382,36 +507,49 @@ StatusOr<std::string> EncodeMeshopt(const SurfaceMesh& mesh,
   };
   Json accessors = Json::array();
   Json attributes;
-  {
-    const int view = add_view(encode_vertices(q.data(), 8), 8, unique,
+  if (exponential) {
+    const ExponentialPositions p =
+        EncodeExponential(s.exact, std::sqrt(3.0) / 2.0 * step);
+    result->quantization_error = p.error;
+    result->quantization_step = p.step;
+    result->exponential_bits = p.bits;
+    const int view =
+        add_view(encode_vertices(p.data.data(), 12), 12, unique, "ATTRIBUTES",
+                 kArrayBuffer, p.bits <= 23 ? "EXPONENTIAL" : nullptr);
+    accessors.push_back({{"bufferView", view},
+                         {"componentType", kFloat},
+                         {"count", unique},
+                         {"type", "VEC3"},
+                         {"min", p.lo},
+                         {"max", p.hi}});
+    attributes["POSITION"] = accessors.size() - 1;
+  } else {
+    const int view = add_view(encode_vertices(s.q.data(), 8), 8, unique,
                               "ATTRIBUTES", kArrayBuffer);
     accessors.push_back({{"bufferView", view},
                          {"componentType", kUnsignedShort},
                          {"count", unique},
                          {"type", "VEC3"},
-                         {"min", {qmin[0], qmin[1], qmin[2]}},
-                         {"max", {qmax[0], qmax[1], qmax[2]}}});
+                         {"min", {s.qmin[0], s.qmin[1], s.qmin[2]}},
+                         {"max", {s.qmax[0], s.qmax[1], s.qmax[2]}}});
     attributes["POSITION"] = accessors.size() - 1;
   }
-  if (normals) {
-    const int view = add_view(encode_vertices(n.data(), 8), 8, unique,
+  // A normalized integer attribute, `stride` bytes per vertex.
+  auto add_normalized = [&](const char* name, const void* data, size_t stride,
+                            int component, const char* type) {
+    const int view = add_view(encode_vertices(data, stride), stride, unique,
                               "ATTRIBUTES", kArrayBuffer);
     accessors.push_back({{"bufferView", view},
-                         {"componentType", kShort},
+                         {"componentType", component},
                          {"normalized", true},
                          {"count", unique},
-                         {"type", "VEC3"}});
-    attributes["NORMAL"] = accessors.size() - 1;
-  }
-  if (colors) {
-    const int view = add_view(encode_vertices(c.data(), 4), 4, unique,
-                              "ATTRIBUTES", kArrayBuffer);
-    accessors.push_back({{"bufferView", view},
-                         {"componentType", kUnsignedByte},
-                         {"normalized", true},
-                         {"count", unique},
-                         {"type", "VEC4"}});
-    attributes["COLOR_0"] = accessors.size() - 1;
+                         {"type", type}});
+    attributes[name] = accessors.size() - 1;
+  };
+  if (normals) add_normalized("NORMAL", s.n.data(), 8, kShort, "VEC3");
+  if (colors) add_normalized("COLOR_0", s.c.data(), 4, kUnsignedByte, "VEC4");
+  if (texcoords) {
+    add_normalized("TEXCOORD_0", s.uv.data(), 4, kUnsignedShort, "VEC2");
   }
   {
     meshopt_encodeIndexVersion(
@@ -431,14 +569,21 @@ StatusOr<std::string> EncodeMeshopt(const SurfaceMesh& mesh,
   Pad4(&bin, '\0');
   Json json;
   json["asset"] = {{"version", "2.0"}, {"generator", "sdcb"}};
-  json["extensionsUsed"] = {"EXT_meshopt_compression", "KHR_mesh_quantization"};
-  json["extensionsRequired"] = {"EXT_meshopt_compression",
-                                "KHR_mesh_quantization"};
+  // KHR_mesh_quantization for the short positions and normals (normalized
+  // unsigned short texture coordinates are core glTF).
+  Json extensions = Json::array({"EXT_meshopt_compression"});
+  if (!exponential || normals) extensions.push_back("KHR_mesh_quantization");
+  json["extensionsUsed"] = extensions;
+  json["extensionsRequired"] = extensions;
   json["scene"] = 0;
   json["scenes"] = {{{"nodes", {0}}}};
-  json["nodes"] = {{{"mesh", 0},
-                    {"translation", {lo[0], lo[1], lo[2]}},
-                    {"scale", {step, step, step}}}};
+  if (exponential) {
+    json["nodes"] = {{{"mesh", 0}}};
+  } else {
+    json["nodes"] = {{{"mesh", 0},
+                      {"translation", {lo[0], lo[1], lo[2]}},
+                      {"scale", {step, step, step}}}};
+  }
   json["meshes"] = {{{"primitives",
                       {{{"attributes", attributes},
                         {"indices", accessors.size() - 1},
@@ -450,7 +595,6 @@ StatusOr<std::string> EncodeMeshopt(const SurfaceMesh& mesh,
       {{"byteLength", fallback_size},
        {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}};
   (void)kByte;
-  (void)kFloat;
   return Container(json, bin, glb);
 }
 
@@ -495,14 +639,16 @@ StatusOr<EncodedGltf> EncodeGltf(const SurfaceMesh& mesh,
       }
     }
   }
-  if (mesh.texcoords.rows() > 0 &&
-      options.compression == GltfCompression::kMeshopt) {
-    return InvalidArgumentError(
-        "meshopt compression does not write texture coordinates");
-  }
   if (mesh.texcoords.rows() != 0 &&
       mesh.texcoords.rows() != mesh.positions.rows()) {
     return InvalidArgumentError("texture coordinates are not one per vertex");
+  }
+  // meshopt stores them as normalized unsigned shorts.
+  if (options.compression == GltfCompression::kMeshopt &&
+      mesh.texcoords.rows() > 0 &&
+      !(mesh.texcoords.minCoeff() >= 0.0 && mesh.texcoords.maxCoeff() <= 1.0)) {
+    return InvalidArgumentError(
+        "meshopt writes texture coordinates in [0, 1] only");
   }
   EncodedGltf out;
   GltfExportResult& result = out.result;
@@ -532,9 +678,7 @@ StatusOr<EncodedGltf> EncodeGltf(const SurfaceMesh& mesh,
           QuantizationStep(mesh.positions, options.position_bits);
       result.quantization_error =
           std::sqrt(3.0) / 2.0 * result.quantization_step;
-      const Eigen::RowVector3d lo = mesh.positions.colwise().minCoeff();
-      bytes =
-          EncodeMeshopt(mesh, options, binary, result.quantization_step, lo);
+      bytes = EncodeMeshopt(mesh, options, binary, &result);
       break;
     }
   }
@@ -563,6 +707,8 @@ StatusOr<Json> GltfGather::AppendMesh(const EncodedGltf& encoded,
   r.quantization_step =
       std::max(r.quantization_step, encoded.result.quantization_step);
   r.float32_error = std::max(r.float32_error, encoded.result.float32_error);
+  r.exponential_bits =
+      std::max(r.exponential_bits, encoded.result.exponential_bits);
   Json j;
   std::string part_bin;
   SDCB_RETURN_IF_ERROR(UnpackGlb(encoded.bytes, &j, &part_bin));

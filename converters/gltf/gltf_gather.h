@@ -26,7 +26,7 @@ class GltfGather {
   // accessor and Draco view indices rebased; their material appended and
   // rebased with `keep_materials`, else dropped. node() is then the node
   // EncodeGltf wrote for it, without its mesh (meshopt's dequantizing
-  // translation and scale, or nothing).
+  // translation and scale with quantized positions, or nothing).
   StatusOr<nlohmann::ordered_json> AppendMesh(const EncodedGltf& encoded,
                                               bool keep_materials);
 
@@ -35,7 +35,8 @@ class GltfGather {
 
   // The file: a GLB (`binary`) or a .gltf with buffer 0 as a data URI; the
   // top-level keys in glTF's usual order, empty arrays left out. The
-  // result's errors and step are the largest of the meshes appended.
+  // result's errors, step and exponential bits are the largest of the
+  // meshes appended.
   EncodedGltf Finish(bool binary);
 
  private:

@@ -687,6 +687,10 @@ StatusOr<SurfaceMeshExport> ExportParts(const std::vector<PartView>& parts,
     break;
   }
   report.quantization.bits = quantized ? bits : 0;
+  // meshopt's exponential positions (a glTF asset): their mantissa bits.
+  if (gltf.exponential_bits > 0) {
+    report.quantization.bits = gltf.exponential_bits;
+  }
   report.quantization.step = gltf.quantization_step;
   report.quantization.error_percent = quantization_percent;
   report.quantization.float32_error_percent =

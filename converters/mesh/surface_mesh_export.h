@@ -115,8 +115,11 @@ struct SurfaceMeshExportReport {
   double triangles_vs_optimum = 0.0;
   CurvatureIntegrals curvature_integrals;  // in the normalized frame
   struct Quantization {
-    int bits = 0;       // 0: float32 positions
-    double step = 0.0;  // input units
+    // 0: float32 positions. meshopt's exponential positions (a glTF asset,
+    // GltfMeshoptPositions::kExponential): their mantissa bits.
+    int bits = 0;
+    // Input units; exponential positions: the largest 2^exponent.
+    double step = 0.0;
     double error_percent = 0.0;
     double float32_error_percent = 0.0;
   } quantization;

@@ -5,9 +5,11 @@
 // close to the input's, and the Khronos validator finds no error.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -312,15 +314,41 @@ TEST(GltfAssetCliTest, APrimitiveOfFittedAndKeptPartsIsSplitInTwo) {
     // The input's image, which the kept triangles still use, and the atlas.
     EXPECT_EQ(glb.json["images"].size(), 2u);
   }
+
+// WriteSharedMeshScene's scene written into `dir` and fitted to
+// `dir`/scene.sdcb: that path, or "" (a test failure) when the fit fails.
+std::string FitSharedMeshScene(const std::string& dir) {
+  const std::string model = dir + "/scene.sdcb";
+  const RunResult fit = RunSdcb({"fit", WriteSharedMeshScene(dir), "-o", model,
+                                 "--rmse", "0.5", "--quiet"},
+                                dir);
+  if (fit.exit_code != 0) {
+    ADD_FAILURE() << fit.err;
+    return "";
+  }
+  return model;
+}
+
+// `out`, an export of the scene, keeps the nodes, scenes and materials of
+// `in` (the input) and its one mesh "Pair" of two primitives with their
+// materials.
+void ExpectSharedMeshSceneKept(const Json& out, const Json& in) {
+  EXPECT_EQ(out["nodes"], in["nodes"]);
+  EXPECT_EQ(out["scenes"], in["scenes"]);
+  EXPECT_EQ(out["scene"], in["scene"]);
+  EXPECT_EQ(out["materials"], in["materials"]);
+  ASSERT_EQ(out["meshes"].size(), 1u);
+  EXPECT_EQ(out["meshes"][0]["name"], "Pair");
+  const Json& primitives = out["meshes"][0]["primitives"];
+  ASSERT_EQ(primitives.size(), 2u);
+  EXPECT_EQ(primitives[0]["material"], 1);
+  EXPECT_EQ(primitives[1]["material"], 0);
 }
 
 TEST(GltfAssetCliTest, SceneOfASharedMeshComesBackWithItsNodesAndMaterials) {
   const std::string dir = FreshTestDir();
-  const std::string input = WriteSharedMeshScene(dir);
-  const std::string model = dir + "/scene.sdcb";
-  const RunResult fit =
-      RunSdcb({"fit", input, "-o", model, "--rmse", "0.5", "--quiet"}, dir);
-  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  const std::string model = FitSharedMeshScene(dir);
+  ASSERT_FALSE(model.empty());
   // The shared mesh is fitted once: one part per primitive.
   const RunResult info = RunSdcb({"info", model, "--json", "-"}, dir);
   ASSERT_EQ(info.exit_code, 0) << info.err;
@@ -329,7 +357,7 @@ TEST(GltfAssetCliTest, SceneOfASharedMeshComesBackWithItsNodesAndMaterials) {
   EXPECT_EQ(parts[0]["name"], "Pair#0");
   EXPECT_EQ(parts[1]["name"], "Pair#1");
 
-  const Json in = Json::parse(ReadBytes(input));
+  const Json in = Json::parse(ReadBytes(dir + "/scene.gltf"));
   for (const bool draco : {false, true}) {
     const std::string out = dir + (draco ? "/draco.glb" : "/plain.glb");
     std::vector<std::string> args = {"export",      model, "-o",     out,
@@ -341,17 +369,8 @@ TEST(GltfAssetCliTest, SceneOfASharedMeshComesBackWithItsNodesAndMaterials) {
     EXPECT_EQ(report["errors"], 0) << report.dump();
     EXPECT_EQ(report["warnings"], 0) << report.dump();
     const Glb glb = ReadGlb(out);
-    const Json& j = glb.json;
-    EXPECT_EQ(j["nodes"], in["nodes"]);
-    EXPECT_EQ(j["scenes"], in["scenes"]);
-    EXPECT_EQ(j["scene"], in["scene"]);
-    EXPECT_EQ(j["materials"], in["materials"]);
-    ASSERT_EQ(j["meshes"].size(), 1u);
-    EXPECT_EQ(j["meshes"][0]["name"], "Pair");
-    const Json& primitives = j["meshes"][0]["primitives"];
-    ASSERT_EQ(primitives.size(), 2u);
-    EXPECT_EQ(primitives[0]["material"], 1);
-    EXPECT_EQ(primitives[1]["material"], 0);
+    ASSERT_NO_FATAL_FAILURE(ExpectSharedMeshSceneKept(glb.json, in));
+    const Json& primitives = glb.json["meshes"][0]["primitives"];
     if (draco) {
       EXPECT_TRUE(
           primitives[0]["extensions"].contains("KHR_draco_mesh_compression"));
@@ -375,6 +394,144 @@ TEST(GltfAssetCliTest, SceneOfASharedMeshComesBackWithItsNodesAndMaterials) {
       EXPECT_LT(worst, 0.05 * 2 * radius[p]) << "primitive " << p;
     }
   }
+}
+
+// The world positions glTF Transform decodes from `file`
+// (scripts/gltf_tools/decode.mjs: meshopt and Draco decoded, node
+// transforms applied), node by node in document order.
+Json DecodeWithGltfTransform(const std::string& file, const std::string& dir) {
+  const std::string out = dir + "/decoded.json";
+  const std::string command =
+      "node " +
+      testing::ShellQuote(std::string(SDCB_SOURCE_DIR) +
+                          "/scripts/gltf_tools/decode.mjs") +
+      " " + testing::ShellQuote(file) + " > " + testing::ShellQuote(out) +
+      " 2>&1";
+  (void)std::system(command.c_str());
+  return Json::parse(ReadBytes(out), nullptr, false);
+}
+
+// The largest distance from a point of `from` to its nearest point of `to`
+// (rows of 3 numbers; `from` rows [from_begin, from_end), `to` rows
+// [to_begin, to_end)).
+double Farthest(const Json& from, size_t from_begin, size_t from_end,
+                const Json& to, size_t to_begin, size_t to_end) {
+  double worst = 0.0;
+  for (size_t i = from_begin; i < from_end; ++i) {
+    double best = HUGE_VAL;
+    for (size_t j = to_begin; j < to_end; ++j) {
+      double d2 = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const double d = from[i][k].get<double>() - to[j][k].get<double>();
+        d2 += d * d;
+      }
+      best = std::min(best, d2);
+    }
+    worst = std::max(worst, std::sqrt(best));
+  }
+  return worst;
+}
+
+// `export --meshopt` of an asset: its nodes keep their transforms (the
+// positions are floats through the exponential filter, no dequantizing
+// node), the file is valid, and the positions glTF Transform decodes lie
+// within the reported quantization error of the plain export's.
+TEST(GltfAssetCliTest, SceneOfASharedMeshComesBackWithMeshopt) {
+  const std::string dir = FreshTestDir();
+  const std::string model = FitSharedMeshScene(dir);
+  ASSERT_FALSE(model.empty());
+  const Json in = Json::parse(ReadBytes(dir + "/scene.gltf"));
+  // A uniform mesh (its vertices off the octahedra's round corners, which
+  // the adaptive one keeps) is the same for every encoding, so the two
+  // files hold the same vertices; the quantization gets its share of the
+  // tolerance as always.
+  const std::vector<std::string> common = {"export", model, "--tolerance",
+                                           "0.5", "--quiet"};
+  const auto run = [&](const std::string& name,
+                       const std::vector<std::string>& flags) {
+    std::vector<std::string> args = common;
+    args.insert(args.end(),
+                {"-o", dir + "/" + name, "--json", dir + "/" + name + ".json"});
+    args.insert(args.end(), flags.begin(), flags.end());
+    const RunResult r = RunSdcb(args, dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return Json::parse(ReadBytes(dir + "/" + name + ".json"));
+  };
+  const Json plain_report = run("plain.glb", {"--uniform", "600"});
+  const Json report = run("meshopt.glb", {"--uniform", "600", "--meshopt"});
+  const std::string out = dir + "/meshopt.glb";
+  const Json validated = Validate(out, dir);
+  EXPECT_EQ(validated["errors"], 0) << validated.dump();
+  const Glb glb = ReadGlb(out);
+  const Json& j = glb.json;
+  ASSERT_NO_FATAL_FAILURE(ExpectSharedMeshSceneKept(j, in));
+  EXPECT_NE(std::find(j["extensionsRequired"].begin(),
+                      j["extensionsRequired"].end(), "EXT_meshopt_compression"),
+            j["extensionsRequired"].end());
+  for (const Json& p : j["meshes"][0]["primitives"]) {
+    const Json& position =
+        j["accessors"][p["attributes"]["POSITION"].get<int>()];
+    EXPECT_EQ(position["componentType"], 5126);
+    const Json& view = j["bufferViews"][position["bufferView"].get<int>()];
+    EXPECT_EQ(view["extensions"]["EXT_meshopt_compression"]["filter"],
+              "EXPONENTIAL");
+  }
+
+  // The parts' largest sides are 2 and 1 (the octahedra of radius 1 and
+  // 0.5): the report's percent are of 1, the smaller.
+  const double error =
+      report["quantization"]["error_percent"].get<double>() / 100.0;
+  const double plain_rounding =
+      plain_report["quantization"]["float32_error_percent"].get<double>() /
+      100.0;
+  ASSERT_GT(error, 0.0);
+  // Within the quantization's share of the tolerance, 10 % of 0.5 % of the
+  // larger part's side.
+  EXPECT_LE(error, 0.1 * 0.005 * 2.0);
+  const Json decoded = DecodeWithGltfTransform(out, dir);
+  const Json plain = DecodeWithGltfTransform(dir + "/plain.glb", dir);
+  ASSERT_TRUE(decoded.contains("positions")) << decoded.dump();
+  ASSERT_TRUE(plain.contains("positions")) << plain.dump();
+  EXPECT_EQ(decoded["triangles"], plain["triangles"]);
+  // Both lists hold the nodes Left (scale 1) then Right (scale 2), each
+  // with primitive 0 then 1: compared group by group, each group's error
+  // scaled by its node's scale (float32 node transforms: 1e-5 more).
+  const Glb plain_glb = ReadGlb(dir + "/plain.glb");
+  std::vector<size_t> groups_plain = {0}, groups_meshopt = {0};
+  for (int node = 0; node < 2; ++node) {
+    for (int p = 0; p < 2; ++p) {
+      const auto count = [&](const Json& doc) {
+        const int a =
+            doc["meshes"][0]["primitives"][p]["attributes"]["POSITION"];
+        return doc["accessors"][a]["count"].get<size_t>();
+      };
+      groups_plain.push_back(groups_plain.back() + count(plain_glb.json));
+      groups_meshopt.push_back(groups_meshopt.back() + count(j));
+    }
+  }
+  ASSERT_EQ(groups_plain.back(), plain["positions"].size());
+  ASSERT_EQ(groups_meshopt.back(), decoded["positions"].size());
+  for (int g = 0; g < 4; ++g) {
+    SCOPED_TRACE(g);
+    const double scale = g < 2 ? 1.0 : 2.0;
+    const double bound = scale * (error + plain_rounding) * 1.001 + 1e-5;
+    EXPECT_LE(
+        Farthest(decoded["positions"], groups_meshopt[g], groups_meshopt[g + 1],
+                 plain["positions"], groups_plain[g], groups_plain[g + 1]),
+        bound);
+    EXPECT_LE(Farthest(plain["positions"], groups_plain[g], groups_plain[g + 1],
+                       decoded["positions"], groups_meshopt[g],
+                       groups_meshopt[g + 1]),
+              bound);
+  }
+
+  // The adaptive mesh: the total stays within the tolerance.
+  const Json derived = run("derived.glb", {"--meshopt"});
+  EXPECT_LE(derived["total_error_bound_percent"].get<double>(), 0.5);
+  EXPECT_LE(derived["quantization"]["error_percent"].get<double>(),
+            0.05 + 1e-12);
+  const Json derived_validated = Validate(dir + "/derived.glb", dir);
+  EXPECT_EQ(derived_validated["errors"], 0) << derived_validated.dump();
 }
 
 // `sdcb batch` with a glTF row whose output is a .glb: the row's fit and
@@ -412,7 +569,7 @@ TEST(GltfAssetCliTest, BoxTexturedKeepsItsSceneAndComesOutTextured) {
       RunSdcb({"fit", gltf, "-o", model, "--rmse", "0.5", "--quiet"}, dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Json in = Json::parse(ReadBytes(gltf));
-  for (const char* compression : {"", "--draco"}) {
+  for (const char* compression : {"", "--draco", "--meshopt"}) {
     const std::string out = dir + "/box" + compression + ".glb";
     std::vector<std::string> args = {"export",      model, "-o",     out,
                                      "--tolerance", "0.5", "--quiet"};

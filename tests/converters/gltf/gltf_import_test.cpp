@@ -142,19 +142,23 @@ TEST(GltfImport, BoxTexturedMergesItsSplitVerticesIntoAClosedBox) {
   EXPECT_EQ(asset->document.images[0], "");
 }
 
-// The exporter's Draco and meshopt GLBs of an icosphere read back to the
-// original positions within the quantization error it reports.
+// The exporter's Draco and meshopt (quantized and exponential) GLBs of an
+// icosphere read back to the original positions within the quantization
+// error it reports.
 TEST(GltfImport, DracoAndMeshoptGlbsReadBackWithinTheQuantizationError) {
   const TriangleMesh sphere = MakeIcosphere(3);
   SurfaceMesh mesh;
   mesh.positions = sphere.vertices * 2.5;
   mesh.normals = sphere.vertices.rowwise().normalized();
   mesh.faces = sphere.faces;
-  for (const GltfCompression compression :
-       {GltfCompression::kNone, GltfCompression::kDraco,
-        GltfCompression::kMeshopt}) {
+  // The fourth case: meshopt with exponential positions.
+  for (const int c : {0, 1, 2, 3}) {
+    const GltfCompression compression = c == 0   ? GltfCompression::kNone
+                                        : c == 1 ? GltfCompression::kDraco
+                                                 : GltfCompression::kMeshopt;
     GltfExportOptions options;
     options.compression = compression;
+    if (c == 3) options.meshopt_positions = GltfMeshoptPositions::kExponential;
     options.position_bits = 12;
     StatusOr<EncodedGltf> encoded = EncodeGltf(mesh, options, true);
     ASSERT_TRUE(encoded.ok()) << encoded.status().message();
@@ -184,7 +188,7 @@ TEST(GltfImport, DracoAndMeshoptGlbsReadBackWithinTheQuantizationError) {
         nearest =
             std::min(nearest, (mesh.positions.row(w).transpose() - p).norm());
       }
-      EXPECT_LE(nearest, bound) << "compression " << int(compression);
+      EXPECT_LE(nearest, bound) << "case " << c;
     }
   }
 }
