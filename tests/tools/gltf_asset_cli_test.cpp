@@ -314,6 +314,7 @@ TEST(GltfAssetCliTest, APrimitiveOfFittedAndKeptPartsIsSplitInTwo) {
     // The input's image, which the kept triangles still use, and the atlas.
     EXPECT_EQ(glb.json["images"].size(), 2u);
   }
+}
 
 // WriteSharedMeshScene's scene written into `dir` and fitted to
 // `dir`/scene.sdcb: that path, or "" (a test failure) when the fit fails.

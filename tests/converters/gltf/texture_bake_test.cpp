@@ -101,7 +101,7 @@ TEST(TextureBakeTest, TextureTransformFollowsTheExtensionsMatrices) {
   rotation << std::cos(0.7), std::sin(0.7), 0, -std::sin(0.7), std::cos(0.7), 0,
       0, 0, 1;
   scale << 2, 0, 0, 0, 0.5, 0, 0, 0, 1;
-  for (const Eigen::Vector2d uv :
+  for (const Eigen::Vector2d& uv :
        {Eigen::Vector2d(0.1, 0.2), Eigen::Vector2d(0.63, 0.91),
         Eigen::Vector2d(-0.4, 1.3)}) {
     const Eigen::Vector3d at =
