@@ -1,5 +1,5 @@
-// Tests of converters/cad/cad_network and converters/cad/cad_file on a real model
-// (blobby.off, fitted). Oracles, none of them the network fitter's own
+// Tests of converters/cad/cad_network and converters/cad/cad_file on a real
+// model (blobby.off, fitted). Oracles, none of them the network fitter's own
 // measurement:
 // - the STEP / IGES file re-read by OpenCASCADE's readers: one valid solid,
 //   closed shells, volume and area against the spline's fine uniform

@@ -1,5 +1,5 @@
-// Tests of converters/cad/cad_network: the network of blobby.off's spline (2 x 2
-// faces per cube face): at 31 points of every side exactly one other face has
+// Tests of converters/cad/cad_network: the network of blobby.off's spline (2 x
+// 2 faces per cube face): at 31 points of every side exactly one other face has
 // the same sphere point (brute force over all faces and sides), the two faces
 // meet there and their normals differ by at most the smoothness limit, and the
 // distance to the spline at random points off the measuring lattice is within

@@ -1,6 +1,6 @@
-// Tests of converters/cage/limit_surface: OpenSubdiv Bfr's limit stencils against
-// OpenSubdiv Far's uniform refinement and exact limit masks (an independent
-// code path), and the stencils' affine invariance.
+// Tests of converters/cage/limit_surface: OpenSubdiv Bfr's limit stencils
+// against OpenSubdiv Far's uniform refinement and exact limit masks (an
+// independent code path), and the stencils' affine invariance.
 #include "sdcb/converters/cage/limit_surface.h"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-// Tests of converters/cage/subdivision_cage and converters/cage/cage_deviation on a
-// real model (the cow's first round, tests/data): the measured deviation
+// Tests of converters/cage/subdivision_cage and converters/cage/cage_deviation
+// on a real model (the cow's first round, tests/data): the measured deviation
 // against independent searches (limit -> spline: derivative-free search over
 // spline points; spline -> limit: a mesh through OpenSubdiv Far's exact limit
 // points of a 6-level uniform refinement, not Bfr), convergence, budgets and

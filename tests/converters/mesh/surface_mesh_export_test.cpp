@@ -1,6 +1,6 @@
-// Tests of converters/mesh/surface_mesh_export: the library call makes the bytes
-// and the report `sdcb export` writes (the command line is a wrapper of it),
-// the file writer writes them, options that do not go together are
+// Tests of converters/mesh/surface_mesh_export: the library call makes the
+// bytes and the report `sdcb export` writes (the command line is a wrapper of
+// it), the file writer writes them, options that do not go together are
 // refused, progress reaches 1, and the bytes do not depend on the thread
 // count. A small fitted model (blobby, rms 0.2 %) at a coarse tolerance.
 #include "sdcb/converters/mesh/surface_mesh_export.h"

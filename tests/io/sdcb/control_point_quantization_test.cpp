@@ -1,8 +1,8 @@
-// Tests io/sdcb/control_point_quantization.* and the quantized `.sdcb` file: the
-// surface of the stored (quantized) control points, evaluated at many random
-// points, stays within the stated bound of the surface of the exact ones, and
-// the bound is not absurdly loose. Oracle: the two surfaces evaluated by
-// SphericalSpline, and the displacement of each control point computed here.
+// Tests io/sdcb/control_point_quantization.* and the quantized `.sdcb` file:
+// the surface of the stored (quantized) control points, evaluated at many
+// random points, stays within the stated bound of the surface of the exact
+// ones, and the bound is not absurdly loose. Oracle: the two surfaces evaluated
+// by SphericalSpline, and the displacement of each control point computed here.
 #include "sdcb/io/sdcb/control_point_quantization.h"
 
 #include <gtest/gtest.h>
