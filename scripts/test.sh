@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Setup, build, and run every test (in parallel), then a
-# 15-second smoke run of every fuzzer (clang, ASan + UBSan: scripts/fuzz.sh),
+# 10-second smoke run of every fuzzer (clang, ASan + UBSan: scripts/fuzz.sh),
 # then the tree's house-keeping limits (scripts/house_check.sh),
 # and print how long each part took. Long end-to-end checks that are not part
 # of this run live in tests/long (built with -DSDCB_LONG_TESTS=ON) and bench/.
@@ -30,7 +30,7 @@ timed() {  # timed NAME COMMAND...: runs COMMAND and records its seconds
 timed "setup and build" bash scripts/setup.sh
 timed "tests" ctest --test-dir build -j "$(nproc)" --output-on-failure \
   --timeout 1200
-timed "fuzzing" bash scripts/fuzz.sh 15
+timed "fuzzing" bash scripts/fuzz.sh 10
 timed "house check" bash scripts/house_check.sh
 if [ "${SDCB_SANITIZE:-0}" = 1 ]; then
   timed "sanitizers" bash scripts/sanitize.sh
