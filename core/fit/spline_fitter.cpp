@@ -471,11 +471,18 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
   }
   if (!split) return FitAgain(mesh, options, first.TakeResult(), run);
   // The split fit FitAgain asks for, with its control-point cap: the one
-  // started above, continued.
+  // started above, continued; started again when its rounds already passed
+  // that cap (a first fit that missed returns a round of fewer control
+  // points than the input has vertices).
   const FitRunner continue_split =
-      [&split](const FitOptions& o) -> StatusOr<FitResult> {
+      [&split, &run](const FitOptions& o) -> StatusOr<FitResult> {
     if (!split->ok()) return split->status();
     SplineFitter& fitter = **split;
+    if (fitter.rounds() > 1 &&
+        fitter.model().statistics.final_result.control_points >
+            o.max_control_points) {
+      return run(o);
+    }
     fitter.SetMaxControlPoints(o.max_control_points);
     fitter.PauseAbove(0);
     SDCB_RETURN_IF_ERROR(RunUntilPaused(&fitter));
@@ -484,8 +491,9 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
   FitResult best =
       FitAgain(mesh, options, first.TakeResult(), run, &continue_split);
   // A split fit FitAgain did not ask for still took its seconds.
-  if (split->ok() && !(*split)->taken())
+  if (split->ok() && !(*split)->taken()) {
     AddSeconds((*split)->TakeResult(), &best);
+  }
   return best;
 }
 
