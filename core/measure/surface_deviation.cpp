@@ -144,10 +144,13 @@ void AddImageAreasAndNormals(const Eigen::MatrixX3d& image,
 // there set): its distance to the mesh, closest point and triangle; returns
 // whether it is folded. The lattice's normal (`lattice_normal`) is only a
 // hint where it is coarse: a suspected fold is confirmed with the spline's
-// own normal.
+// own normal. The search starts from the closest point `near` (a lattice
+// neighbour's, or this sample's before the surface moved) when it has one
+// (face >= 0).
 bool MeasureSurfaceSample(const SurfaceSampler& evaluator,
                           const MeshDistance& to_mesh, double to_percent,
-                          const Eigen::Vector3d& lattice_normal, Eigen::Index i,
+                          const Eigen::Vector3d& lattice_normal,
+                          const MeshDistance::Closest& near, Eigen::Index i,
                           SurfaceDeviation* out) {
   if (!out->surface_sample_kept.empty() && !out->surface_sample_kept[i]) {
     // Outside the kept region: not measured.
@@ -157,8 +160,11 @@ bool MeasureSurfaceSample(const SurfaceSampler& evaluator,
         out->surface_sample_positions.row(i);
     return false;
   }
-  const MeshDistance::Closest c =
-      to_mesh.Find(out->surface_sample_positions.row(i).transpose());
+  const Eigen::Vector3d position =
+      out->surface_sample_positions.row(i).transpose();
+  const MeshDistance::Closest c = near.face >= 0
+                                      ? to_mesh.FindNear(position, near)
+                                      : to_mesh.Find(position);
   out->surface_sample_distance_percent[i] = to_percent * c.distance;
   out->surface_sample_mesh_face[i] = c.face;
   out->surface_sample_mesh_point.row(i) = c.point.transpose();
@@ -490,13 +496,24 @@ void MeasureSurfaceSide(const SurfaceSampler& evaluator,
         });
     out->surface_sample_kept.assign(kept.begin(), kept.end());
   }
+  // Knot triangle by knot triangle (blocks of the lattice), each sample's
+  // search started from the previous one's closest point.
+  const Eigen::Index per_triangle_points =
+      TriangleLattice::NumPoints(lattice.level);
   std::vector<char> folded(ns, 0);
   tbb::parallel_for(
-      tbb::blocked_range<Eigen::Index>(0, ns, 256),
+      tbb::blocked_range<Eigen::Index>(0, ns / per_triangle_points, 4),
       [&](const tbb::blocked_range<Eigen::Index>& range) {
-        for (Eigen::Index i = range.begin(); i < range.end(); ++i) {
-          folded[i] = MeasureSurfaceSample(evaluator, to_mesh, to_percent,
-                                           normal.row(i).transpose(), i, out);
+        for (Eigen::Index t = range.begin(); t < range.end(); ++t) {
+          MeshDistance::Closest near;
+          for (Eigen::Index i = t * per_triangle_points;
+               i < (t + 1) * per_triangle_points; ++i) {
+            folded[i] =
+                MeasureSurfaceSample(evaluator, to_mesh, to_percent,
+                                     normal.row(i).transpose(), near, i, out);
+            near.face = out->surface_sample_mesh_face[i];
+            near.point = out->surface_sample_mesh_point.row(i).transpose();
+          }
         }
       });
   out->surface_sample_folded.assign(folded.begin(), folded.end());
@@ -750,9 +767,12 @@ Status RemeasureSurfaceToMesh(const SphericalSpline& surface,
               d.surface_sample_positions, d.surface_sample_triangles, face,
               face + per_triangle_faces, &d.surface_sample_weight, &normal);
           for (Eigen::Index i = begin; i < end; ++i) {
+            MeshDistance::Closest before;
+            before.face = d.surface_sample_mesh_face[i];
+            before.point = d.surface_sample_mesh_point.row(i).transpose();
             folded[i] =
                 MeasureSurfaceSample(evaluator, mesh_distance, to_percent,
-                                     normal.row(i).transpose(), i, &d);
+                                     normal.row(i).transpose(), before, i, &d);
           }
         }
       });

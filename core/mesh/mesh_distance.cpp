@@ -49,6 +49,20 @@ int64_t Split(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
          Split(m, b, c, limit, depth - 1, emit);
 }
 
+// The closest point of the tree's triangles to `query` (the search started
+// from `hint`), reported with the mesh face `faces` holds for that triangle.
+MeshDistance::Closest ClosestFrom(
+    const AabbTree& tree, const std::vector<Triangle>& triangles,
+    const std::vector<int>& faces, const Eigen::Vector3d& query,
+    const AabbTree::Point_and_primitive_id& hint) {
+  const auto hit = tree.closest_point_and_primitive(ToPoint(query), hint);
+  MeshDistance::Closest out;
+  out.point = Eigen::Vector3d(hit.first.x(), hit.first.y(), hit.first.z());
+  out.face = faces[hit.second - triangles.cbegin()];
+  out.distance = (out.point - query).norm();
+  return out;
+}
+
 // Pieces at most 2^kMaxSplitDepth per triangle, and kMaxPiecesPerFace per
 // face over the mesh.
 constexpr int kMaxSplitDepth = 12;
@@ -59,6 +73,7 @@ constexpr int64_t kMaxPiecesPerFace = 8;
 struct MeshDistance::Tree {
   std::vector<Triangle> triangles;
   std::vector<int> faces;                // mesh face of each triangle
+  std::vector<int> first_piece;          // per mesh face, -1 if none
   std::vector<Eigen::Vector3d> normals;  // per mesh face
   Eigen::MatrixX3i corners;              // per mesh face
   Eigen::MatrixX3d vertices;
@@ -141,6 +156,10 @@ StatusOr<MeshDistance> MeshDistance::Create(const TriangleMesh& mesh) {
   if (t->triangles.empty()) {
     return InvalidInputError("the mesh has no non-degenerate triangle");
   }
+  t->first_piece.assign(mesh.faces.rows(), -1);
+  for (size_t i = t->triangles.size(); i-- > 0;) {
+    t->first_piece[t->faces[i]] = static_cast<int>(i);
+  }
   t->corners = mesh.faces;
   t->vertices = mesh.vertices;
   const Eigen::Index nv = mesh.vertices.rows();
@@ -196,12 +215,22 @@ MeshDistance& MeshDistance::operator=(MeshDistance&&) noexcept = default;
 MeshDistance::~MeshDistance() = default;
 
 MeshDistance::Closest MeshDistance::Find(const Eigen::Vector3d& query) const {
-  const auto hit = tree_->tree.closest_point_and_primitive(ToPoint(query));
-  Closest out;
-  out.point = Eigen::Vector3d(hit.first.x(), hit.first.y(), hit.first.z());
-  out.face = tree_->faces[hit.second - tree_->triangles.begin()];
-  out.distance = (out.point - query).norm();
-  return out;
+  const Tree& t = *tree_;
+  return ClosestFrom(t.tree, t.triangles, t.faces, query,
+                     t.tree.best_hint(ToPoint(query)));
+}
+
+MeshDistance::Closest MeshDistance::FindNear(const Eigen::Vector3d& query,
+                                             const Closest& near) const {
+  const Tree& t = *tree_;
+  const int piece =
+      near.face >= 0 && near.face < static_cast<int>(t.first_piece.size())
+          ? t.first_piece[near.face]
+          : -1;
+  if (piece < 0) return Find(query);
+  return ClosestFrom(t.tree, t.triangles, t.faces, query,
+                     AabbTree::Point_and_primitive_id(
+                         ToPoint(near.point), t.triangles.cbegin() + piece));
 }
 
 Eigen::VectorXd MeshDistance::Distances(const Eigen::MatrixX3d& points) const {

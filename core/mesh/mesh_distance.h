@@ -38,6 +38,13 @@ class MeshDistance {
   // at once; deterministic.
   Closest Find(const Eigen::Vector3d& query) const;
 
+  // The same closest point, the search started from `near` (a point of the
+  // mesh on triangle near.face, e.g. a neighbouring query's closest point):
+  // only the boxes within |query - near.point| are visited, a few when the
+  // two are close. Where two triangles are equally close, the face reported
+  // may differ from Find's (near.face is kept on a tie). Deterministic.
+  Closest FindNear(const Eigen::Vector3d& query, const Closest& near) const;
+
   // The distance from each row of `points` (#P by 3) to the mesh; #P values.
   // Parallel (TBB), deterministic.
   Eigen::VectorXd Distances(const Eigen::MatrixX3d& points) const;

@@ -132,6 +132,35 @@ TEST(MeshDistanceTest, NeedlesCutIntoPiecesKeepTheirDistancesAndFaces) {
   }
 }
 
+// FindNear starts from a given point of the mesh: the true closest point
+// whether that start is near (the previous query's), far (the opposite
+// side) or on a needle held as pieces (the start's face then has several).
+TEST(MeshDistanceTest, FindNearFindsTheClosestPointFromAnyStart) {
+  for (const TriangleMesh& mesh : {Ellipsoid(2), testing::DoubleCone(3000)}) {
+    auto tree = MeshDistance::Create(mesh);
+    ASSERT_TRUE(tree.ok()) << tree.status().message();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> box(-1.0, 1.0);
+    MeshDistance::Closest previous = tree->Find({0, 0, 0});
+    for (int i = 0; i < 300; ++i) {
+      const Eigen::Vector3d q(box(rng), box(rng), box(rng));
+      const double truth = BruteForceMeshDistance(mesh, q);
+      const MeshDistance::Closest far = tree->Find(-q);
+      for (const MeshDistance::Closest& start : {previous, far}) {
+        const MeshDistance::Closest c = tree->FindNear(q, start);
+        EXPECT_NEAR(c.distance, truth, 1e-12);
+        ASSERT_GE(c.face, 0);
+        EXPECT_NEAR(BruteForceTriangleDistance(
+                        c.point, mesh.vertices.row(mesh.faces(c.face, 0)),
+                        mesh.vertices.row(mesh.faces(c.face, 1)),
+                        mesh.vertices.row(mesh.faces(c.face, 2))),
+                    0.0, 1e-12);
+      }
+      previous = tree->FindNear(q, previous);
+    }
+  }
+}
+
 // The mesh's normal at a closest point: the face's inside it, the
 // normalized sum of the normals of the triangles sharing an edge or a vertex
 // on it, whichever triangle Find reports (closed forms on the cube).
