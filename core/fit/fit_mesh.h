@@ -28,7 +28,9 @@ struct FitMesh {
   std::unique_ptr<PointKdTree> parameter_tree;  // of u
   // VertexAreaRatio(mesh, u) once a round has needed it (reset with u).
   std::optional<StatusOr<Eigen::VectorXd>> area_ratio;
-  // The mesh's AABB tree, built once for every round's measurement.
+  // The AABB tree of the surface the errors are measured against, built
+  // once for every round's measurement: of measured(), or of the input's
+  // own triangles when `mesh` is its split (the same surface).
   std::optional<MeshDistance> mesh_distance;
   double mesh_area = 0;
   // Per vertex: the unit normal of its triangles' area-weighted sum (the

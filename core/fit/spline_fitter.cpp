@@ -59,8 +59,10 @@ struct SplineFitter::State {
   }
 
   // Parameterizes the mesh on the sphere (Sec. 4.3) and, meanwhile, builds
-  // its AABB tree and the curvedness of `map_mesh`, the round-0 density's.
-  StatusOr<Eigen::VectorXd> Parameterize(const TriangleMesh& map_mesh);
+  // the AABB tree of `measured` (the surface the errors are measured
+  // against) and the curvedness of `map_mesh`, the round-0 density's.
+  StatusOr<Eigen::VectorXd> Parameterize(const TriangleMesh& map_mesh,
+                                         const TriangleMesh& measured);
   Status RunRound();
   // Adds the round of `placed` and `solved` to the model and the result.
   void RecordRound(int round, const Eigen::VectorXd& vertex_errors,
@@ -79,7 +81,7 @@ struct SplineFitter::State {
 };
 
 StatusOr<Eigen::VectorXd> SplineFitter::State::Parameterize(
-    const TriangleMesh& map_mesh) {
+    const TriangleMesh& map_mesh, const TriangleMesh& measured) {
   progress.Report(FitStage::kParameterization, 0, 0);
   Stopwatch stage;
   SphericalParameterizationOptions param_options;
@@ -96,7 +98,7 @@ StatusOr<Eigen::VectorXd> SplineFitter::State::Parameterize(
   SDCB_ASSIGN_OR_RETURN(const SphericalParameterization param, InArena([&] {
                           tbb::task_group side;
                           side.run([&] {
-                            distance = MeshDistance::Create(fit.measured());
+                            distance = MeshDistance::Create(measured);
                             curvedness = Curvedness(map_mesh);
                           });
                           StatusOr<SphericalParameterization> p =
@@ -166,8 +168,20 @@ StatusOr<SplineFitter> SplineFitter::Create(const TriangleMesh& mesh,
   model.statistics.options = RecordFitOptions(o);
   model.statistics.error_measure = ErrorMeasure::kDenseTwoSided;
 
+  // The measurements' AABB tree holds the input's own triangles when the map
+  // uses its split: the same surface, with many times fewer triangles to
+  // search.
+  std::optional<TriangleMesh> unsplit;
+  if (split) {
+    unsplit.emplace();
+    unsplit->vertices = s.fit.mesh.vertices.topRows(mesh.num_vertices());
+    unsplit->faces = mesh.faces;
+  }
+
   // 1. Spherical parameterization (Sec. 4.3).
-  SDCB_ASSIGN_OR_RETURN(Eigen::VectorXd curvedness, s.Parameterize(map_mesh));
+  SDCB_ASSIGN_OR_RETURN(
+      Eigen::VectorXd curvedness,
+      s.Parameterize(map_mesh, unsplit ? *unsplit : s.fit.measured()));
 
   // 2. Round-0 density: curvedness^alpha (Sec. 4.4).
   const Stopwatch stage;

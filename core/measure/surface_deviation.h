@@ -186,7 +186,8 @@ void SetMeshToSurface(const Eigen::VectorXd& distance_percent,
 // the vertex's closest point. kInvalidArgument for bad options or a
 // candidate count that does not match; kInvalidInput for a mesh without a
 // usable triangle. Deterministic for any thread count.
-// `mesh_distance` (optional): the AABB tree of `mesh`, when the caller
+// `mesh_distance` (optional): the AABB tree of `mesh`, or of a mesh with
+// the same surface (the input whose split `mesh` is), when the caller
 // measures the same mesh repeatedly (the fit's rounds); built here if null.
 StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
     const SphericalSpline& surface, const TriangleMesh& mesh,
