@@ -324,13 +324,16 @@ StatusOr<BakedAtlas> BakeCubeAtlas(const std::vector<TextureBakePart>& parts,
     opaque = opaque && c[3] >= 1.0f - 0.5f / 255;
   const int channels = opaque ? 3 : 4;
   std::vector<uint8_t> pixels(color.size() * channels);
-  for (size_t i = 0; i < color.size(); ++i) {
-    for (int k = 0; k < channels; ++k) {
-      const double v = k < 3 ? LinearToSrgb(color[i][k])
-                             : std::clamp<double>(color[i][k], 0.0, 1.0);
-      pixels[i * channels + k] = static_cast<uint8_t>(std::lround(255 * v));
+  tbb::parallel_for(0, h, [&](int y) {
+    for (size_t i = static_cast<size_t>(y) * w;
+         i < static_cast<size_t>(y + 1) * w; ++i) {
+      for (int k = 0; k < channels; ++k) {
+        const double v = k < 3 ? LinearToSrgb(color[i][k])
+                               : std::clamp<double>(color[i][k], 0.0, 1.0);
+        pixels[i * channels + k] = static_cast<uint8_t>(std::lround(255 * v));
+      }
     }
-  }
+  });
   if (stbi_write_png_to_func(&AppendBytes, &out.png, w, h, channels,
                              pixels.data(), w * channels) == 0) {
     return InternalError("the atlas image could not be encoded as PNG");

@@ -1,5 +1,9 @@
 #include "sdcb/core/tessellate/sphere_triangulation.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdint>
@@ -43,20 +47,32 @@ StatusOr<SphereTriangulation> SphereTriangulation::FromFaces(
       directed[3 * f + e] = {(uint64_t(a) << 32) | uint32_t(b), 3 * f + e};
     }
   }
-  std::sort(directed.begin(), directed.end());
+  // The keys are distinct in a valid input, so the order (and the result)
+  // does not depend on the sort's threads.
+  tbb::parallel_sort(directed.begin(), directed.end());
   for (size_t i = 1; i < directed.size(); ++i) {
     if (directed[i].first == directed[i - 1].first) {
       return InvalidArgumentError("a directed edge is used twice");
     }
   }
-  for (const auto& [key, h] : directed) {
-    const uint64_t reversed = (key << 32) | (key >> 32);
-    const auto it = std::lower_bound(directed.begin(), directed.end(),
-                                     std::make_pair(reversed, -1));
-    if (it == directed.end() || it->first != reversed) {
-      return InvalidArgumentError("the faces are not closed");
-    }
-    t.twin_[h] = it->second;
+  std::vector<char> open(directed.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, directed.size(), 4096),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i < range.end(); ++i) {
+                        const uint64_t key = directed[i].first;
+                        const uint64_t reversed = (key << 32) | (key >> 32);
+                        const auto it =
+                            std::lower_bound(directed.begin(), directed.end(),
+                                             std::make_pair(reversed, -1));
+                        if (it == directed.end() || it->first != reversed) {
+                          open[i] = 1;
+                        } else {
+                          t.twin_[directed[i].second] = it->second;
+                        }
+                      }
+                    });
+  if (std::find(open.begin(), open.end(), 1) != open.end()) {
+    return InvalidArgumentError("the faces are not closed");
   }
   for (int v = 0; v < nv; ++v) {
     if (t.vertex_face_[v] < 0 && !allow_unused) {

@@ -1,6 +1,7 @@
 #include "sdcb/core/tessellate/surface_samples.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -47,7 +48,9 @@ SurfaceSamples SpatiallyOrdered(const SurfaceSamples& s) {
   }
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
+  // Strict total orders (ties broken by index; the faces are distinct):
+  // the same result whatever the sort's threads.
+  tbb::parallel_sort(order.begin(), order.end(), [&](int a, int b) {
     return key[a] < key[b] || (key[a] == key[b] && a < b);
   });
   // p.Faces() numbers corners by rank among the alive vertices.
@@ -62,14 +65,14 @@ SurfaceSamples SpatiallyOrdered(const SurfaceSamples& s) {
   }
   std::vector<Eigen::Index> by_corner(faces.rows());
   std::iota(by_corner.begin(), by_corner.end(), 0);
-  std::sort(by_corner.begin(), by_corner.end(),
-            [&](Eigen::Index a, Eigen::Index b) {
-              for (int k = 0; k < 3; ++k) {
-                if (faces(a, k) != faces(b, k))
-                  return faces(a, k) < faces(b, k);
-              }
-              return false;
-            });
+  tbb::parallel_sort(by_corner.begin(), by_corner.end(),
+                     [&](Eigen::Index a, Eigen::Index b) {
+                       for (int k = 0; k < 3; ++k) {
+                         if (faces(a, k) != faces(b, k))
+                           return faces(a, k) < faces(b, k);
+                       }
+                       return false;
+                     });
   Eigen::MatrixX3i sorted(faces.rows(), 3);
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     sorted.row(f) = faces.row(by_corner[f]);
