@@ -317,6 +317,8 @@ StatusOr<PlacedRound> PlaceRound(const RoundContext& c,
     if (c.stop.Pauses(c.round,
                       static_cast<int>(placed.configurations.sets.size()))) {
       placed.paused = true;
+      placed.held_control_points =
+          static_cast<int>(placed.configurations.sets.size());
       return placed;
     }
 

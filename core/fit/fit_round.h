@@ -47,8 +47,10 @@ struct PlacedRound {
   DelaunayConfigurations configurations;
   std::optional<RoundProblem> problem;
   std::string shortfall;
-  // Held back before its basis (StopRule::Pauses): no problem, no shortfall.
+  // Held back before its basis (StopRule::Pauses): no problem, no shortfall;
+  // the control points it would have.
   bool paused = false;
+  int held_control_points = 0;
 };
 
 // Places `new_knots` knots by `density` with `fixed_knots` fixed (as many

@@ -51,7 +51,8 @@ struct SplineFitter::State {
   // vertex, not a thinned round's cell values.
   bool vertex_errors_exact = true;
   bool finished = false;
-  bool paused = false;  // the latest AddRound held its round back
+  bool paused = false;          // the latest AddRound held its round back
+  int held_control_points = 0;  // that round's
 
   template <typename F>
   auto InArena(F&& f) {
@@ -212,6 +213,10 @@ void SplineFitter::PauseAbove(int control_points) {
 
 bool SplineFitter::paused() const { return state_ && state_->paused; }
 
+int SplineFitter::held_control_points() const {
+  return paused() ? state_->held_control_points : 0;
+}
+
 bool SplineFitter::taken() const { return !state_; }
 
 bool SplineFitter::reached_target() const {
@@ -275,6 +280,7 @@ Status SplineFitter::State::RunRound() {
                  on_features ? &feature_round.knots() : nullptr, &details));
   if (placed.paused) {
     paused = true;  // placed again, the same way, when resumed
+    held_control_points = placed.held_control_points;
     return Status::Ok();
   }
   if (!placed.problem) return Finish(false, std::move(placed.shortfall));
@@ -439,6 +445,69 @@ Status RunUntilPaused(SplineFitter* fitter) {
   return Status::Ok();
 }
 
+// The fits of an input with fewer vertices than `first` (paused after its
+// round 0) has control points in any round: FitAgain would fit it again
+// split whenever it reached, and keep the fit that reaches with fewer
+// control points (the first on a tie). The two take turns, each running
+// its rounds up to the other's next one (the first on a tie), until one
+// finishes: the first to reach is the fit FitAgain keeps. A fit that
+// finishes missing leaves the other to run to the end, and a split fit
+// that reaches is returned (where FitAgain might have kept a first fit
+// that missed); both missing, FitAgain decides as without the turns.
+StatusOr<FitResult> FitInTurns(const TriangleMesh& mesh,
+                               const FitOptions& options, const FitRunner& run,
+                               SplineFitter first) {
+  const std::optional<FitOptions> split_options =
+      SplitFitOptions(mesh, options, options.max_control_points);
+  StatusOr<SplineFitter> split =
+      split_options ? SplineFitter::Create(mesh, *split_options)
+                    : StatusOr<SplineFitter>(InternalError("no split fit"));
+  if (split.ok()) {
+    split->PauseAbove(1);  // round 0, then the next one held
+    SDCB_RETURN_IF_ERROR(RunUntilPaused(&*split));
+    while (!first.finished() && !split->finished()) {
+      if (first.held_control_points() <= split->held_control_points()) {
+        first.PauseAbove(split->held_control_points());
+        SDCB_RETURN_IF_ERROR(RunUntilPaused(&first));
+      } else {
+        split->PauseAbove(std::max(1, first.held_control_points() - 1));
+        SDCB_RETURN_IF_ERROR(RunUntilPaused(&*split));
+      }
+    }
+    // The one that finished missing: the other runs to the end.
+    SplineFitter& rest = first.finished() ? *split : first;
+    if (!(first.finished() ? first : *split).reached_target()) {
+      rest.PauseAbove(0);
+      SDCB_RETURN_IF_ERROR(RunUntilPaused(&rest));
+    }
+    const bool split_reached = split->finished() && split->reached_target();
+    if ((first.finished() && first.reached_target()) || split_reached) {
+      const bool take_split = !(first.finished() && first.reached_target());
+      FitResult other = take_split ? first.TakeResult() : split->TakeResult();
+      FitResult kept = take_split ? split->TakeResult() : first.TakeResult();
+      kept.split_retry_run = true;
+      kept.split_retry_returned = take_split;
+      AddSeconds(other, &kept);
+      return kept;
+    }
+  } else {
+    first.PauseAbove(0);
+    SDCB_RETURN_IF_ERROR(RunUntilPaused(&first));
+  }
+  // Both missed (or no split fit): FitAgain, given the split fit when its
+  // cap is the one it asks for.
+  const FitRunner again = [&](const FitOptions& o) -> StatusOr<FitResult> {
+    if (!split.ok()) return split.status();
+    if (o.max_control_points != split_options->max_control_points) {
+      return run(o);
+    }
+    return split->TakeResult();
+  };
+  FitResult best = FitAgain(mesh, options, first.TakeResult(), run, &again);
+  if (split.ok() && !split->taken()) AddSeconds(split->TakeResult(), &best);
+  return best;
+}
+
 }  // namespace
 
 StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
@@ -461,6 +530,10 @@ StatusOr<FitResult> FitSphericalSpline(const TriangleMesh& mesh,
                         SplineFitter::Create(mesh, options));
   first.PauseAbove(vertices);
   SDCB_RETURN_IF_ERROR(RunUntilPaused(&first));
+  if (first.paused() && first.rounds() == 1 &&
+      first.model().statistics.rounds[0].control_points > vertices) {
+    return FitInTurns(mesh, options, run, std::move(first));
+  }
   std::optional<StatusOr<SplineFitter>> split;
   if (first.paused()) {
     if (const std::optional<FitOptions> split_options =

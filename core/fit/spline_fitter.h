@@ -72,6 +72,8 @@ class SplineFitter {
   // the same way. AddRound while paused is kInvalidArgument.
   void PauseAbove(int control_points);
   bool paused() const;
+  // The control points of the round held back (when paused()).
+  int held_control_points() const;
   // The cap on control points from now on (FitOptions::max_control_points,
   // also as the model records it).
   void SetMaxControlPoints(int control_points);

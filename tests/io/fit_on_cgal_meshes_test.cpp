@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sdcb/core/fit/spline_fitter.h"
+#include "sdcb/core/mesh/mesh_parts.h"
 #include "sdcb/core/sphere/unit_vector_grid.h"
 #include "sdcb/core/spline/spherical_spline.h"
 #include "sdcb/io/mesh/mesh_reader.h"
@@ -227,6 +228,58 @@ TEST(AdaptiveFitTest, ACoarseInputWithDenseKnotsIsFittedAgainSplit) {
     EXPECT_EQ(after->model.knots, fit->model.knots);
     EXPECT_EQ(after->model.control_points, fit->model.control_points);
   }
+}
+
+// An input with fewer vertices than the first fit's round 0 has control
+// points: the first fit and the split fit take turns (spline_fitter.cpp,
+// FitInTurns). The result is what running them one after the other gives:
+// the first fit whole, then, as it reached with more control points than
+// the input has vertices, the split fit capped at its control points,
+// returned when it reaches with fewer.
+TEST(AdaptiveFitTest, ATinyInputsTwoFitsInTurnsGiveTheFitsOneAfterTheOther) {
+  // tripod.off (24 vertices) and bones.off's part 10 (69 vertices).
+  auto bones = SplitIntoParts(ReadCgalMesh("bones.off"), kDefaultMaxParts);
+  ASSERT_TRUE(bones.ok()) << bones.status().message();
+  ASSERT_EQ(bones->size(), 26u);
+  const std::pair<const char*, TriangleMesh> inputs[] = {
+      {"tripod.off", ReadCgalMesh("tripod.off")},
+      {"bones.off part 10", (*bones)[9].mesh}};
+  int split_returned = 0;
+  for (const auto& [name, mesh] : inputs) {
+    SCOPED_TRACE(name);
+    FitOptions options;
+    options.rmse_percent = 0.1;
+    auto fit = FitSphericalSpline(mesh, options);
+    ASSERT_TRUE(fit.ok()) << fit.status().message();
+    EXPECT_TRUE(fit->reached_target()) << fit->shortfall;
+    EXPECT_TRUE(fit->split_retry_run);
+
+    FitOptions alone = options;
+    alone.retry_map_vertices = 0;
+    auto first = FitSphericalSpline(mesh, alone);
+    ASSERT_TRUE(first.ok()) << first.status().message();
+    ASSERT_TRUE(first->reached_target()) << first->shortfall;
+    const int first_points =
+        first->model.statistics.final_result.control_points;
+    ASSERT_GT(first->model.statistics.rounds[0].control_points,
+              mesh.num_vertices());
+    FitOptions split = alone;
+    split.map_vertices = 20000;
+    split.keep_features = false;
+    split.max_control_points = first_points;
+    auto second = FitSphericalSpline(mesh, split);
+    ASSERT_TRUE(second.ok()) << second.status().message();
+    const bool take_second =
+        second->reached_target() &&
+        second->model.statistics.final_result.control_points < first_points;
+    const FitResult& expected = take_second ? *second : *first;
+    EXPECT_EQ(fit->split_retry_returned, take_second);
+    EXPECT_EQ(fit->model.knots, expected.model.knots);
+    EXPECT_EQ(fit->model.control_points, expected.model.control_points);
+    split_returned += take_second;
+  }
+  // Both outcomes are exercised: the tripod's split fit, the bone's first.
+  EXPECT_EQ(split_returned, 1);
 }
 
 // A thin part that folds at lambda 1 reaches at a smaller lambda: a finger
