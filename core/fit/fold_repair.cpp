@@ -194,15 +194,6 @@ RowMajor ConstraintJacobian(const Linearization& lin,
   return jacobian;
 }
 
-// The steps' factorization, its symbolic analysis (CHOLMOD's ordering,
-// chosen from the pattern alone) kept while the constrained samples, and so
-// the system's pattern, stay the same: the same factors as analysing again.
-struct StepFactor {
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
-  std::vector<int> columns;
-  int samples = -1;  // constrained samples of the analysed pattern
-};
-
 // One step: the control points `columns` (the others fixed) moved by the
 // d that minimizes d^T (N (x) I_3) d + sum_s w_s (g_s + J_s d - t_s)^2, the
 // weights damped by `damping` (fold_repair.h). kInternal if the
@@ -210,8 +201,7 @@ struct StepFactor {
 StatusOr<Eigen::MatrixX3d> TrialStep(
     const Linearization& lin, const Eigen::SparseMatrix<double>& normal_lower,
     const std::vector<int>& columns, const Eigen::VectorXd& shortfall,
-    double damping, const Eigen::MatrixX3d& control_points,
-    StepFactor* factor) {
+    double damping, const Eigen::MatrixX3d& control_points) {
   const Eigen::Index m = normal_lower.cols();
   const int r = static_cast<int>(lin.normals.size());
   // The moved control points, their block of N.
@@ -235,22 +225,15 @@ StatusOr<Eigen::MatrixX3d> TrialStep(
   const Eigen::SparseMatrix<double> penalty =
       (weighted_t * jacobian).triangularView<Eigen::Lower>();
   system += penalty;
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>& llt =
-      factor->llt;
-  if (factor->samples != r || factor->columns != columns) {
-    llt.cholmod().print = 0;  // a library does not print
-    llt.analyzePattern(system);
-    factor->samples = r;
-    factor->columns = columns;
-  }
-  llt.factorize(system);
-  if (llt.info() != Eigen::Success) {
-    factor->samples = -1;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
+  factor.cholmod().print = 0;  // a library does not print
+  factor.compute(system);
+  if (factor.info() != Eigen::Success) {
     return InternalError("fold repair: the factorization failed");
   }
   const Eigen::VectorXd step =
-      llt.solve(Eigen::VectorXd(-(weighted_t * shortfall)));
-  if (llt.info() != Eigen::Success || !step.allFinite()) {
+      factor.solve(Eigen::VectorXd(-(weighted_t * shortfall)));
+  if (factor.info() != Eigen::Success || !step.allFinite()) {
     return InternalError("fold repair: the solve failed");
   }
   Eigen::MatrixX3d trial = control_points;
@@ -287,7 +270,6 @@ StatusOr<FoldRepairResult> RepairFolds(
   ConstrainedSamples constrained(d.surface_sample_points.rows());
   constrained.AddFolds(d);
   double damping = options.damping;
-  StepFactor factor;
   while (result.iterations < options.max_iterations) {
     const Linearization lin =
         Linearize(basis, form, mesh_distance, d, constrained.samples());
@@ -300,7 +282,7 @@ StatusOr<FoldRepairResult> RepairFolds(
     const std::vector<int> columns = ColumnsNear(lin.jet, normal_lower);
     SDCB_ASSIGN_OR_RETURN(Eigen::MatrixX3d trial,
                           TrialStep(lin, normal_lower, columns, shortfall,
-                                    damping, *control_points, &factor));
+                                    damping, *control_points));
     SDCB_ASSIGN_OR_RETURN(const SphericalSpline moved,
                           SphericalSpline::Create(basis, trial, form));
     SurfaceDeviation measured = d;
