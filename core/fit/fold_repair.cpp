@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "sdcb/core/common/blas_lock.h"
 #include "sdcb/core/spline/design_matrix.h"
 #include "sdcb/core/spline/spherical_spline.h"
 
@@ -225,6 +226,7 @@ StatusOr<Eigen::MatrixX3d> TrialStep(
   const Eigen::SparseMatrix<double> penalty =
       (weighted_t * jacobian).triangularView<Eigen::Lower>();
   system += penalty;
+  const std::lock_guard<std::mutex> blas(BlasMutex());
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
   factor.cholmod().print = 0;  // a library does not print
   factor.compute(system);

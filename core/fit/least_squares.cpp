@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "sdcb/core/common/blas_lock.h"
+
 namespace sdcb {
 
 namespace {
@@ -154,6 +156,7 @@ StatusOr<Eigen::MatrixX3d> SolveNormalEquations(
   // simplicial LDL^T here; the latter stays as the fallback for a matrix
   // that rounding makes indefinite. Both are deterministic.
   {
+    const std::lock_guard<std::mutex> blas(BlasMutex());
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>
         supernodal;
     supernodal.cholmod().print = 0;  // a library does not print
