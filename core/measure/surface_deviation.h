@@ -206,8 +206,10 @@ StatusOr<SurfaceDeviation> MeasureSurfaceDeviation(
 // figures summed anew; the other samples keep theirs, which the change
 // cannot move. For a repair that moves a few control points at a time
 // (core/fit/fold_repair.h). Needs a measurement with
-// DeviationOptions::mesh_to_surface false and the same options; the
-// two-sided figures are then the surface -> mesh ones. kInvalidArgument for
+// DeviationOptions::mesh_to_surface false, the same options and the same
+// `mesh_distance` (each sample's search starts from its closest point
+// there); the two-sided figures are then the surface -> mesh ones.
+// kInvalidArgument for
 // a measurement or values that do not fit (`deviation` unchanged);
 // kInvalidInput where the surface is undefined (`deviation` then partly
 // measured again: not to be used).
