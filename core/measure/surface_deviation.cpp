@@ -625,8 +625,13 @@ void SetMeshToSurface(const Eigen::VectorXd& distance_percent,
   d->mesh_to_surface_rms_percent =
       area > 0 ? std::sqrt(weights.dot(distance_percent.cwiseAbs2()) / area)
                : 0;
-  d->mesh_to_surface_max_percent =
-      distance_percent.size() > 0 ? distance_percent.maxCoeff() : 0;
+  // A sample of no area (an open part's fill, which is not measured) does
+  // not count in the maximum either.
+  double max = 0;
+  for (Eigen::Index i = 0; i < distance_percent.size(); ++i) {
+    if (weights[i] > 0) max = std::max(max, distance_percent[i]);
+  }
+  d->mesh_to_surface_max_percent = max;
   CombineHalves(d);
 }
 

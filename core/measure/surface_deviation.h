@@ -174,8 +174,9 @@ struct SurfaceDeviation {
 };
 
 // Sets the mesh -> surface half of `deviation` to the distances (percent)
-// at mesh samples of the given area weights, and the two-sided figures from
-// both halves; vertex_distance_percent is left empty.
+// at mesh samples of the given area weights (the maximum over those of
+// positive weight), and the two-sided figures from both halves;
+// vertex_distance_percent is left empty.
 void SetMeshToSurface(const Eigen::VectorXd& distance_percent,
                       const Eigen::VectorXd& weights,
                       SurfaceDeviation* deviation);

@@ -283,6 +283,25 @@ TEST(SurfaceDeviationHoleTest, ASurfaceWithAHoleIsNamedNotMeasured) {
       << deviation.status().message();
 }
 
+// The mesh -> surface half given per sample (the fit's rounds): the rms
+// is the area-weighted one and the maximum is over the samples that stand
+// for area; a sample of weight 0 (an open part's fill, not measured) is
+// left out of both, whatever its distance.
+TEST(SetMeshToSurfaceTest, TheMaximumLeavesOutSamplesOfNoArea) {
+  Eigen::VectorXd distance(5), weight(5);
+  distance << 0.1, 7.0, 0.4, 0.3, 9.0;
+  weight << 2.0, 0.0, 1.0, 1.0, 0.0;
+  SurfaceDeviation d;
+  d.surface_to_mesh_rms_percent = 0.2;
+  d.surface_to_mesh_max_percent = 0.25;
+  SetMeshToSurface(distance, weight, &d);
+  // By hand: the weighted mean square (2 0.01 + 0.16 + 0.09) / 4.
+  EXPECT_NEAR(d.mesh_to_surface_rms_percent, std::sqrt(0.27 / 4), 1e-15);
+  EXPECT_EQ(d.mesh_to_surface_max_percent, 0.4);
+  EXPECT_EQ(d.hausdorff_percent, 0.4);
+  EXPECT_NEAR(d.rms_percent, std::sqrt(0.5 * (0.04 + 0.27 / 4)), 1e-15);
+}
+
 class SurfaceDeviationTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
