@@ -99,6 +99,13 @@ int RunCheck(const std::vector<std::string>& argv) {
                path, PartsSelfIntersections(verdict->meshes, r.faces),
                &skipped_because)
          : -1;
+  const long long turn_backs = CountTurnBackEdges(*mesh);
+  if (ok && turn_backs > 0) {
+    std::cerr << "sdcb: " << path
+              << ": warning: " << TurnBackEdgesText(turn_backs)
+              << ": a smooth surface that follows it faces against some of "
+                 "them, which a fit measures as folds\n";
+  }
 
   if (args.Has("json")) {
     nlohmann::ordered_json j;
@@ -124,6 +131,7 @@ int RunCheck(const std::vector<std::string>& argv) {
       j["self_intersections"] = nullptr;
       j["self_intersections_skipped"] = skipped_because;
     }
+    j["turn_back_edges"] = turn_backs;
     j["repaired"] = args.Has("repair");
     j["seam_vertices_merged"] = notes.seams.merged_vertices;
     j["seam_vertices_left_apart"] = notes.seams.declined_vertices;
@@ -182,6 +190,7 @@ int RunCheck(const std::vector<std::string>& argv) {
     } else {
       std::printf("  %-30s %12s\n", "self-intersecting pairs", "not tested");
     }
+    row("edges turning back", turn_backs);
     if (verdict->split) {
       row("parts", static_cast<long long>(verdict->parts.size()));
       for (const PartReport& p : verdict->parts) {

@@ -15,6 +15,7 @@
 #include "sdcb/converters/gltf/gltf_asset.h"
 #include "sdcb/converters/gltf/gltf_import.h"
 #include "sdcb/converters/gltf/texture_bake.h"
+#include "sdcb/core/mesh/feature_curves.h"
 #include "sdcb/core/mesh/mesh_repair.h"
 #include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/mesh/self_intersections.h"
@@ -250,6 +251,17 @@ Status RepairIfAsked(const Args& args, const std::string& path,
 std::string IntersectingPairsText(long long pairs) {
   return std::to_string(pairs) + (pairs == 1 ? " pair" : " pairs") +
          " of triangles";
+}
+
+long long CountTurnBackEdges(const TriangleMesh& mesh) {
+  const StatusOr<MeshFeatures> turns = DetectFeatures(mesh, kTurnBackDegrees);
+  return turns.ok() ? static_cast<long long>(turns->edges.size()) : 0;
+}
+
+std::string TurnBackEdgesText(long long edges) {
+  return "the input turns back on itself at " + std::to_string(edges) +
+         (edges == 1 ? " edge" : " edges") +
+         " (neighbouring triangles face opposite ways)";
 }
 
 long long WarnAboutSelfIntersections(const std::string& path,

@@ -95,6 +95,19 @@ Status RepairIfAsked(const Args& args, const std::string& path,
 // count of intersecting pairs.
 std::string IntersectingPairsText(long long pairs);
 
+// Where a mesh turns back on itself: edges whose two triangles face opposite
+// ways, their normals more than kTurnBackDegrees apart (a flap folded over
+// its neighbours, a knife edge sharper than 30 degrees). A smooth surface
+// that follows the mesh within a tolerance larger than the flap cannot turn
+// there, so its normal opposes the flap's triangles: the fit measures that
+// as a fold. Counted as the sharp edges of DetectFeatures at that angle.
+inline constexpr double kTurnBackDegrees = 150.0;
+long long CountTurnBackEdges(const TriangleMesh& mesh);
+
+// "the input turns back on itself at N edges (...)": how the commands name
+// a count of CountTurnBackEdges.
+std::string TurnBackEdgesText(long long edges);
+
 // Counts self-intersections (core/mesh/self_intersections.h) and prints a
 // warning line on stderr when there are any. Returns the count, or -1 if
 // the test was skipped (the reason goes to `skipped_because`).

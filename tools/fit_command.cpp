@@ -3,6 +3,7 @@
 // OwnOptionSpecs below; FitUsage() is its usage text.
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <climits>
 #include <cstdio>
 #include <filesystem>
@@ -377,6 +378,26 @@ int RunFit(const std::vector<std::string>& argv) {
       part.fit.shortfall += "; the input intersects itself (" +
                             IntersectingPairsText(intersecting_pairs) +
                             "), which a surface that follows it does too";
+    }
+  }
+  // Where the input turns back on itself, a surface that follows it faces
+  // against the turned triangles: a missed part whose rounds folded says so.
+  for (size_t i = 0; i < fit->parts.size(); ++i) {
+    PartFit& part = fit->parts[i];
+    if (part.kept() || part.fit.reached_target()) continue;
+    const std::vector<RoundStatistics>& rounds =
+        part.fit.model.statistics.rounds;
+    if (std::none_of(rounds.begin(), rounds.end(),
+                     [](const RoundStatistics& r) {
+                       return r.folded_area_percent > 0;
+                     })) {
+      continue;
+    }
+    const long long turn_backs = CountTurnBackEdges(intake->parts[i].mesh);
+    if (turn_backs > 0) {
+      part.fit.shortfall += "; " + TurnBackEdgesText(turn_backs) +
+                            ", where a surface that follows it faces against "
+                            "some of them, which counts as folded";
     }
   }
   // A glTF input's parts are named after their primitives.

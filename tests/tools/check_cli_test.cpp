@@ -2,6 +2,8 @@
 // errors naming the file, the JSON keys of docs/CLI.md.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -392,6 +394,39 @@ TEST(CheckCliTest, ADeclinedWeldIsNamedInTheRefusal) {
   const auto j = nlohmann::json::parse(ReadBytes(dir + "/c.json"));
   EXPECT_EQ(j["seam_vertices_merged"], 0);
   EXPECT_EQ(j["seam_vertices_left_apart"], 4);
+}
+
+// Two triangles on one edge, the second's normal `degrees` from the first's
+// by construction: (0 0 1) rotated about the shared edge's normal plane,
+// n = (-sin t / sqrt 2, -sin t / sqrt 2, cos t). An edge turns back when the
+// normals are more than 150 degrees apart: the warning names it and the
+// JSON counts it; at 140 degrees it is a sharp edge, not a turn.
+std::string HingeOff(double degrees) {
+  const double t = degrees * 3.14159265358979323846 / 180.0;
+  // v3 = v2 + (0.5 + c, -0.5 + c, h): (v1 - v2) x (v3 - v2) = (-h, -h, 2c).
+  const double c = 0.5 * std::cos(t), h = std::sin(t) / std::sqrt(2.0);
+  char v3[96];
+  std::snprintf(v3, sizeof v3, "%.17g %.17g %.17g\n", 0.5 + c, 0.5 + c, h);
+  return std::string("OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n") + v3 +
+         "3 0 1 2\n3 2 1 3\n";
+}
+
+TEST(CheckCliTest, AnEdgeWhereTheMeshTurnsBackIsCountedAndNamed) {
+  const std::string dir = FreshTestDir();
+  for (const double degrees : {160.0, 140.0}) {
+    SCOPED_TRACE(degrees);
+    WriteBytes(dir + "/hinge.off", HingeOff(degrees));
+    const RunResult r = RunSdcb(
+        {"check", dir + "/hinge.off", "--json", dir + "/hinge.json"}, dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(ReadBytes(dir + "/hinge.json"));
+    const bool turns = degrees > 150;
+    EXPECT_EQ(j["turn_back_edges"], turns ? 1 : 0);
+    EXPECT_EQ(
+        r.err.find("turns back on itself at 1 edge ") != std::string::npos,
+        turns)
+        << r.err;
+  }
 }
 
 }  // namespace
