@@ -101,6 +101,9 @@ Status FallbackRounds::ReturnBest(
       " (returned surface, measured densely: rms " +
       ShortNumber(r.rmse_percent) + " %, max " +
       ShortNumber(r.max_error_percent) + " %" +
+      (r.boundary_error_percent >= 0
+           ? ", boundary " + ShortNumber(r.boundary_error_percent) + " %"
+           : std::string()) +
       (r.folded_area_percent > 0
            ? ", folded " + ShortNumber(r.folded_area_percent) + " % of its area"
            : std::string()) +

@@ -4,12 +4,15 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <optional>
 #include <utility>
 #include <vector>
 
+#include "sdcb/core/common/constants.h"
 #include "sdcb/core/fit/feature_round.h"
 #include "sdcb/core/fit/fold_repair.h"
 #include "sdcb/core/fit/least_squares.h"
+#include "sdcb/core/measure/boundary_deviation.h"
 #include "sdcb/core/sphere/point_kd_tree.h"
 #include "sdcb/core/sphere/sphere_geometry.h"
 #include "sdcb/core/sphere/unit_vector_grid.h"
@@ -20,6 +23,9 @@ namespace {
 // The floors of the density (fractions of its maximum) with which a round is
 // placed again when the basis on its knots has a hole (PlaceRound).
 constexpr double kHoleRetryFloors[] = {0.01, 1.0};
+
+// Samples of an open part's boundary per knot spacing (MeasureFitBoundary).
+constexpr double kBoundarySamplesPerSpacing = 16;
 
 // Moves the placement's new knots onto the octahedral grid
 // (FitOptions::knot_grid_bits); the fixed ones are on it already. A new knot
@@ -400,7 +406,8 @@ StatusOr<SolvedRound> SolveAndMeasure(const RoundContext& c,
   solved.reached = details->closest_points &&
                    CompareWithTarget(c.stop.target(), deviation.rms_percent,
                                      deviation.hausdorff_percent,
-                                     deviation.folded_area_percent)
+                                     deviation.folded_area_percent,
+                                     deviation.boundary_percent)
                        .reached();
   details->surface_samples = deviation.surface_samples;
   details->timings.measure = stage.Seconds();
@@ -427,14 +434,43 @@ StatusOr<SurfaceDeviation> MeasureFitSurface(
   measure.search_all_vertices = false;
   measure.mesh_to_surface = final_measurement;
   measure.region = &fit.region;
+  std::optional<Eigen::MatrixX3d> part_points;
   if (fit.part && vertex_points != nullptr) {
-    const Eigen::MatrixX3d part_points =
-        vertex_points->topRows(fit.part->vertices.rows());
-    return MeasureSurfaceDeviation(surface, *fit.part, measure, &part_points,
-                                   &*fit.mesh_distance);
+    part_points = vertex_points->topRows(fit.part->vertices.rows());
   }
-  return MeasureSurfaceDeviation(surface, fit.measured(), measure,
-                                 vertex_points, &*fit.mesh_distance);
+  SDCB_ASSIGN_OR_RETURN(
+      SurfaceDeviation deviation,
+      MeasureSurfaceDeviation(
+          surface, fit.measured(), measure,
+          part_points ? &*part_points : (fit.part ? nullptr : vertex_points),
+          &*fit.mesh_distance));
+  if (fit.trimmed()) {
+    SDCB_ASSIGN_OR_RETURN(deviation.boundary_percent,
+                          MeasureFitBoundary(fit, surface));
+  }
+  return deviation;
+}
+
+StatusOr<double> MeasureFitBoundary(const FitMesh& fit,
+                                    const SphericalSpline& surface) {
+  std::vector<Eigen::MatrixX3d> loops;
+  for (const std::vector<int>& loop : fit.boundary_loops) {
+    Eigen::MatrixX3d x(static_cast<Eigen::Index>(loop.size()), 3);
+    for (size_t i = 0; i < loop.size(); ++i) {
+      x.row(static_cast<Eigen::Index>(i)) = fit.mesh.vertices.row(loop[i]);
+    }
+    loops.push_back(std::move(x));
+  }
+  // Sixteen samples per knot spacing along the trims (the spacing of K
+  // knots spread evenly over the sphere, sqrt(4 pi / K) radians).
+  const double spacing = std::sqrt(
+      4 * kPi /
+      std::max<double>(1.0, static_cast<double>(surface.knots().rows())));
+  SDCB_ASSIGN_OR_RETURN(
+      const BoundaryDeviation boundary,
+      MeasureBoundaryDeviation(surface, fit.Trims(), loops, 1.0,
+                               spacing / kBoundarySamplesPerSpacing));
+  return boundary.max_percent();
 }
 
 Eigen::VectorXd RoundVertexErrors(const FitMesh& fit, const FitSamples& samples,

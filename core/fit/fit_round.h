@@ -96,6 +96,12 @@ StatusOr<SurfaceDeviation> MeasureFitSurface(
     const SphericalSpline& surface, const Eigen::MatrixX3d* vertex_points,
     bool final_measurement);
 
+// An open part's boundary distance (core/measure/boundary_deviation.h):
+// `surface`'s trims against the part's loops, sampled 16 times per knot
+// spacing along them; percent. MeasureFitSurface sets it for an open part.
+StatusOr<double> MeasureFitBoundary(const FitMesh& fit,
+                                    const SphericalSpline& surface);
+
 // Per vertex of `fit`'s mesh, percent: |F(u_i) - x_i| where F(u_i) is known
 // (`vertex_points` has a row per vertex), else the parametric residual of
 // the row thinned `samples` kept for its cell.

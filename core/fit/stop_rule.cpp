@@ -22,6 +22,13 @@ constexpr double kLastRoundShare = 0.7;
 // meshes: where folds went away they had halved by then; where they stayed,
 // 0.2 % on the cow and camel, they had shrunk by 10 % at most).
 constexpr int kFoldRoundsToShrink = 2;
+
+// An open part's boundary target, as a share of the Hausdorff target: half
+// of it, less the export's default tolerance (0.1 %, a tenth of the default
+// Hausdorff target), whose boundary edges are chords within the tolerance
+// of the trims' images: the export's boundary then stays within half the
+// Hausdorff target of the part's (docs/PARTS.md).
+constexpr double kBoundaryTargetShare = 0.4;
 constexpr double kFoldShrink = 0.5;
 
 }  // namespace
@@ -30,23 +37,30 @@ FitTarget FitTarget::Of(const FitOptions& options) {
   FitTarget target;
   target.rmse_percent = options.rmse_percent;
   target.max_error_percent = MaxErrorTarget(options);
+  if (target.max_error_percent >= 0) {
+    target.boundary_percent = kBoundaryTargetShare * target.max_error_percent;
+  }
   return target;
 }
 
 TargetCheck CompareWithTarget(const FitTarget& target, double rms,
-                              double max_error, double folded) {
+                              double max_error, double folded,
+                              double boundary) {
   TargetCheck check;
   check.rms = rms <= target.rmse_percent;
   check.max_error =
       target.max_error_percent < 0 || max_error <= target.max_error_percent;
   check.unfolded = folded == 0;
+  check.boundary = boundary < 0 || target.boundary_percent < 0 ||
+                   boundary <= target.boundary_percent;
   return check;
 }
 
 TargetCheck CompareWithTarget(const FitTarget& target,
                               const RoundStatistics& round) {
   return CompareWithTarget(target, round.rmse_percent, round.max_error_percent,
-                           round.folded_area_percent);
+                           round.folded_area_percent,
+                           round.boundary_error_percent);
 }
 
 int RoundsToTarget(const std::vector<RoundStatistics>& rounds,
@@ -72,8 +86,14 @@ int RoundsToTarget(const std::vector<RoundStatistics>& rounds,
       for_rms != 0 ? 0.0
                    : rounds_to(now.max_error, target.max_error_percent,
                                &RoundStatistics::max_error_percent);
-  if (for_rms < 0 || for_max < 0) return -1;
-  return static_cast<int>(std::clamp(std::max(for_rms, for_max), 1.0, 1e6));
+  // An open part's boundary distance, likewise.
+  const double for_boundary =
+      for_rms != 0 ? 0.0
+                   : rounds_to(now.boundary, target.boundary_percent,
+                               &RoundStatistics::boundary_error_percent);
+  if (for_rms < 0 || for_max < 0 || for_boundary < 0) return -1;
+  return static_cast<int>(
+      std::clamp(std::max({for_rms, for_max, for_boundary}), 1.0, 1e6));
 }
 
 int KnotsToTarget(const std::vector<RoundStatistics>& rounds,
@@ -82,15 +102,17 @@ int KnotsToTarget(const std::vector<RoundStatistics>& rounds,
   // target, neither folded, the last within the Hausdorff target) gives the
   // knots at the target; the round adds kLastRoundShare of the difference
   // when that is less than planned. A round still above the Hausdorff
-  // target is not sized: that distance (at a crease, a corner) falls
-  // unevenly, and rounds sized by it come short many times over.
+  // target (or an open part's boundary target) is not sized: that distance
+  // (at a crease, a corner) falls unevenly, and rounds sized by it come
+  // short many times over.
   const size_t n = rounds.size();
   if (n < 2) return planned;
   const RoundStatistics& a = rounds[n - 2];
   const RoundStatistics& b = rounds[n - 1];
   const TargetCheck last = CompareWithTarget(target, b);
   if (!(b.knots > a.knots && a.rmse_percent > b.rmse_percent && !last.rms &&
-        a.folded_area_percent == 0 && last.unfolded && last.max_error)) {
+        a.folded_area_percent == 0 && last.unfolded && last.max_error &&
+        last.boundary)) {
     return planned;
   }
   const double p = std::log(a.rmse_percent / b.rmse_percent) /
@@ -178,10 +200,13 @@ std::optional<std::string> StopRule::AfterMissedRound(
   if (!only_folds && round >= kMinRoundsBeforeRateStop &&
       (needed < 0 || needed > left)) {
     const std::string error =
-        check.rms
+        !check.rms ? std::string("the error")
+        : !check.max_error
             ? "the Hausdorff distance (" + ShortNumber(rs.max_error_percent) +
                   " %, target " + ShortNumber(target_.max_error_percent) + " %)"
-            : std::string("the error");
+            : "the boundary's distance (" +
+                  ShortNumber(rs.boundary_error_percent) + " %, target " +
+                  ShortNumber(target_.boundary_percent) + " %)";
     return needed < 0 ? error + " stopped falling"
                       : "at its current rate " + error + " needs about " +
                             std::to_string(needed) +

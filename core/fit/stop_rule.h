@@ -25,6 +25,9 @@ constexpr int kMinFoldKnots = 10;
 struct FitTarget {
   double rmse_percent = 0;
   double max_error_percent = -1;  // the Hausdorff distance's; < 0: none
+  // An open part's boundary distance (core/measure/boundary_deviation.h):
+  // 0.4 of the Hausdorff target (stop_rule.cpp); < 0: none.
+  double boundary_percent = -1;
 
   // FitOptions::rmse_percent and MaxErrorTarget.
   static FitTarget Of(const FitOptions& options);
@@ -35,13 +38,15 @@ struct TargetCheck {
   bool rms = false;        // rms <= target
   bool max_error = false;  // Hausdorff <= its target, or it has none
   bool unfolded = false;   // no folded area
-  bool reached() const { return rms && max_error && unfolded; }
+  bool boundary = true;    // boundary distance <= its target, or no boundary
+  bool reached() const { return rms && max_error && unfolded && boundary; }
 };
 
-// The errors (rms, Hausdorff distance, folded area, percent) against the
-// target.
+// The errors (rms, Hausdorff distance, folded area, an open part's boundary
+// distance or -1, percent) against the target.
 TargetCheck CompareWithTarget(const FitTarget& target, double rms,
-                              double max_error, double folded);
+                              double max_error, double folded,
+                              double boundary = -1);
 TargetCheck CompareWithTarget(const FitTarget& target,
                               const RoundStatistics& round);
 

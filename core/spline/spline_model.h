@@ -54,6 +54,9 @@ struct RoundStatistics {
   double vertex_max_error_percent = 0.0;
   // Share of the surface's area whose normal opposes the mesh's, percent.
   double folded_area_percent = 0.0;
+  // An open part's: the two-sided distance between the trimmed surface's
+  // boundary and the part's, percent; -1 for a closed part.
+  double boundary_error_percent = -1.0;
 };
 
 // What rmse_percent / max_error_percent of RoundStatistics measure.

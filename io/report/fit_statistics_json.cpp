@@ -13,14 +13,19 @@ namespace {
 using nlohmann::json;
 
 json RoundToJson(const RoundStatistics& r) {
-  return json{{"round", r.round},
-              {"knots", r.knots},
-              {"control_points", r.control_points},
-              {"rmse_percent", r.rmse_percent},
-              {"max_error_percent", r.max_error_percent},
-              {"vertex_rmse_percent", r.vertex_rmse_percent},
-              {"vertex_max_error_percent", r.vertex_max_error_percent},
-              {"folded_area_percent", r.folded_area_percent}};
+  json out{{"round", r.round},
+           {"knots", r.knots},
+           {"control_points", r.control_points},
+           {"rmse_percent", r.rmse_percent},
+           {"max_error_percent", r.max_error_percent},
+           {"vertex_rmse_percent", r.vertex_rmse_percent},
+           {"vertex_max_error_percent", r.vertex_max_error_percent},
+           {"folded_area_percent", r.folded_area_percent}};
+  // Open parts only (a closed part's statistics read as before).
+  if (r.boundary_error_percent >= 0) {
+    out["boundary_error_percent"] = r.boundary_error_percent;
+  }
+  return out;
 }
 
 const char* ErrorMeasureName(ErrorMeasure m) {
@@ -147,8 +152,10 @@ Status RoundFromJson(const json& obj, const std::string& where,
                                    &r->vertex_rmse_percent, GetDouble));
   SDCB_RETURN_IF_ERROR(GetOptional(obj, "vertex_max_error_percent", where,
                                    &r->vertex_max_error_percent, GetDouble));
-  return GetOptional(obj, "folded_area_percent", where, &r->folded_area_percent,
-                     GetDouble);
+  SDCB_RETURN_IF_ERROR(GetOptional(obj, "folded_area_percent", where,
+                                   &r->folded_area_percent, GetDouble));
+  return GetOptional(obj, "boundary_error_percent", where,
+                     &r->boundary_error_percent, GetDouble);
 }
 
 }  // namespace

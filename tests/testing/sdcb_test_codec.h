@@ -272,7 +272,8 @@ inline bool SameRound(const RoundStatistics& a, const RoundStatistics& b) {
          SameBits(a.max_error_percent, b.max_error_percent) &&
          SameBits(a.vertex_rmse_percent, b.vertex_rmse_percent) &&
          SameBits(a.vertex_max_error_percent, b.vertex_max_error_percent) &&
-         SameBits(a.folded_area_percent, b.folded_area_percent);
+         SameBits(a.folded_area_percent, b.folded_area_percent) &&
+         SameBits(a.boundary_error_percent, b.boundary_error_percent);
 }
 
 // Every field, doubles compared bit for bit (so -0.0 != 0.0).

@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "sdcb/core/common/constants.h"
@@ -59,6 +62,47 @@ void ExpectHonestTrimmedPart(const TriangleMesh& mesh, const ModelPart& part,
   }
   EXPECT_GT(kept, points / 10);
   EXPECT_LE(worst, 1.02 * reported + 1e-9);
+
+  // The boundary: F along the trims (50 points per arc) against the part's
+  // boundary edges (one triangle each), by brute force, is within the
+  // reported boundary distance; a reached fit's is within its target.
+  const double boundary = model.statistics.final_result.boundary_error_percent;
+  ASSERT_GE(boundary, 0);
+  std::map<std::pair<int, int>, int> uses;
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.faces(f, k), b = mesh.faces(f, (k + 1) % 3);
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  double boundary_worst = 0;
+  for (const TrimLoop& trim : part.trims) {
+    const Eigen::Index n = trim.points.rows();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Eigen::Vector3d a = trim.points.row(i);
+      const Eigen::Vector3d b = trim.points.row((i + 1) % n);
+      for (int k = 0; k < 50; ++k) {
+        const Eigen::Vector3d p = (a + (b - a) * (k / 50.0)).normalized();
+        const Eigen::Vector3d x =
+            model.transform.ToInput(surface->Evaluate(p).transpose()).row(0);
+        double best = 1e300;
+        for (const auto& [edge, count] : uses) {
+          if (count != 1) continue;
+          const Eigen::Vector3d e0 = mesh.vertices.row(edge.first);
+          const Eigen::Vector3d e1 = mesh.vertices.row(edge.second);
+          const double t = std::clamp(
+              (x - e0).dot(e1 - e0) / (e1 - e0).squaredNorm(), 0.0, 1.0);
+          best = std::min(best, (e0 + t * (e1 - e0) - x).norm());
+        }
+        boundary_worst = std::max(boundary_worst, 100 * best / side);
+      }
+    }
+  }
+  EXPECT_LE(boundary_worst, 1.02 * boundary + 1e-9);
+  // CoarseOptions: rms 0.3 %, the Hausdorff target 3 %, the boundary's 1.2 %.
+  if (model.statistics.reached_target) {
+    EXPECT_LE(boundary, 1.2);
+  }
 }
 
 TEST(FitModel, ADiskIsOnePartTrimmedAtItsOneLoop) {

@@ -59,6 +59,27 @@ TEST(TargetTest, ReachedOnlyWhenRmsAndHausdorffAreWithinAndNothingFolds) {
   }
 }
 
+// An open part's boundary distance has a target of its own, 0.4 of the
+// Hausdorff target; a closed part (boundary -1) has none.
+TEST(TargetTest, AnOpenPartReachesOnlyWithItsBoundaryWithinItsTarget) {
+  FitOptions options;
+  options.rmse_percent = 0.1;
+  const FitTarget target = FitTarget::Of(options);
+  EXPECT_DOUBLE_EQ(target.boundary_percent, 0.4);
+  EXPECT_TRUE(CompareWithTarget(target, 0.1, 1.0, 0.0, 0.4).reached());
+  const TargetCheck above = CompareWithTarget(target, 0.1, 1.0, 0.0, 0.4001);
+  EXPECT_TRUE(above.rms && above.max_error && above.unfolded);
+  EXPECT_FALSE(above.boundary);
+  EXPECT_FALSE(above.reached());
+  EXPECT_TRUE(CompareWithTarget(target, 0.1, 1.0, 0.0, -1.0).reached());
+  RoundStatistics open = Round(0, 10, 0.05, 0.5, 0.0);
+  open.boundary_error_percent = 0.5;
+  EXPECT_FALSE(CompareWithTarget(target, open).reached());
+  options.max_error_percent = -1;  // no Hausdorff target: no boundary one
+  EXPECT_TRUE(
+      CompareWithTarget(FitTarget::Of(options), 0.1, 9.0, 0.0, 9.0).reached());
+}
+
 TEST(TargetTest, WithoutAHausdorffTargetAnyHausdorffDistanceIsWithin) {
   const FitTarget target{0.1, -1.0};
   EXPECT_TRUE(CompareWithTarget(target, 0.1, 1e9, 0.0).reached());

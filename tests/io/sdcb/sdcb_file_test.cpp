@@ -167,6 +167,10 @@ TEST(SdcbFileTest, StatisticsJsonIsBitExactForRandomDoubles) {
     r.vertex_rmse_percent = random_double();
     r.vertex_max_error_percent = random_double();
     r.folded_area_percent = random_double();
+    // An open part's (>= 0, written); a closed part's -1 (not written).
+    r.boundary_error_percent = (&r - model.statistics.rounds.data()) % 2
+                                   ? std::abs(random_double())
+                                   : -1.0;
   }
   model.statistics.options.lambda = 0.1 + 0.2;
   model.statistics.options.alpha = 5e-324;
