@@ -414,6 +414,35 @@ StatusOr<SolvedRound> SolveAndMeasure(const RoundContext& c,
   return solved;
 }
 
+namespace {
+
+// An open part's boundary distance (core/measure/boundary_deviation.h):
+// `surface`'s trims against the part's loops, sampled
+// kBoundarySamplesPerSpacing times per knot spacing along them; percent.
+StatusOr<double> MeasureFitBoundary(const FitMesh& fit,
+                                    const SphericalSpline& surface) {
+  std::vector<Eigen::MatrixX3d> loops;
+  for (const std::vector<int>& loop : fit.boundary_loops) {
+    Eigen::MatrixX3d x(static_cast<Eigen::Index>(loop.size()), 3);
+    for (size_t i = 0; i < loop.size(); ++i) {
+      x.row(static_cast<Eigen::Index>(i)) = fit.mesh.vertices.row(loop[i]);
+    }
+    loops.push_back(std::move(x));
+  }
+  // Sixteen samples per knot spacing along the trims (the spacing of K
+  // knots spread evenly over the sphere, sqrt(4 pi / K) radians).
+  const double spacing = std::sqrt(
+      4 * kPi /
+      std::max<double>(1.0, static_cast<double>(surface.knots().rows())));
+  SDCB_ASSIGN_OR_RETURN(
+      const BoundaryDeviation boundary,
+      MeasureBoundaryDeviation(surface, fit.Trims(), loops, 1.0,
+                               spacing / kBoundarySamplesPerSpacing));
+  return boundary.max_percent();
+}
+
+}  // namespace
+
 StatusOr<SurfaceDeviation> MeasureFitSurface(
     const FitOptions& options, const FitMesh& fit,
     const SphericalSpline& surface, const Eigen::MatrixX3d* vertex_points,
@@ -449,28 +478,6 @@ StatusOr<SurfaceDeviation> MeasureFitSurface(
                           MeasureFitBoundary(fit, surface));
   }
   return deviation;
-}
-
-StatusOr<double> MeasureFitBoundary(const FitMesh& fit,
-                                    const SphericalSpline& surface) {
-  std::vector<Eigen::MatrixX3d> loops;
-  for (const std::vector<int>& loop : fit.boundary_loops) {
-    Eigen::MatrixX3d x(static_cast<Eigen::Index>(loop.size()), 3);
-    for (size_t i = 0; i < loop.size(); ++i) {
-      x.row(static_cast<Eigen::Index>(i)) = fit.mesh.vertices.row(loop[i]);
-    }
-    loops.push_back(std::move(x));
-  }
-  // Sixteen samples per knot spacing along the trims (the spacing of K
-  // knots spread evenly over the sphere, sqrt(4 pi / K) radians).
-  const double spacing = std::sqrt(
-      4 * kPi /
-      std::max<double>(1.0, static_cast<double>(surface.knots().rows())));
-  SDCB_ASSIGN_OR_RETURN(
-      const BoundaryDeviation boundary,
-      MeasureBoundaryDeviation(surface, fit.Trims(), loops, 1.0,
-                               spacing / kBoundarySamplesPerSpacing));
-  return boundary.max_percent();
 }
 
 Eigen::VectorXd RoundVertexErrors(const FitMesh& fit, const FitSamples& samples,

@@ -90,17 +90,13 @@ StatusOr<SolvedRound> SolveAndMeasure(const RoundContext& context,
 
 // `final_measurement` false: the surface -> mesh half only (a round bounds
 // the other half at its data rows). `vertex_points`: F(u_i) per vertex,
-// candidates of the final measurement's closest points, or null.
+// candidates of the final measurement's closest points, or null. An open
+// part's boundary distance (core/measure/boundary_deviation.h, 16 samples
+// per knot spacing along the trims) is set in either case.
 StatusOr<SurfaceDeviation> MeasureFitSurface(
     const FitOptions& options, const FitMesh& fit,
     const SphericalSpline& surface, const Eigen::MatrixX3d* vertex_points,
     bool final_measurement);
-
-// An open part's boundary distance (core/measure/boundary_deviation.h):
-// `surface`'s trims against the part's loops, sampled 16 times per knot
-// spacing along them; percent. MeasureFitSurface sets it for an open part.
-StatusOr<double> MeasureFitBoundary(const FitMesh& fit,
-                                    const SphericalSpline& surface);
 
 // Per vertex of `fit`'s mesh, percent: |F(u_i) - x_i| where F(u_i) is known
 // (`vertex_points` has a row per vertex), else the parametric residual of
