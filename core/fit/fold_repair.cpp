@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -117,23 +118,35 @@ struct Linearization {
   }
 };
 
-Linearization Linearize(const DcbBasis& basis, BasisForm form,
-                        const MeshDistance& mesh_distance,
-                        const SurfaceDeviation& d,
-                        const std::vector<int>& samples) {
+// Brings `l` to the constrained `samples` of `d` (those of the last call
+// first, in the same order): the chart derivatives' rows of the samples
+// added since (a row depends only on its sample's point, which stays), and
+// every sample's normal at its closest point on the mesh now.
+void Relinearize(const DcbBasis& basis, BasisForm form,
+                 const MeshDistance& mesh_distance, const SurfaceDeviation& d,
+                 const std::vector<int>& samples, Linearization* l) {
   const int r = static_cast<int>(samples.size());
-  Eigen::MatrixX3d points(r, 3);
-  Linearization l;
-  l.normals.resize(r);
+  const int known = static_cast<int>(l->jet.u.rows());
+  if (r > known) {
+    Eigen::MatrixX3d points(r - known, 3);
+    for (int s = known; s < r; ++s) {
+      points.row(s - known) = d.surface_sample_points.row(samples[s]);
+    }
+    ChartGradientRows added = BuildChartGradientRows(basis, points, form);
+    if (known == 0) {
+      l->jet = std::move(added);
+    } else {
+      l->jet.u = StackScaledRows({{&l->jet.u, nullptr}, {&added.u, nullptr}});
+      l->jet.v = StackScaledRows({{&l->jet.v, nullptr}, {&added.v, nullptr}});
+    }
+  }
+  l->normals.resize(r);
   for (int s = 0; s < r; ++s) {
-    points.row(s) = d.surface_sample_points.row(samples[s]);
     MeshDistance::Closest closest;
     closest.face = d.surface_sample_mesh_face[samples[s]];
     closest.point = d.surface_sample_mesh_point.row(samples[s]).transpose();
-    l.normals[s] = mesh_distance.Normal(closest);
+    l->normals[s] = mesh_distance.Normal(closest);
   }
-  l.jet = BuildChartGradientRows(basis, points, form);
-  return l;
 }
 
 // The block of N (the normal matrix whose lower triangle is `lower`) of
@@ -195,6 +208,48 @@ RowMajor ConstraintJacobian(const Linearization& lin,
   return jacobian;
 }
 
+// The Cholesky factor of the steps' systems. Its ordering (the symbolic
+// analysis) is kept while their pattern stays: each factor is the one a
+// fresh analysis would give, without redoing it.
+class StepFactor {
+ public:
+  StepFactor() { factor_.cholmod().print = 0; }  // a library does not print
+
+  // Factors `system` (lower triangle); false if that fails.
+  bool Factorize(const Eigen::SparseMatrix<double>& system) {
+    const Eigen::Index n = system.cols();
+    const bool same_pattern =
+        analyzed_ && n == static_cast<Eigen::Index>(outer_.size()) - 1 &&
+        std::equal(outer_.begin(), outer_.end(), system.outerIndexPtr()) &&
+        system.nonZeros() == static_cast<Eigen::Index>(inner_.size()) &&
+        std::equal(inner_.begin(), inner_.end(), system.innerIndexPtr());
+    if (!same_pattern) {
+      factor_.analyzePattern(system);
+      analyzed_ = factor_.info() == Eigen::Success;
+      if (!analyzed_) return false;
+      outer_.assign(system.outerIndexPtr(), system.outerIndexPtr() + n + 1);
+      inner_.assign(system.innerIndexPtr(),
+                    system.innerIndexPtr() + system.nonZeros());
+    }
+    factor_.factorize(system);
+    return factor_.info() == Eigen::Success;
+  }
+
+  // x with system x = b for the system last factored; nullopt if the solve
+  // fails.
+  std::optional<Eigen::VectorXd> Solve(const Eigen::VectorXd& b) {
+    Eigen::VectorXd x = factor_.solve(b);
+    if (factor_.info() != Eigen::Success || !x.allFinite()) return std::nullopt;
+    return x;
+  }
+
+ private:
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>
+      factor_;
+  bool analyzed_ = false;
+  std::vector<int> outer_, inner_;
+};
+
 // One step: the control points `columns` (the others fixed) moved by the
 // d that minimizes d^T (N (x) I_3) d + sum_s w_s (g_s + J_s d - t_s)^2, the
 // weights damped by `damping` (fold_repair.h). kInternal if the
@@ -202,7 +257,8 @@ RowMajor ConstraintJacobian(const Linearization& lin,
 StatusOr<Eigen::MatrixX3d> TrialStep(
     const Linearization& lin, const Eigen::SparseMatrix<double>& normal_lower,
     const std::vector<int>& columns, const Eigen::VectorXd& shortfall,
-    double damping, const Eigen::MatrixX3d& control_points) {
+    double damping, const Eigen::MatrixX3d& control_points,
+    StepFactor* factor) {
   const Eigen::Index m = normal_lower.cols();
   const int r = static_cast<int>(lin.normals.size());
   // The moved control points, their block of N.
@@ -226,18 +282,15 @@ StatusOr<Eigen::MatrixX3d> TrialStep(
   const Eigen::SparseMatrix<double> penalty =
       (weighted_t * jacobian).triangularView<Eigen::Lower>();
   system += penalty;
+  system.makeCompressed();
   const std::lock_guard<std::mutex> blas(BlasMutex());
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
-  factor.cholmod().print = 0;  // a library does not print
-  factor.compute(system);
-  if (factor.info() != Eigen::Success) {
+  if (!factor->Factorize(system)) {
     return InternalError("fold repair: the factorization failed");
   }
-  const Eigen::VectorXd step =
-      factor.solve(Eigen::VectorXd(-(weighted_t * shortfall)));
-  if (factor.info() != Eigen::Success || !step.allFinite()) {
-    return InternalError("fold repair: the solve failed");
-  }
+  const std::optional<Eigen::VectorXd> solved =
+      factor->Solve(Eigen::VectorXd(-(weighted_t * shortfall)));
+  if (!solved) return InternalError("fold repair: the solve failed");
+  const Eigen::VectorXd& step = *solved;
   Eigen::MatrixX3d trial = control_points;
   for (int l = 0; l < ml; ++l) {
     for (int c = 0; c < 3; ++c) trial(columns[l], c) += step[3 * l + c];
@@ -272,9 +325,10 @@ StatusOr<FoldRepairResult> RepairFolds(
   ConstrainedSamples constrained(d.surface_sample_points.rows());
   constrained.AddFolds(d);
   double damping = options.damping;
+  Linearization lin;
+  StepFactor factor;
   while (result.iterations < options.max_iterations) {
-    const Linearization lin =
-        Linearize(basis, form, mesh_distance, d, constrained.samples());
+    Relinearize(basis, form, mesh_distance, d, constrained.samples(), &lin);
     const Eigen::VectorXd shortfall =
         lin.Shortfall(*control_points, options.normal_floor);
     // Done when nothing folds and every constrained sample has its margin
@@ -284,7 +338,7 @@ StatusOr<FoldRepairResult> RepairFolds(
     const std::vector<int> columns = ColumnsNear(lin.jet, normal_lower);
     SDCB_ASSIGN_OR_RETURN(Eigen::MatrixX3d trial,
                           TrialStep(lin, normal_lower, columns, shortfall,
-                                    damping, *control_points));
+                                    damping, *control_points, &factor));
     SDCB_ASSIGN_OR_RETURN(const SphericalSpline moved,
                           SphericalSpline::Create(basis, trial, form));
     SurfaceDeviation measured = d;

@@ -104,34 +104,6 @@ Status CheckKnotsCovered(const DcbBasis& basis) {
   return Status();
 }
 
-// Stacks row-major sparse matrices, each row of part j scaled by
-// scales[j][row].
-DesignMatrix StackScaledRows(
-    const std::vector<std::pair<const DesignMatrix*, const Eigen::VectorXd*>>&
-        parts) {
-  Eigen::Index rows = 0, nonzeros = 0, cols = 0;
-  for (const auto& [m, s] : parts) {
-    rows += m->rows();
-    nonzeros += m->nonZeros();
-    cols = m->cols();
-  }
-  DesignMatrix out(rows, cols);
-  out.resizeNonZeros(nonzeros);
-  Eigen::Index at = 0, row = 0;
-  for (const auto& [m, s] : parts) {
-    for (Eigen::Index r = 0; r < m->rows(); ++r, ++row) {
-      out.outerIndexPtr()[row] = static_cast<int>(at);
-      const double scale = (*s)[r];
-      for (DesignMatrix::InnerIterator it(*m, r); it; ++it, ++at) {
-        out.innerIndexPtr()[at] = static_cast<int>(it.col());
-        out.valuePtr()[at] = scale * it.value();
-      }
-    }
-  }
-  out.outerIndexPtr()[row] = static_cast<int>(at);
-  return out;
-}
-
 // Spherical area of the triangle (a, b, c) (unit vectors): the solid angle
 // 2 atan(|det| / (1 + a.b + b.c + c.a)).
 double SphericalArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b,

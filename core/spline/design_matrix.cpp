@@ -242,4 +242,30 @@ ChartGradientRows BuildChartGradientRows(const DcbBasis& basis,
   return out;
 }
 
+DesignMatrix StackScaledRows(
+    const std::vector<std::pair<const DesignMatrix*, const Eigen::VectorXd*>>&
+        parts) {
+  Eigen::Index rows = 0, nonzeros = 0, cols = 0;
+  for (const auto& [m, s] : parts) {
+    rows += m->rows();
+    nonzeros += m->nonZeros();
+    cols = m->cols();
+  }
+  DesignMatrix out(rows, cols);
+  out.resizeNonZeros(nonzeros);
+  Eigen::Index at = 0, row = 0;
+  for (const auto& [m, s] : parts) {
+    for (Eigen::Index r = 0; r < m->rows(); ++r, ++row) {
+      out.outerIndexPtr()[row] = static_cast<int>(at);
+      const double scale = s != nullptr ? (*s)[r] : 1.0;
+      for (DesignMatrix::InnerIterator it(*m, r); it; ++it, ++at) {
+        out.innerIndexPtr()[at] = static_cast<int>(it.col());
+        out.valuePtr()[at] = scale * it.value();
+      }
+    }
+  }
+  out.outerIndexPtr()[row] = static_cast<int>(at);
+  return out;
+}
+
 }  // namespace sdcb

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <utility>
 #include <vector>
 
 #include "sdcb/core/spline/dcb_basis.h"
@@ -75,6 +76,12 @@ struct ChartGradientRows {
 ChartGradientRows BuildChartGradientRows(const DcbBasis& basis,
                                          const Eigen::MatrixX3d& points,
                                          BasisForm form);
+
+// The rows of `parts` one below the other, each row r of a part scaled by
+// (*scale)[r] (a null scale: the rows as they are).
+DesignMatrix StackScaledRows(
+    const std::vector<std::pair<const DesignMatrix*, const Eigen::VectorXd*>>&
+        parts);
 
 }  // namespace sdcb
 

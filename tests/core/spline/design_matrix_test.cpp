@@ -151,5 +151,40 @@ TEST(DesignMatrix, ReusedColumnsAreBitIdenticalToAFreshBuild) {
                   .all());
 }
 
+TEST(DesignMatrix, RowsStackedFromBatchesAreBitIdenticalToOneBuild) {
+  // The fold repair builds its chart rows as samples join and stacks them:
+  // a row depends only on its point, so the stack is the one-batch build.
+  const DcbBasis basis = OracleBasis(testing::RandomUnitVectors(80, 41), 4);
+  const Eigen::MatrixX3d points = testing::RandomUnitVectors(900, 42);
+  const ChartGradientRows whole =
+      BuildChartGradientRows(basis, points, BasisForm::kNormalized);
+  const ChartGradientRows head = BuildChartGradientRows(
+      basis, points.topRows(350), BasisForm::kNormalized);
+  const ChartGradientRows tail = BuildChartGradientRows(
+      basis, points.bottomRows(550), BasisForm::kNormalized);
+  const Eigen::VectorXd half = Eigen::VectorXd::Constant(550, 0.5);
+  const DesignMatrix u =
+      StackScaledRows({{&head.u, nullptr}, {&tail.u, nullptr}});
+  const DesignMatrix v_scaled =
+      StackScaledRows({{&head.v, nullptr}, {&tail.v, &half}});
+  ASSERT_EQ(u.rows(), 900);
+  ASSERT_EQ(u.nonZeros(), whole.u.nonZeros());
+  for (Eigen::Index i = 0; i <= u.rows(); ++i) {
+    ASSERT_EQ(u.outerIndexPtr()[i], whole.u.outerIndexPtr()[i]);
+  }
+  for (Eigen::Index k = 0; k < u.nonZeros(); ++k) {
+    ASSERT_EQ(u.innerIndexPtr()[k], whole.u.innerIndexPtr()[k]);
+    ASSERT_EQ(u.valuePtr()[k], whole.u.valuePtr()[k]);
+  }
+  // The scale multiplies each row of its part only.
+  const Eigen::MatrixXd dense_v(whole.v), dense_scaled(v_scaled);
+  EXPECT_TRUE(
+      (dense_scaled.topRows(350).array() == dense_v.topRows(350).array())
+          .all());
+  EXPECT_TRUE((dense_scaled.bottomRows(550).array() ==
+               0.5 * dense_v.bottomRows(550).array())
+                  .all());
+}
+
 }  // namespace
 }  // namespace sdcb
