@@ -104,15 +104,21 @@ int KnotsToTarget(const std::vector<RoundStatistics>& rounds,
   // when that is less than planned. A round still above the Hausdorff
   // target (or an open part's boundary target) is not sized: that distance
   // (at a crease, a corner) falls unevenly, and rounds sized by it come
-  // short many times over.
+  // short many times over. An open part's round above the Hausdorff target
+  // is sized: its largest distances lie along the boundary, where the pin
+  // holds the surface to the loop (the cut bunny at 210 knots: 1.23 %
+  // measured densely, two thirds of its 400 farthest samples within 5 % of
+  // the diagonal of the boundary), and fall with the rms (0.74 % at 231
+  // knots).
   const size_t n = rounds.size();
   if (n < 2) return planned;
   const RoundStatistics& a = rounds[n - 2];
   const RoundStatistics& b = rounds[n - 1];
   const TargetCheck last = CompareWithTarget(target, b);
+  const bool open_part = b.boundary_error_percent >= 0;
   if (!(b.knots > a.knots && a.rmse_percent > b.rmse_percent && !last.rms &&
-        a.folded_area_percent == 0 && last.unfolded && last.max_error &&
-        last.boundary)) {
+        a.folded_area_percent == 0 && last.unfolded &&
+        (last.max_error || open_part) && last.boundary)) {
     return planned;
   }
   const double p = std::log(a.rmse_percent / b.rmse_percent) /

@@ -234,6 +234,14 @@ TEST(StopRuleTest, TheLastRoundIsSizedByThePowerLawToTheTarget) {
   std::vector<RoundStatistics> far = rounds;
   far[1].max_error_percent = 1.5;
   EXPECT_EQ(KnotsToTarget(far, target, 300), 300);
+  // An open part's round above the Hausdorff target is sized, unless it is
+  // above its boundary target too.
+  const FitTarget open_target{0.1, 1.0, 0.4};
+  std::vector<RoundStatistics> open = far;
+  for (RoundStatistics& r : open) r.boundary_error_percent = 0.3;
+  EXPECT_EQ(KnotsToTarget(open, open_target, 300), 140);
+  open[1].boundary_error_percent = 0.5;
+  EXPECT_EQ(KnotsToTarget(open, open_target, 300), 300);
 }
 
 FitResult MissedFit(double rms, double folded) {
