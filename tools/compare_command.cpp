@@ -12,8 +12,10 @@
 #include <vector>
 
 #include "sdcb/converters/mesh/color_ramp.h"
+#include "sdcb/core/measure/boundary_deviation.h"
 #include "sdcb/core/measure/surface_deviation.h"
 #include "sdcb/core/mesh/mesh_parts.h"
+#include "sdcb/core/mesh/mesh_topology.h"
 #include "sdcb/core/spline/model.h"
 #include "sdcb/io/mesh/mesh_reader.h"
 #include "sdcb/io/mesh/mesh_writer.h"
@@ -26,6 +28,12 @@ namespace sdcb::cli {
 namespace {
 
 constexpr int kDefaultMeshSamples = 100000;
+
+// A trimmed part's boundary distance: the trims sampled every this many
+// radians on the sphere, the mesh's boundary edges every this share of the
+// length unit.
+constexpr double kBoundaryTrimStep = 1e-3;
+constexpr double kBoundaryMeshStep = 1e-4;
 
 // The picture's color of a folded surface sample (the distance ramp runs from
 // white to red).
@@ -52,7 +60,9 @@ Status WritePicture(const SurfaceDeviation& d,
 }
 
 // `part`'s surface against `mesh` in the part's normalized frame, in
-// percent of the mesh's largest side, in the region the part's trims keep.
+// percent of the mesh's largest side, in the region the part's trims keep;
+// for a trimmed part and a mesh with a boundary, also the distance between
+// the trims' images and the mesh's boundary edges (boundary_percent).
 StatusOr<SurfaceDeviation> MeasurePart(const ModelPart& part,
                                        const TriangleMesh& mesh,
                                        DeviationOptions options) {
@@ -67,7 +77,19 @@ StatusOr<SurfaceDeviation> MeasurePart(const ModelPart& part,
                         ComputeNormalizingTransform(mesh));
   options.length_unit = own.scale / model.transform.scale;
   options.region = &region;
-  return MeasureSurfaceDeviation(surface, normalized, options);
+  SDCB_ASSIGN_OR_RETURN(SurfaceDeviation d,
+                        MeasureSurfaceDeviation(surface, normalized, options));
+  if (!part.trimmed()) return d;
+  SDCB_ASSIGN_OR_RETURN(const Eigen::MatrixX2i edges,
+                        BoundaryEdges(normalized));
+  if (edges.rows() == 0) return d;
+  SDCB_ASSIGN_OR_RETURN(
+      const BoundaryDeviation boundary,
+      MeasureBoundaryDeviation(surface, part.trims, normalized.vertices, edges,
+                               options.length_unit, kBoundaryTrimStep,
+                               kBoundaryMeshStep * options.length_unit));
+  d.boundary_percent = boundary.max_percent();
+  return d;
 }
 
 // The figures of `d` (docs/CLI.md, `sdcb compare --json`).
@@ -82,6 +104,7 @@ void AddFigures(const SurfaceDeviation& d, nlohmann::ordered_json* out) {
   j["mesh_to_surface_max_percent"] = d.mesh_to_surface_max_percent;
   j["mesh_to_surface_max_bound_percent"] = d.mesh_to_surface_max_bound_percent;
   j["folded_area_percent"] = d.folded_area_percent;
+  if (d.boundary_percent >= 0) j["boundary_percent"] = d.boundary_percent;
   j["surface_samples"] = d.surface_samples;
   j["mesh_samples"] = d.mesh_samples;
   j["mesh_bound_samples"] = d.mesh_bound_samples;
@@ -109,6 +132,7 @@ SurfaceDeviation Worst(const std::vector<SurfaceDeviation>& parts) {
                  d.mesh_to_surface_max_bound_percent);
     w.folded_area_percent =
         std::max(w.folded_area_percent, d.folded_area_percent);
+    w.boundary_percent = std::max(w.boundary_percent, d.boundary_percent);
     w.mesh_sample_spacing_percent =
         std::max(w.mesh_sample_spacing_percent, d.mesh_sample_spacing_percent);
     w.surface_samples += d.surface_samples;
@@ -245,6 +269,12 @@ int RunCompare(const std::vector<std::string>& argv) {
     std::printf("  two-sided         rms %.5f%%  Hausdorff %.5f%%\n",
                 d->rms_percent, d->hausdorff_percent);
     std::printf("  folded area       %.4f%%\n", d->folded_area_percent);
+    if (d->boundary_percent >= 0) {
+      std::printf(
+          "  boundary          max %.5f%%  (the trims' images against the "
+          "mesh's boundary edges, both ways)\n",
+          d->boundary_percent);
+    }
     std::printf("  lattice level %d, %lld vertices refined on the spline\n",
                 d->lattice_level, static_cast<long long>(d->refined_vertices));
     if (!whole) {
@@ -256,11 +286,14 @@ int RunCompare(const std::vector<std::string>& argv) {
                       model->parts[i].kept->reason.c_str());
           continue;
         }
-        std::printf(
-            "  part %zu%s  rms %.5f%%  Hausdorff %.5f%%  folded %.4f%%\n",
-            i + 1, model->parts[i].trimmed() ? " (trimmed)" : "",
-            measured[i].rms_percent, measured[i].hausdorff_percent,
-            measured[i].folded_area_percent);
+        std::printf("  part %zu%s  rms %.5f%%  Hausdorff %.5f%%  folded %.4f%%",
+                    i + 1, model->parts[i].trimmed() ? " (trimmed)" : "",
+                    measured[i].rms_percent, measured[i].hausdorff_percent,
+                    measured[i].folded_area_percent);
+        if (measured[i].boundary_percent >= 0) {
+          std::printf("  boundary %.5f%%", measured[i].boundary_percent);
+        }
+        std::printf("\n");
       }
     }
     if (args.Has("picture")) {

@@ -50,38 +50,27 @@ void AddSegment(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   if (a != b) segments->emplace_back(ToPoint(a), ToPoint(b));
 }
 
-}  // namespace
-
-StatusOr<BoundaryDeviation> MeasureBoundaryDeviation(
-    const SphericalSpline& surface, const std::vector<TrimLoop>& trims,
-    const std::vector<Eigen::MatrixX3d>& loops, double length_unit,
-    double max_step, int min_samples_per_edge) {
-  if (!(length_unit > 0) || !(max_step > 0) || min_samples_per_edge < 2) {
-    return InvalidArgumentError(
-        "boundary deviation: the length unit and the step must be > 0 and "
-        "an edge needs at least 2 samples");
-  }
-  if (loops.size() != trims.size()) {
-    return InvalidArgumentError(
-        "boundary deviation: a mesh loop is needed per trim loop");
-  }
-  // Per edge of every loop: its samples on the sphere (the arc) and on the
-  // mesh (the segment), at the same fractions of the edge.
-  std::vector<Eigen::Vector3d> sphere, on_mesh;
+// The trims' arcs sampled at their two ends and evenly between them (at
+// least min_samples_per_edge points, no farther apart than max_step
+// radians): the sphere points, loop by loop (`loop_start`: where each
+// begins, and the end), and each sample's edge and fraction along it.
+struct TrimSamples {
+  Eigen::MatrixX3d sphere;
   std::vector<int> loop_start;
-  for (size_t l = 0; l < trims.size(); ++l) {
-    const Eigen::MatrixX3d& u = trims[l].points;
-    const Eigen::MatrixX3d& x = loops[l];
-    if (x.rows() != u.rows() || u.rows() < 2) {
-      return InvalidArgumentError("boundary deviation: loop " +
-                                  std::to_string(l + 1) +
-                                  " has a different number of points");
-    }
-    loop_start.push_back(static_cast<int>(sphere.size()));
+  std::vector<Eigen::Index> edge;
+  std::vector<double> fraction;
+};
+
+TrimSamples SampleTrims(const std::vector<TrimLoop>& trims, double max_step,
+                        int min_samples_per_edge) {
+  std::vector<Eigen::Vector3d> sphere;
+  TrimSamples out;
+  for (const TrimLoop& trim : trims) {
+    const Eigen::MatrixX3d& u = trim.points;
+    out.loop_start.push_back(static_cast<int>(sphere.size()));
     const Eigen::Index n = u.rows();
     for (Eigen::Index i = 0; i < n; ++i) {
       const Eigen::Vector3d a = u.row(i), b = u.row((i + 1) % n);
-      const Eigen::Vector3d xa = x.row(i), xb = x.row((i + 1) % n);
       const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
       const int steps = std::max(min_samples_per_edge - 1,
                                  static_cast<int>(std::ceil(angle / max_step)));
@@ -95,45 +84,153 @@ StatusOr<BoundaryDeviation> MeasureBoundaryDeviation(
                                     s)
                   : a;
         sphere.push_back(p.normalized());
-        on_mesh.push_back((1 - t) * xa + t * xb);
+        out.edge.push_back(i);
+        out.fraction.push_back(t);
       }
     }
   }
-  loop_start.push_back(static_cast<int>(sphere.size()));
-  const Eigen::Index ns = static_cast<Eigen::Index>(sphere.size());
-  Eigen::MatrixX3d sphere_points(ns, 3), mesh_points(ns, 3);
-  for (Eigen::Index i = 0; i < ns; ++i) {
-    sphere_points.row(i) = sphere[i].transpose();
-    mesh_points.row(i) = on_mesh[i].transpose();
+  out.loop_start.push_back(static_cast<int>(sphere.size()));
+  out.sphere.resize(static_cast<Eigen::Index>(sphere.size()), 3);
+  for (size_t i = 0; i < sphere.size(); ++i) {
+    out.sphere.row(static_cast<Eigen::Index>(i)) = sphere[i].transpose();
   }
-  const Eigen::MatrixX3d image = surface.EvaluateMany(sphere_points);
-  for (Eigen::Index i = 0; i < ns; ++i) {
+  return out;
+}
+
+Status CheckArguments(double length_unit, double max_step,
+                      int min_samples_per_edge) {
+  if (!(length_unit > 0) || !(max_step > 0) || min_samples_per_edge < 2) {
+    return InvalidArgumentError(
+        "boundary deviation: the length unit and the step must be > 0 and "
+        "an edge needs at least 2 samples");
+  }
+  return Status::Ok();
+}
+
+// F at the samples, and the closed polylines through them, loop by loop.
+StatusOr<Eigen::MatrixX3d> TrimImages(const SphericalSpline& surface,
+                                      const TrimSamples& samples,
+                                      std::vector<Segment>* segments) {
+  const Eigen::MatrixX3d image = surface.EvaluateMany(samples.sphere);
+  for (Eigen::Index i = 0; i < image.rows(); ++i) {
     if (!image.row(i).allFinite()) {
       return InvalidInputError(
           "boundary deviation: the surface is undefined on a trim");
     }
   }
-  // Closed polylines: the part's boundary and the F samples.
-  std::vector<Segment> mesh_segments, surface_segments;
-  for (size_t l = 0; l < trims.size(); ++l) {
-    const Eigen::MatrixX3d& x = loops[l];
-    for (Eigen::Index i = 0; i < x.rows(); ++i) {
-      AddSegment(x.row(i), x.row((i + 1) % x.rows()), &mesh_segments);
-    }
-    const int begin = loop_start[l], end = loop_start[l + 1];
+  for (size_t l = 0; l + 1 < samples.loop_start.size(); ++l) {
+    const int begin = samples.loop_start[l], end = samples.loop_start[l + 1];
     for (int i = begin; i < end; ++i) {
       AddSegment(image.row(i), image.row(i + 1 < end ? i + 1 : begin),
-                 &surface_segments);
+                 segments);
     }
   }
+  return image;
+}
+
+// Both ways between the trims' images and the part's boundary segments,
+// the part's side at `mesh_points`.
+BoundaryDeviation Measure(const Eigen::MatrixX3d& image,
+                          const std::vector<Segment>& surface_segments,
+                          const std::vector<Segment>& mesh_segments,
+                          const Eigen::MatrixX3d& mesh_points,
+                          double length_unit) {
   BoundaryDeviation out;
-  out.samples = ns;
+  out.samples = image.rows();
   const double to_percent = 100.0 / length_unit;
   out.surface_to_mesh_max_percent =
       to_percent * LargestDistance(mesh_segments, image);
   out.mesh_to_surface_max_percent =
       to_percent * LargestDistance(surface_segments, mesh_points);
   return out;
+}
+
+}  // namespace
+
+StatusOr<BoundaryDeviation> MeasureBoundaryDeviation(
+    const SphericalSpline& surface, const std::vector<TrimLoop>& trims,
+    const std::vector<Eigen::MatrixX3d>& loops, double length_unit,
+    double max_step, int min_samples_per_edge) {
+  SDCB_RETURN_IF_ERROR(
+      CheckArguments(length_unit, max_step, min_samples_per_edge));
+  if (loops.size() != trims.size()) {
+    return InvalidArgumentError(
+        "boundary deviation: a mesh loop is needed per trim loop");
+  }
+  for (size_t l = 0; l < trims.size(); ++l) {
+    if (loops[l].rows() != trims[l].points.rows() ||
+        trims[l].points.rows() < 2) {
+      return InvalidArgumentError("boundary deviation: loop " +
+                                  std::to_string(l + 1) +
+                                  " has a different number of points");
+    }
+  }
+  const TrimSamples samples =
+      SampleTrims(trims, max_step, min_samples_per_edge);
+  std::vector<Segment> surface_segments, mesh_segments;
+  SDCB_ASSIGN_OR_RETURN(const Eigen::MatrixX3d image,
+                        TrimImages(surface, samples, &surface_segments));
+  // The part's boundary at the same fractions of each edge as the arc's.
+  Eigen::MatrixX3d mesh_points(samples.sphere.rows(), 3);
+  for (size_t l = 0; l < trims.size(); ++l) {
+    const Eigen::MatrixX3d& x = loops[l];
+    for (Eigen::Index i = 0; i < x.rows(); ++i) {
+      AddSegment(x.row(i), x.row((i + 1) % x.rows()), &mesh_segments);
+    }
+    for (int k = samples.loop_start[l]; k < samples.loop_start[l + 1]; ++k) {
+      const Eigen::Index e = samples.edge[k];
+      const double t = samples.fraction[k];
+      mesh_points.row(k) = (1 - t) * x.row(e) + t * x.row((e + 1) % x.rows());
+    }
+  }
+  return Measure(image, surface_segments, mesh_segments, mesh_points,
+                 length_unit);
+}
+
+StatusOr<BoundaryDeviation> MeasureBoundaryDeviation(
+    const SphericalSpline& surface, const std::vector<TrimLoop>& trims,
+    const Eigen::MatrixX3d& vertices, const Eigen::MatrixX2i& edges,
+    double length_unit, double max_step, double mesh_step) {
+  SDCB_RETURN_IF_ERROR(CheckArguments(length_unit, max_step, 2));
+  if (!(mesh_step > 0)) {
+    return InvalidArgumentError("boundary deviation: the step must be > 0");
+  }
+  if (edges.size() > 0 &&
+      (edges.minCoeff() < 0 || edges.maxCoeff() >= vertices.rows())) {
+    return InvalidArgumentError(
+        "boundary deviation: an edge names a vertex out of range");
+  }
+  for (const TrimLoop& trim : trims) {
+    if (trim.points.rows() < 2) {
+      return InvalidArgumentError(
+          "boundary deviation: a trim loop has fewer than 2 points");
+    }
+  }
+  const TrimSamples samples = SampleTrims(trims, max_step, 4);
+  std::vector<Segment> surface_segments, mesh_segments;
+  SDCB_ASSIGN_OR_RETURN(const Eigen::MatrixX3d image,
+                        TrimImages(surface, samples, &surface_segments));
+  // Each boundary edge at its two ends and evenly between them, no farther
+  // apart than mesh_step.
+  std::vector<Eigen::Vector3d> points;
+  for (Eigen::Index e = 0; e < edges.rows(); ++e) {
+    const Eigen::Vector3d a = vertices.row(edges(e, 0)),
+                          b = vertices.row(edges(e, 1));
+    AddSegment(a, b, &mesh_segments);
+    const int steps = std::max(
+        1,
+        static_cast<int>(std::min(1e6, std::ceil((b - a).norm() / mesh_step))));
+    for (int k = 0; k <= steps; ++k) {
+      const double t = static_cast<double>(k) / steps;
+      points.push_back((1 - t) * a + t * b);
+    }
+  }
+  Eigen::MatrixX3d mesh_points(static_cast<Eigen::Index>(points.size()), 3);
+  for (size_t i = 0; i < points.size(); ++i) {
+    mesh_points.row(static_cast<Eigen::Index>(i)) = points[i].transpose();
+  }
+  return Measure(image, surface_segments, mesh_segments, mesh_points,
+                 length_unit);
 }
 
 }  // namespace sdcb

@@ -49,6 +49,18 @@ StatusOr<BoundaryDeviation> MeasureBoundaryDeviation(
     const std::vector<Eigen::MatrixX3d>& loops, double length_unit,
     double max_step, int min_samples_per_edge = 4);
 
+// The same distance against a mesh's boundary that does not come with the
+// trims' correspondence (`sdcb compare` against any mesh): its boundary
+// edges, rows (a, b) of `vertices`, in any order. The trims are sampled as
+// above (at least 4 points per arc); the mesh's side at every edge's ends and
+// evenly between them, no farther apart than `mesh_step` (in the unit of
+// `vertices`). kInvalidArgument for a step or unit not positive, an edge
+// out of range or a trim loop of fewer than 2 points.
+StatusOr<BoundaryDeviation> MeasureBoundaryDeviation(
+    const SphericalSpline& surface, const std::vector<TrimLoop>& trims,
+    const Eigen::MatrixX3d& vertices, const Eigen::MatrixX2i& edges,
+    double length_unit, double max_step, double mesh_step);
+
 }  // namespace sdcb
 
 #endif  // SDCB_CORE_MEASURE_BOUNDARY_DEVIATION_H_

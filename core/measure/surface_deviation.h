@@ -123,7 +123,8 @@ struct SurfaceDeviation {
   double folded_area_percent = 0.0;
   // A trimmed surface: the two-sided distance between its boundary and the
   // part's (core/measure/boundary_deviation.h), percent, set by the fit's
-  // measurements (MeasureFitSurface); -1 when not measured.
+  // measurements (MeasureFitSurface) and `sdcb compare`; -1 when not
+  // measured.
   double boundary_percent = -1.0;
   double surface_area = 0.0;  // of the lattice's image, in length units^2
   int64_t surface_samples = 0;

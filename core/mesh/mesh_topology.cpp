@@ -75,6 +75,26 @@ std::vector<HalfEdge> SortedHalfEdges(const TriangleMesh& mesh) {
 
 }  // namespace
 
+StatusOr<Eigen::MatrixX2i> BoundaryEdges(const TriangleMesh& mesh) {
+  SDCB_RETURN_IF_ERROR(CheckFaceIndices(mesh));
+  const std::vector<HalfEdge> half_edges = SortedHalfEdges(mesh);
+  std::vector<const HalfEdge*> single;
+  for (size_t i = 0; i < half_edges.size();) {
+    size_t j = i + 1;
+    while (j < half_edges.size() && half_edges[j].lo == half_edges[i].lo &&
+           half_edges[j].hi == half_edges[i].hi) {
+      ++j;
+    }
+    if (j - i == 1) single.push_back(&half_edges[i]);
+    i = j;
+  }
+  Eigen::MatrixX2i edges(static_cast<Eigen::Index>(single.size()), 2);
+  for (size_t e = 0; e < single.size(); ++e) {
+    edges.row(static_cast<Eigen::Index>(e)) << single[e]->from, single[e]->to;
+  }
+  return edges;
+}
+
 StatusOr<MeshTopologyReport> AnalyzeMeshTopology(const TriangleMesh& mesh) {
   SDCB_RETURN_IF_ERROR(CheckFaceIndices(mesh));
   const int nv = mesh.num_vertices();

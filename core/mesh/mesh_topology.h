@@ -3,6 +3,7 @@
 #ifndef SDCB_CORE_MESH_MESH_TOPOLOGY_H_
 #define SDCB_CORE_MESH_MESH_TOPOLOGY_H_
 
+#include <Eigen/Core>
 #include <string>
 
 #include "sdcb/core/common/status.h"
@@ -37,6 +38,11 @@ struct MeshTopologyReport {
 // Computes the report. Never fails on a well-formed TriangleMesh (indices in
 // range); the indices are checked and a bad one gives kInvalidInput.
 StatusOr<MeshTopologyReport> AnalyzeMeshTopology(const TriangleMesh& mesh);
+
+// The edges with exactly one incident triangle, each as that triangle's
+// half-edge (from, to), ordered by their smaller vertex, then their larger;
+// kInvalidInput for an index out of range.
+StatusOr<Eigen::MatrixX2i> BoundaryEdges(const TriangleMesh& mesh);
 
 // Why `report.ok` is false, as one sentence without the file name, e.g.
 // "mesh has genus 3; sdcb needs a closed genus-0 mesh". Empty when ok.

@@ -5,9 +5,11 @@
 // cage of an open part): one sentence, exit 1, no output file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "sdcb/core/common/constants.h"
 #include "sdcb/core/mesh/mesh_topology.h"
@@ -68,6 +70,53 @@ TEST(OpenPartsCliTest, ADiskIsFittedTrimmedAndExportedWithItsBoundary) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto compare = nlohmann::json::parse(r.out);
   EXPECT_LT(compare["hausdorff_percent"].get<double>(), 3.0);
+  // Its boundary: the trims' images against the mesh's boundary edges,
+  // within the fit's boundary target (0.4 of the Hausdorff target, 3 %).
+  const double boundary = compare["parts"][0]["boundary_percent"].get<double>();
+  EXPECT_GT(boundary, 0.0);
+  EXPECT_LE(boundary, 1.2);
+  EXPECT_EQ(compare["boundary_percent"].get<double>(), boundary);
+  // The mesh's loop moved by 2 % of its largest side along z: the boundary
+  // distance moves by at most the distance between the two loops (the
+  // triangle inequality), which is at most 2 % and at least the moved
+  // loop's farthest vertex from the loop (brute force).
+  TriangleMesh moved = disk;
+  const double side =
+      (disk.vertices.colwise().maxCoeff() - disk.vertices.colwise().minCoeff())
+          .maxCoeff();
+  StatusOr<Eigen::MatrixX2i> edges = BoundaryEdges(disk);
+  ASSERT_TRUE(edges.ok());
+  std::vector<bool> on_loop(disk.vertices.rows(), false);
+  for (Eigen::Index e = 0; e < edges->rows(); ++e) {
+    on_loop[(*edges)(e, 0)] = on_loop[(*edges)(e, 1)] = true;
+  }
+  for (Eigen::Index v = 0; v < moved.vertices.rows(); ++v) {
+    if (on_loop[v]) moved.vertices(v, 2) += 0.02 * side;
+  }
+  double apart = 0;
+  for (Eigen::Index v = 0; v < moved.vertices.rows(); ++v) {
+    if (!on_loop[v]) continue;
+    const Eigen::Vector3d q = moved.vertices.row(v);
+    double nearest = 1e300;
+    for (Eigen::Index e = 0; e < edges->rows(); ++e) {
+      const Eigen::Vector3d a = disk.vertices.row((*edges)(e, 0));
+      const Eigen::Vector3d d =
+          disk.vertices.row((*edges)(e, 1)) - a.transpose();
+      const double t = std::clamp((q - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      nearest = std::min(nearest, (a + t * d - q).norm());
+    }
+    apart = std::max(apart, nearest);
+  }
+  apart *= 100 / side;
+  ASSERT_GT(apart, 1.0);  // the loop moved clear of itself
+  const std::string moved_path = WriteOff(moved, dir + "/moved.off");
+  r = RunSdcb({"compare", dir + "/disk.sdcb", moved_path, "--json", "-"}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const double moved_boundary =
+      nlohmann::json::parse(r.out)["parts"][0]["boundary_percent"]
+          .get<double>();
+  EXPECT_GE(moved_boundary, apart - boundary - 1e-6);
+  EXPECT_LE(moved_boundary, 2.0 + boundary + 1e-6);
 
   // STEP and cages of open parts: one sentence naming the part.
   for (const auto& [command, out] :

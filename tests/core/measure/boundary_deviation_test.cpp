@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <tuple>
 #include <vector>
 
 #include "sdcb/core/fit/spline_fitter.h"
@@ -129,6 +130,110 @@ TEST_F(BoundaryDeviationTest, MatchesBruteForceBothWays) {
   EXPECT_EQ(d->max_percent(), std::max(d->surface_to_mesh_max_percent,
                                        d->mesh_to_surface_max_percent));
   EXPECT_GT(d->samples, 1000);
+}
+
+// The same loops given as boundary edges of a mesh, in a scrambled order
+// and without the correspondence (as `sdcb compare` has them): the same
+// brute force both ways.
+TEST_F(BoundaryDeviationTest, BoundaryEdgesInAnyOrderMatchBruteForce) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> offset(-0.02, 0.02);
+  std::vector<TrimLoop> trims;
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector2i> edges;
+  std::vector<std::vector<Eigen::Vector3d>> loops;
+  for (const auto& [z, n, m] :
+       {std::tuple<double, int, int>{0.4, 11, 17}, {-0.5, 8, 5}}) {
+    TrimLoop trim;
+    trim.points.resize(n, 3);
+    const double r = std::sqrt(1 - z * z);
+    for (int i = 0; i < n; ++i) {
+      const double phi = 2 * 3.14159265358979323846 * i / n;
+      trim.points.row(i) << r * std::cos(phi), r * std::sin(phi), z;
+    }
+    trims.push_back(trim);
+    // The mesh's loop: m points of its own near the image of the circle.
+    std::vector<Eigen::Vector3d> loop;
+    const int first = static_cast<int>(vertices.size());
+    for (int i = 0; i < m; ++i) {
+      const double phi = 2 * 3.14159265358979323846 * (i + 0.3) / m;
+      const Eigen::Vector3d u(r * std::cos(phi), r * std::sin(phi), z);
+      Eigen::Vector3d x = surface_->Evaluate(u).transpose();
+      x += Eigen::Vector3d(offset(rng), offset(rng), offset(rng));
+      loop.push_back(x);
+      vertices.push_back(x);
+      edges.emplace_back(first + i, first + (i + 1) % m);
+    }
+    loops.push_back(loop);
+  }
+  std::shuffle(edges.begin(), edges.end(), rng);
+  Eigen::MatrixX3d x(static_cast<Eigen::Index>(vertices.size()), 3);
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    x.row(static_cast<Eigen::Index>(i)) = vertices[i].transpose();
+  }
+  Eigen::MatrixX2i e(static_cast<Eigen::Index>(edges.size()), 2);
+  for (size_t i = 0; i < edges.size(); ++i) {
+    e.row(static_cast<Eigen::Index>(i)) = edges[i].transpose();
+  }
+  const double unit = 2.0;
+  StatusOr<BoundaryDeviation> d =
+      MeasureBoundaryDeviation(*surface_, trims, x, e, unit, 0.01, 0.002);
+  ASSERT_TRUE(d.ok()) << d.status().message();
+
+  // Brute force: every loop's image against every mesh loop, both ways.
+  std::vector<std::vector<Eigen::Vector3d>> images;
+  for (const TrimLoop& trim : trims) {
+    std::vector<Eigen::Vector3d> image;
+    const Eigen::MatrixX3d& u = trim.points;
+    for (Eigen::Index i = 0; i < u.rows(); ++i) {
+      const Eigen::Vector3d a = u.row(i), b = u.row((i + 1) % u.rows());
+      for (int k = 0; k < 1000; ++k) {
+        image.push_back(
+            surface_->Evaluate(OnArc(a, b, k / 1000.0)).transpose());
+      }
+    }
+    images.push_back(image);
+  }
+  double to_mesh = 0, to_surface = 0;
+  for (const auto& image : images) {
+    for (const Eigen::Vector3d& q : image) {
+      double best = 1e300;
+      for (const auto& loop : loops) {
+        best = std::min(best, BruteForceOneWay({q}, loop, 1));
+      }
+      to_mesh = std::max(to_mesh, best);
+    }
+  }
+  for (const auto& loop : loops) {
+    for (size_t i = 0; i < loop.size(); ++i) {
+      const Eigen::Vector3d a = loop[i], b = loop[(i + 1) % loop.size()];
+      for (int k = 0; k < 200; ++k) {
+        const Eigen::Vector3d q = a + (b - a) * (k / 200.0);
+        double best = 1e300;
+        for (const auto& image : images) {
+          best = std::min(best, BruteForceOneWay({q}, image, 1));
+        }
+        to_surface = std::max(to_surface, best);
+      }
+    }
+  }
+  to_mesh *= 100 / unit;
+  to_surface *= 100 / unit;
+  EXPECT_GT(to_mesh, 0.2);
+  EXPECT_NEAR(d->surface_to_mesh_max_percent, to_mesh, 0.003);
+  EXPECT_NEAR(d->mesh_to_surface_max_percent, to_surface, 0.003);
+  // An edge out of range, a step not positive: refused.
+  Eigen::MatrixX2i bad = e;
+  bad(0, 1) = static_cast<int>(x.rows());
+  EXPECT_EQ(
+      MeasureBoundaryDeviation(*surface_, trims, x, bad, unit, 0.01, 0.002)
+          .status()
+          .code(),
+      StatusCode::kInvalidArgument);
+  EXPECT_EQ(MeasureBoundaryDeviation(*surface_, trims, x, e, unit, 0.01, 0.0)
+                .status()
+                .code(),
+            StatusCode::kInvalidArgument);
 }
 
 TEST_F(BoundaryDeviationTest, RefusesLoopsThatDoNotMatchTheTrims) {

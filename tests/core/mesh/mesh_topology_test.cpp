@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "sdcb/core/common/constants.h"
 #include "testing/fan_mesh.h"
@@ -111,6 +114,42 @@ TEST(MeshTopologyTest, OpenTorusStripHasTwoBoundaryLoops) {
   EXPECT_EQ(r.boundary_loops, 2);
   EXPECT_EQ(r.boundary_edges, 10);
   EXPECT_EQ(r.genus, 0);
+}
+
+TEST(MeshTopologyTest, BoundaryEdgesAreTheHalfEdgesNoOtherFaceShares) {
+  // The torus strip's 10 boundary edges against brute force: a half-edge
+  // (a, b) of a face is on the boundary when no face uses a-b either way.
+  TriangleMesh torus = Torus(6, 5);
+  TriangleMesh m = torus;
+  m.faces = torus.faces.topRows(torus.num_faces() - 2 * 5);
+  StatusOr<Eigen::MatrixX2i> edges = BoundaryEdges(m);
+  ASSERT_TRUE(edges.ok());
+  std::vector<std::pair<int, int>> expected;
+  for (int f = 0; f < m.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = m.faces(f, k), b = m.faces(f, (k + 1) % 3);
+      int uses = 0;
+      for (int g = 0; g < m.num_faces(); ++g) {
+        for (int j = 0; j < 3; ++j) {
+          const int c = m.faces(g, j), d = m.faces(g, (j + 1) % 3);
+          uses += (c == a && d == b) || (c == b && d == a);
+        }
+      }
+      if (uses == 1) expected.emplace_back(a, b);
+    }
+  }
+  std::sort(expected.begin(), expected.end(), [](auto x, auto y) {
+    return std::minmax(x.first, x.second) < std::minmax(y.first, y.second);
+  });
+  ASSERT_EQ(edges->rows(), 10);
+  ASSERT_EQ(expected.size(), 10u);
+  for (Eigen::Index e = 0; e < edges->rows(); ++e) {
+    EXPECT_EQ((*edges)(e, 0), expected[e].first);
+    EXPECT_EQ((*edges)(e, 1), expected[e].second);
+  }
+  EXPECT_EQ(BoundaryEdges(Tetrahedron())->rows(), 0);
+  m.faces(0, 0) = -1;
+  EXPECT_EQ(BoundaryEdges(m).status().code(), StatusCode::kInvalidInput);
 }
 
 TEST(MeshTopologyTest, TwoComponentsAreRefused) {
