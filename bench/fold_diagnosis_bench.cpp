@@ -316,7 +316,8 @@ int main(int argc, char** argv) {
       if (s.normal.dot(smooth) < 0) real_smooth += w;
       real_dist.emplace_back(to_x, w);
       real_angle.emplace_back(
-          std::acos(std::clamp(s.normal.dot(n), -1.0, 1.0)) * 180 / kPi, w);
+          std::acos(std::clamp(s.normal.dot(n), -1.0, 1.0)) * 180 / sdcb::kPi,
+          w);
       if (!std::isnan(th)) real_thickness.emplace_back(th, w);
       continue;
     }
