@@ -50,10 +50,16 @@ void AddSegment(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   if (a != b) segments->emplace_back(ToPoint(a), ToPoint(b));
 }
 
+// The most samples either side takes: the steps grow beyond the asked ones
+// to keep to it (a hostile boundary of many long edges; a fit's boundary
+// takes a few thousand).
+constexpr double kMaxSamples = 250000;
+
 // The trims' arcs sampled at their two ends and evenly between them (at
 // least min_samples_per_edge points, no farther apart than max_step
-// radians): the sphere points, loop by loop (`loop_start`: where each
-// begins, and the end), and each sample's edge and fraction along it.
+// radians, or than their length over kMaxSamples): the sphere points, loop by
+// loop (`loop_start`: where each begins, and the end), and each sample's edge
+// and fraction along it.
 struct TrimSamples {
   Eigen::MatrixX3d sphere;
   std::vector<int> loop_start;
@@ -63,6 +69,15 @@ struct TrimSamples {
 
 TrimSamples SampleTrims(const std::vector<TrimLoop>& trims, double max_step,
                         int min_samples_per_edge) {
+  double length = 0;
+  for (const TrimLoop& trim : trims) {
+    const Eigen::MatrixX3d& u = trim.points;
+    for (Eigen::Index i = 0; i < u.rows(); ++i) {
+      const Eigen::Vector3d a = u.row(i), b = u.row((i + 1) % u.rows());
+      length += std::atan2(a.cross(b).norm(), a.dot(b));
+    }
+  }
+  max_step = std::max(max_step, length / kMaxSamples);
   std::vector<Eigen::Vector3d> sphere;
   TrimSamples out;
   for (const TrimLoop& trim : trims) {
@@ -211,15 +226,19 @@ StatusOr<BoundaryDeviation> MeasureBoundaryDeviation(
   SDCB_ASSIGN_OR_RETURN(const Eigen::MatrixX3d image,
                         TrimImages(surface, samples, &surface_segments));
   // Each boundary edge at its two ends and evenly between them, no farther
-  // apart than mesh_step.
+  // apart than mesh_step (or the edges' length over kMaxSamples).
+  double length = 0;
+  for (Eigen::Index e = 0; e < edges.rows(); ++e) {
+    length += (vertices.row(edges(e, 1)) - vertices.row(edges(e, 0))).norm();
+  }
+  mesh_step = std::max(mesh_step, length / kMaxSamples);
   std::vector<Eigen::Vector3d> points;
   for (Eigen::Index e = 0; e < edges.rows(); ++e) {
     const Eigen::Vector3d a = vertices.row(edges(e, 0)),
                           b = vertices.row(edges(e, 1));
     AddSegment(a, b, &mesh_segments);
-    const int steps = std::max(
-        1,
-        static_cast<int>(std::min(1e6, std::ceil((b - a).norm() / mesh_step))));
+    const int steps =
+        std::max(1, static_cast<int>(std::ceil((b - a).norm() / mesh_step)));
     for (int k = 0; k <= steps; ++k) {
       const double t = static_cast<double>(k) / steps;
       points.push_back((1 - t) * a + t * b);

@@ -9,7 +9,9 @@
 //
 // Each arc is sampled at its two ends and evenly between them, at least
 // `min_samples_per_edge` points and no farther apart than `max_step`
-// radians, and the mesh edge it stands for at as many points. Surface ->
+// radians (or than the trims' length over 250,000: a boundary of any
+// length takes at most that many samples plus the edges' ends), and the
+// mesh edge it stands for at as many points. Surface ->
 // mesh: the distance of every F sample to the part's boundary segments;
 // mesh -> surface: the distance of every point of the part's boundary to the
 // polyline through the F samples (its chords, as the export's boundary
@@ -54,8 +56,9 @@ StatusOr<BoundaryDeviation> MeasureBoundaryDeviation(
 // edges, rows (a, b) of `vertices`, in any order. The trims are sampled as
 // above (at least 4 points per arc); the mesh's side at every edge's ends and
 // evenly between them, no farther apart than `mesh_step` (in the unit of
-// `vertices`). kInvalidArgument for a step or unit not positive, an edge
-// out of range or a trim loop of fewer than 2 points.
+// `vertices`; or than the edges' length over 250,000). kInvalidArgument for a
+// step or unit not positive, an edge out of range or a trim loop of fewer than
+// 2 points.
 StatusOr<BoundaryDeviation> MeasureBoundaryDeviation(
     const SphericalSpline& surface, const std::vector<TrimLoop>& trims,
     const Eigen::MatrixX3d& vertices, const Eigen::MatrixX2i& edges,

@@ -236,6 +236,32 @@ TEST_F(BoundaryDeviationTest, BoundaryEdgesInAnyOrderMatchBruteForce) {
             StatusCode::kInvalidArgument);
 }
 
+// Steps far below what any boundary needs (a hostile request) end in at
+// most 250,000 samples a side, measuring as a sensible step does.
+TEST_F(BoundaryDeviationTest, TinyStepsKeepToTheSampleBudget) {
+  TrimLoop trim;
+  const int n = 12;
+  trim.points.resize(n, 3);
+  Eigen::MatrixX3d x(n, 3);
+  Eigen::MatrixX2i edges(n, 2);
+  for (int i = 0; i < n; ++i) {
+    const double phi = 2 * 3.14159265358979323846 * i / n;
+    trim.points.row(i) << 0.8 * std::cos(phi), 0.8 * std::sin(phi), 0.6;
+    edges.row(i) << i, (i + 1) % n;
+  }
+  x = surface_->EvaluateMany(trim.points);
+  x.col(2).array() += 0.01;
+  StatusOr<BoundaryDeviation> tiny =
+      MeasureBoundaryDeviation(*surface_, {trim}, x, edges, 1.0, 1e-12, 1e-12);
+  ASSERT_TRUE(tiny.ok()) << tiny.status().message();
+  EXPECT_LE(tiny->samples, 250000 + 4 * n);
+  StatusOr<BoundaryDeviation> sensible =
+      MeasureBoundaryDeviation(*surface_, {trim}, x, edges, 1.0, 1e-3, 1e-4);
+  ASSERT_TRUE(sensible.ok());
+  EXPECT_NEAR(tiny->max_percent(), sensible->max_percent(), 1e-3);
+  EXPECT_GT(sensible->max_percent(), 0.9);  // the loop is 1 % off
+}
+
 TEST_F(BoundaryDeviationTest, RefusesLoopsThatDoNotMatchTheTrims) {
   TrimLoop trim;
   trim.points.resize(3, 3);
